@@ -1,0 +1,188 @@
+"""Rigid curved-beam elements on a scikit-fem mesh of the mid-curve.
+
+Each element ``e`` of a 1D mesh (``MeshLine1`` in the arc length ``s``) carries the
+three fields of Appendix B as constants: the tangential and normal velocity
+``(w_e, v_e)`` of its mid-curve midpoint ``P_e`` (components on ``t_e``, ``n_e``)
+and its angular velocity ``omega_e`` (rad/s, counter-clockwise); inside the element
+the field is the rigid motion ``vel(X) = w_e t_e + v_e n_e + omega_e k x (X - P_e)``.
+Every rigid motion is therefore represented exactly and has no strain.
+
+The strain measures (B.1)-(B.5) of such a field are measures concentrated at the
+nodes (the **joints**): with ``[.]`` the jump right minus left of a node,
+
+* ``eps_pm = [vel(X_j + y_pm n_j)] . t_j`` with ``y_+ = +t/2`` (intrados) and
+  ``y_- = -t/2`` (extrados): the opening rates of the two edge fibres, i.e.
+  ``[w] + y_pm [omega]`` = ``eps0 + chi y``;
+* ``gamma = [vel(X_j)] . n_j``: the sliding rate.
+
+A springing joint is the same jump against an abutment at rest. The operators are
+assembled with scikit-fem facet forms (rows tested with the P1 nodal functions, so
+row ``i`` belongs to node ``i``); the kinetic energy ``2K = d^T M d`` with the
+exact annular-sector densities of :meth:`MidCurve.inertia_densities` is a cell form.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, ElementVector,
+                   FacetBasis, InteriorFacetBasis, MeshLine1, asm)
+
+from .errors import InputError
+from .geometry import MidCurve
+
+__all__ = ["Discretization", "discretize", "uniform_nodes", "rigid_dofs"]
+
+NDOF = 3  # (w, v, omega) per element
+
+
+def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
+    """Arc-length coordinates of ``n_elements + 1`` equally spaced nodes."""
+    if not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
+        raise InputError(f"the number of elements must be a positive integer, got {n_elements!r}")
+    return np.linspace(0.0, curve.length, int(n_elements) + 1)
+
+
+@dataclass(frozen=True)
+class Discretization:
+    """Assembled operators of a rigid-element mesh of ``curve``.
+
+    ``d`` (length ``3 N``) stores ``(w_e, v_e, omega_e)`` element by element.
+    ``B_open`` has ``2 J`` rows: the intrados opening rates of the ``J`` joints, then
+    the extrados ones; ``B_slide`` has ``J`` rows. ``M`` is the kinetic-energy matrix.
+    """
+
+    curve: MidCurve
+    mesh: MeshLine1
+    M: sp.csr_matrix
+    B_open: sp.csr_matrix
+    B_slide: sp.csr_matrix
+    joint_nodes: np.ndarray
+    frames: dict = field(repr=False)
+
+    @property
+    def n_elements(self) -> int:
+        return self.mesh.t.shape[1]
+
+    @property
+    def nodes_s(self) -> np.ndarray:
+        return self.mesh.p[0]
+
+    @property
+    def joint_s(self) -> np.ndarray:
+        return self.mesh.p[0, self.joint_nodes]
+
+    @property
+    def joint_angle_deg(self) -> np.ndarray:
+        return self.curve.angle_deg(self.joint_s)
+
+    @property
+    def joint_thickness(self) -> np.ndarray:
+        return self.curve.thickness_at(self.joint_s)
+
+    @property
+    def B(self) -> sp.csr_matrix:
+        """All constraint rows: sliding (= 0) first, then openings (>= 0)."""
+        return sp.vstack([self.B_slide, self.B_open]).tocsr()
+
+    def rigid(self, V=(0.0, 0.0), omega: float = 0.0, about=(0.0, 0.0)) -> np.ndarray:
+        return rigid_dofs(self, V, omega, about)
+
+    def load_vectors(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(f_x, f_y)``: ``f . d`` is the integral of rho times the x (y) velocity,
+        i.e. the power of a unit horizontal (upward) acceleration field."""
+        return self.M @ self.rigid(V=(1.0, 0.0)), self.M @ self.rigid(V=(0.0, 1.0))
+
+
+def rigid_dofs(disc: Discretization, V=(0.0, 0.0), omega: float = 0.0, about=(0.0, 0.0)) -> np.ndarray:
+    """Element DOFs of the rigid motion with velocity ``V`` at ``about`` and angular
+    velocity ``omega``."""
+    P, te, ne = disc.frames["P"], disc.frames["t"], disc.frames["n"]
+    vx = V[0] - omega * (P[1] - about[1])
+    vy = V[1] + omega * (P[0] - about[0])
+    d = np.empty((disc.n_elements, NDOF))
+    d[:, 0] = vx * te[0] + vy * te[1]
+    d[:, 1] = vx * ne[0] + vy * ne[1]
+    d[:, 2] = omega
+    return d.ravel()
+
+
+def _element_frames(curve: MidCurve, mesh: MeshLine1) -> dict:
+    sn = mesh.p[0]
+    sm = 0.5 * (sn[:-1] + sn[1:])
+    return {"s": sm, "P": curve.position(sm), "t": curve.tangent(sm), "n": curve.normal(sm)}
+
+
+def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Discretization:
+    """Assemble ``M``, ``B_open`` and ``B_slide`` on the mesh with nodes ``nodes_s``.
+
+    ``intorder`` is the Gauss order of the mass form (exact to round-off for
+    elements up to ~60 degrees of a circle).
+    """
+    nodes_s = np.asarray(nodes_s, float)
+    if nodes_s.ndim != 1 or nodes_s.size < 2 or np.any(np.diff(nodes_s) <= 0):
+        raise InputError("mesh nodes must be a strictly increasing sequence of arc lengths")
+    mesh = MeshLine1.init_tensor(nodes_s)
+    fr = _element_frames(curve, mesh)
+    E = ElementVector(ElementLineP0(), NDOF)
+    data = {"Px": fr["P"][0], "Py": fr["P"][1], "tx": fr["t"][0], "ty": fr["t"][1],
+            "nx": fr["n"][0], "ny": fr["n"][1], "sm": fr["s"]}
+
+    def interp(basis0):
+        return {k: basis0.interpolate(v) for k, v in data.items()}
+
+    # kinetic energy 2K = d^T M d (cell form, exact annular-sector densities)
+    @BilinearForm
+    def mass(u, v, w):
+        s = w.x[0]
+        mu0, mu1, mu2 = curve.inertia_densities(s)
+        Sx, Sy = mu1[0] - mu0 * w.Px, mu1[1] - mu0 * w.Py      # first moment about P_e
+        J = mu2 - 2 * (w.Px * mu1[0] + w.Py * mu1[1]) + mu0 * (w.Px**2 + w.Py**2)
+        Vu = (u[0] * w.tx + u[1] * w.nx, u[0] * w.ty + u[1] * w.ny)
+        Vv = (v[0] * w.tx + v[1] * w.nx, v[0] * w.ty + v[1] * w.ny)
+        kS = (-Sy, Sx)                                          # k x S
+        return (mu0 * (Vu[0] * Vv[0] + Vu[1] * Vv[1])
+                + u[2] * (Vv[0] * kS[0] + Vv[1] * kS[1])
+                + v[2] * (Vu[0] * kS[0] + Vu[1] * kS[1])
+                + J * u[2] * v[2])
+
+    cb = CellBasis(mesh, E, intorder=intorder)
+    M = asm(mass, cb, **interp(CellBasis(mesh, ElementLineP0(), intorder=intorder)))
+
+    # joint operators: contributions of one side of each joint, sign = -outward normal
+    def joint_form(kind: str, y_sign: float):
+        @BilinearForm
+        def form(u, v, w):
+            s = w.x[0]
+            X, tj, nj = curve.position(s), curve.tangent(s), curve.normal(s)
+            y = 0.5 * y_sign * curve.thickness_at(s)
+            sign = np.where(w.sm < s, -1.0, 1.0)   # left element: -(+1); right: -(-1)
+            Q = X + y * nj
+            vx = u[0] * w.tx + u[1] * w.nx - u[2] * (Q[1] - w.Py)
+            vy = u[0] * w.ty + u[1] * w.ny + u[2] * (Q[0] - w.Px)
+            d = tj if kind == "open" else nj
+            return sign * (vx * d[0] + vy * d[1]) * v
+        return form
+
+    bases = [(InteriorFacetBasis(mesh, E, side=i), InteriorFacetBasis(mesh, ElementLineP1(), side=0),
+              InteriorFacetBasis(mesh, ElementLineP0(), side=i)) for i in (0, 1)]
+    bnd = [f for f, end in zip((0, mesh.p.shape[1] - 1), curve.ends) if end == "joint"]
+    if bnd:
+        bfacets = np.array([np.flatnonzero(mesh.facets[0] == n)[0] for n in bnd])
+        bases.append((FacetBasis(mesh, E, facets=bfacets), FacetBasis(mesh, ElementLineP1(), facets=bfacets),
+                      FacetBasis(mesh, ElementLineP0(), facets=bfacets)))
+
+    def assemble(kind, y_sign):
+        form = joint_form(kind, y_sign)
+        return sum(asm(form, trial, test, **interp(d0)) for trial, test, d0 in bases
+                   if trial.nelems > 0)
+
+    interior = np.arange(1, mesh.p.shape[1] - 1)
+    joint_nodes = np.sort(np.concatenate([interior, np.array(bnd, dtype=int)]))
+    rows = lambda A: sp.csr_matrix(A)[joint_nodes]  # noqa: E731
+    B_open = sp.vstack([rows(assemble("open", +1.0)), rows(assemble("open", -1.0))]).tocsr()
+    B_slide = rows(assemble("slide", 0.0))
+    for A in (B_open, B_slide):
+        A.eliminate_zeros()
+    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, joint_nodes, fr)

@@ -1,0 +1,88 @@
+"""Sparse convex QP backends with one result type.
+
+Problem (all backends)::
+
+    minimise   1/2 x^T P x + q^T x
+    subject to A_eq x = 0,  A_in x >= 0
+
+KKT convention returned: ``P x + q = A_eq^T lam + A_in^T mu`` with ``mu >= 0``
+(for the impact QP ``mu`` are the internal impulses).  Every solve is checked: a
+status other than solved raises :class:`SolverError`.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .errors import InputError, SolverError
+
+__all__ = ["QPSolution", "solve_qp", "BACKENDS"]
+
+BACKENDS = ("clarabel", "osqp")
+
+
+@dataclass
+class QPSolution:
+    x: np.ndarray
+    lam: np.ndarray          # multipliers of A_eq x = 0
+    mu: np.ndarray           # multipliers of A_in x >= 0 (>= 0)
+    status: str
+    iterations: int
+    solve_time: float        # s, the solver's own time
+    backend: str
+    infeasible: bool = False  # no feasible point with the required normalisation
+
+
+def _osqp(P, q, A_eq, A_in, tol):
+    import osqp
+
+    A = sp.vstack([A_eq, A_in]).tocsc()
+    l = np.zeros(A.shape[0])
+    u = np.concatenate([np.zeros(A_eq.shape[0]), np.full(A_in.shape[0], np.inf)])
+    solver = osqp.OSQP()
+    solver.setup(sp.triu(P).tocsc(), q, A, l, u, eps_abs=tol, eps_rel=tol, max_iter=400000,
+                 polishing=True, polish_refine_iter=20, verbose=False, adaptive_rho_interval=25)
+    t0 = time.perf_counter()
+    res = solver.solve()
+    dt = time.perf_counter() - t0
+    status = res.info.status
+    if status != "solved":
+        raise SolverError(f"OSQP did not solve the QP (status: {status!r}, {res.info.iter} iterations)")
+    y = -res.y
+    neq = A_eq.shape[0]
+    return QPSolution(res.x, y[:neq], y[neq:], status, int(res.info.iter), dt, "osqp")
+
+
+def _clarabel(P, q, A_eq, A_in, tol):
+    import clarabel
+
+    A = sp.vstack([A_eq, -A_in]).tocsc()
+    b = np.zeros(A.shape[0])
+    cones = [clarabel.ZeroConeT(A_eq.shape[0]), clarabel.NonnegativeConeT(A_in.shape[0])]
+    s = clarabel.DefaultSettings()
+    s.verbose = False
+    s.tol_gap_abs = s.tol_gap_rel = s.tol_feas = tol
+    s.tol_ktratio = 1e-8
+    s.max_iter = 200
+    t0 = time.perf_counter()
+    sol = clarabel.DefaultSolver(sp.triu(P).tocsc(), q, A, b, cones, s).solve()
+    dt = time.perf_counter() - t0
+    status = str(sol.status)
+    if status != "Solved":
+        raise SolverError(f"Clarabel did not solve the QP (status: {status}, {sol.iterations} iterations)")
+    z = np.asarray(sol.z)
+    neq = A_eq.shape[0]
+    return QPSolution(np.asarray(sol.x), -z[:neq], z[neq:], status, int(sol.iterations), dt, "clarabel")
+
+
+def solve_qp(P, q, A_eq, A_in, backend: str = "clarabel", tol: float = 1e-10) -> QPSolution:
+    """Solve the QP with ``backend`` (``"clarabel"`` interior point, ``"osqp"`` ADMM
+    with solution polishing); ``tol`` is passed as the absolute/relative tolerance."""
+    if backend == "clarabel":
+        return _clarabel(P, q, A_eq, A_in, tol)
+    if backend == "osqp":
+        return _osqp(P, q, A_eq, A_in, tol)
+    raise InputError(f"unknown QP backend {backend!r}; allowed: {', '.join(BACKENDS)}")
