@@ -32,7 +32,7 @@ from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, Elemen
 from .errors import InputError
 from .geometry import MidCurve
 
-__all__ = ["Discretization", "discretize", "uniform_nodes", "rigid_dofs"]
+__all__ = ["Discretization", "discretize", "uniform_nodes", "nodes_through", "rigid_dofs"]
 
 NDOF = 3  # (w, v, omega) per element
 
@@ -42,6 +42,19 @@ def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
     if not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
         raise InputError(f"the number of elements must be a positive integer, got {n_elements!r}")
     return np.linspace(0.0, curve.length, int(n_elements) + 1)
+
+
+def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
+    """Copy of ``nodes_s`` with, for each of ``points_s``, the nearest node moved onto it
+    (end nodes stay put), so that the mesh has joints exactly there."""
+    out = np.array(nodes_s, float)
+    for p in np.atleast_1d(points_s):
+        if np.min(np.abs(out - p)) <= 1e-12 * out[-1]:
+            continue
+        i = 1 + int(np.argmin(np.abs(out[1:-1] - p)))
+        if out[i - 1] < p < out[i + 1]:
+            out[i] = p
+    return out
 
 
 @dataclass(frozen=True)
