@@ -166,13 +166,18 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
         t0 = time.perf_counter()
         start = FourHinge(tuple(h.s for h in lim.hinges), tuple(h.side for h in lim.hinges))
         best, lam = optimise_load_factor(curve, start, direction)
-        disc = discretize(curve, nodes_through(nodes, best.s))
-        lim = limit_analysis(disc, direction)
-        res.verification["hinge_refinement_gap"] = float(abs(lim.A_L - lam) / lam)
-        if verify:
-            _check(lim.verification, "limit analysis (refined mesh)")
-            _check(res.verification, "hinge refinement")
-        res.A_L = lam
+        disc2 = discretize(curve, nodes_through(nodes, best.s))
+        lim2 = limit_analysis(disc2, direction)
+        gap = float(abs(lim2.A_L - lam) / lam) if lim2.status == "ok" else float("inf")
+        # accepted only if the LP through the moved nodes reproduces the optimum (the
+        # mechanism kept its four hinges); otherwise the uniform mesh is kept
+        if gap <= THRESHOLDS["hinge_refinement_gap"]:
+            if verify:
+                _check(lim2.verification, "limit analysis (refined mesh)")
+            disc, lim, res.A_L = disc2, lim2, lam
+            res.verification["hinge_refinement_gap"] = gap
+        else:
+            res.verification["hinge_refinement"] = f"rejected: LP gap {gap:.2e} (mechanism is not four-hinge)"
         res.timings["hinge_refinement"] = time.perf_counter() - t0
     res.limit = lim
     res.verification["limit"] = lim.verification

@@ -54,8 +54,9 @@ class LimitResult:
     @property
     def eccentricity(self) -> np.ndarray:
         """Thrust-line eccentricity at the joints (m, from the mid-curve, + to intrados)."""
-        t = self.disc.joint_thickness
-        return 0.5 * t * (self.N[0] - self.N[1]) / (self.N[0] + self.N[1])
+        t, Nt = self.disc.joint_thickness, self.N[0] + self.N[1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(Nt > 1e-12 * np.max(Nt), 0.5 * t * (self.N[0] - self.N[1]) / Nt, np.nan)
 
 
 def limit_analysis(disc: Discretization, direction: int = 1) -> LimitResult:
@@ -96,11 +97,12 @@ def _verify(res: LimitResult, fx, fy, m) -> dict:
     Nmax = np.max(np.abs(N))
     t = disc.joint_thickness
     e = res.eccentricity
+    carried = np.isfinite(e)
     return {
         "equilibrium_residual": float(np.linalg.norm(eq) / np.linalg.norm(fy)),
-        "thrust_line_outside": float(max(0.0, np.max((np.abs(e) - 0.5 * t) / t))),
+        "thrust_line_outside": float(max(0.0, np.max((np.abs(e[carried]) - 0.5 * t[carried]) / t[carried]))),
         "max_tensile_force": float(max(0.0, -np.min(N)) / Nmax),
         "complementarity": float(np.max(np.abs(N.ravel() * eps)) / (Nmax * np.max(np.abs(eps)))),
         "incompatibility": float(max(0.0, -np.min(eps), np.max(np.abs(disc.B_slide @ u))) / np.max(eps)),
-        "max_shear_ratio": float(np.max(np.abs(S) / (N[0] + N[1]))),
+        "max_shear_ratio": float(np.max(np.abs(S[carried]) / (N[0] + N[1])[carried])),
     }

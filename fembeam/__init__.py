@@ -1,0 +1,19 @@
+"""fembeam: curved-beam finite elements for the impact of rocking masonry arches.
+
+Pipeline: a :class:`MidCurve` (``CircularArch``) -> :func:`discretize` (rigid
+elements on a scikit-fem mesh) -> :func:`limit_analysis` (A_L, mechanism) ->
+:func:`impact` (r, impulses); :func:`analyze` runs it all with its checks.
+"""
+from .analysis import AnalysisResult, analyze, minimum_thickness
+from .errors import CannotStandError, FembeamError, InputError, SolverError
+from .fem import Discretization, discretize, nodes_through, uniform_nodes
+from .fourhinge import FourHinge, Pieces
+from .geometry import CircularArch, MidCurve, StraightMember
+from .impact import ImpactResult, impact
+from .limit import LimitResult, limit_analysis
+
+__all__ = ["AnalysisResult", "analyze", "minimum_thickness", "CannotStandError", "FembeamError",
+           "InputError", "SolverError", "Discretization", "discretize", "nodes_through", "uniform_nodes",
+           "FourHinge", "Pieces", "CircularArch", "MidCurve", "StraightMember", "ImpactResult", "impact",
+           "LimitResult", "limit_analysis"]
+__version__ = "0.1.0"

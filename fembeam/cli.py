@@ -1,0 +1,39 @@
+"""``fembeam`` command line: ``fembeam <command> --help`` for each command."""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .errors import FembeamError, InputError
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, no usage dump
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from .commands import analyze
+
+    p = _Parser(prog="fembeam", description="Rocking masonry arches: limit analysis, impact, impulse line.")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for mod in (analyze,):
+        mod.register(sub)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except InputError as e:
+        print(f"fembeam: error: {e}", file=sys.stderr)
+        return 2
+    except FembeamError as e:
+        print(f"fembeam: {type(e).__name__}: {e}", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

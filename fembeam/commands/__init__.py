@@ -1,0 +1,1 @@
+"""Sub-commands of the ``fembeam`` CLI; each module has ``register(subparsers)``."""
