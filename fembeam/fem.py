@@ -61,9 +61,11 @@ def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
 class Discretization:
     """Assembled operators of a rigid-element mesh of ``curve``.
 
-    ``d`` (length ``3 N``) stores ``(w_e, v_e, omega_e)`` element by element.
-    ``B_open`` has ``2 J`` rows: the intrados opening rates of the ``J`` joints, then
-    the extrados ones; ``B_slide`` has ``J`` rows. ``M`` is the kinetic-energy matrix.
+    ``d`` (length ``3 n``) stores ``(w, v, omega)`` at each of the ``n`` DOF points
+    (here the element midpoints, whose frames are in ``frames``: arc length ``s``,
+    position ``P``, tangent ``t`` and normal ``n``).  ``B_open`` has ``2 J`` rows: the
+    intrados opening rates at the ``J`` constraint sections ``joint_s`` (the joints),
+    then the extrados ones; ``B_slide`` has ``J`` rows. ``M`` is the kinetic-energy matrix.
     """
 
     curve: MidCurve
@@ -71,7 +73,7 @@ class Discretization:
     M: sp.csr_matrix
     B_open: sp.csr_matrix
     B_slide: sp.csr_matrix
-    joint_nodes: np.ndarray
+    joint_s: np.ndarray
     frames: dict = field(repr=False)
 
     @property
@@ -79,12 +81,12 @@ class Discretization:
         return self.mesh.t.shape[1]
 
     @property
-    def nodes_s(self) -> np.ndarray:
-        return self.mesh.p[0]
+    def n_joints(self) -> int:
+        return self.joint_s.size
 
     @property
-    def joint_s(self) -> np.ndarray:
-        return self.mesh.p[0, self.joint_nodes]
+    def nodes_s(self) -> np.ndarray:
+        return self.mesh.p[0]
 
     @property
     def joint_angle_deg(self) -> np.ndarray:
@@ -114,7 +116,7 @@ def rigid_dofs(disc: Discretization, V=(0.0, 0.0), omega: float = 0.0, about=(0.
     P, te, ne = disc.frames["P"], disc.frames["t"], disc.frames["n"]
     vx = V[0] - omega * (P[1] - about[1])
     vy = V[1] + omega * (P[0] - about[0])
-    d = np.empty((disc.n_elements, NDOF))
+    d = np.empty((P.shape[1], NDOF))
     d[:, 0] = vx * te[0] + vy * te[1]
     d[:, 1] = vx * ne[0] + vy * ne[1]
     d[:, 2] = omega
@@ -197,4 +199,4 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Disc
     B_slide = rows(assemble("slide", 0.0))
     for A in (B_open, B_slide):
         A.eliminate_zeros()
-    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, joint_nodes, fr)
+    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, nodes_s[joint_nodes], fr)

@@ -39,7 +39,7 @@ class Hinge:
 def find_hinges(disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_TOL) -> list[Hinge]:
     """Open joints of the field ``d``, one :class:`Hinge` per joint, left to right."""
     eps = disc.B_open @ d
-    J = disc.joint_nodes.size
+    J = disc.n_joints
     ei, ee = eps[:J], eps[J:]
     scale = max(np.max(np.abs(eps)), 1e-300)
     oi, oe = ei > rel_tol * scale, ee > rel_tol * scale

@@ -82,7 +82,7 @@ def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol:
     q = -(D @ (M @ d0)) / (m * sigma)
     sol = solve_qp(P, q, disc.B_slide @ D, disc.B_open @ D, backend=backend, tol=tol)
     d = sigma * (D @ sol.x)
-    J = disc.joint_nodes.size
+    J = disc.n_joints
     mu = m * sigma * sol.mu.reshape(2, J)
     lam = m * sigma * sol.lam
     r = float(d @ M @ d) / two_k

@@ -29,8 +29,7 @@ __all__ = ["LimitResult", "limit_analysis", "dof_scaling"]
 
 def dof_scaling(disc: Discretization) -> sp.dia_matrix:
     """Diagonal ``D`` with ``d = D d~``: makes the rotation DOFs velocities (x length)."""
-    n = disc.n_elements
-    s = np.tile([1.0, 1.0, 1.0 / disc.curve.length], n)
+    s = np.tile([1.0, 1.0, 1.0 / disc.curve.length], disc.M.shape[0] // 3)
     return sp.diags(s)
 
 
@@ -81,7 +80,7 @@ def limit_analysis(disc: Discretization, direction: int = 1) -> LimitResult:
         raise SolverError(f"HiGHS failed on the limit-analysis LP: {res.message}")
     lam = float(res.fun)
     u = D @ res.x
-    J = disc.joint_nodes.size
+    J = disc.n_joints
     N = -m * np.asarray(res.ineqlin.marginals).reshape(2, J)   # >= 0: compression
     S = m * np.asarray(res.eqlin.marginals)[:-1]
     out = LimitResult("ok" if lam > 0 else "cannot_stand", disc, direction, lam, u, N, S,
