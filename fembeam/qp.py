@@ -3,7 +3,7 @@
 Problem (all backends)::
 
     minimise   1/2 x^T P x + q^T x
-    subject to A_eq x = 0,  A_in x >= 0
+    subject to A_eq x = b_eq (default 0),  A_in x >= 0
 
 KKT convention returned: ``P x + q = A_eq^T lam + A_in^T mu`` with ``mu >= 0``
 (for the impact QP ``mu`` are the internal impulses).  Every solve is checked: a
@@ -36,17 +36,17 @@ class QPSolution:
     infeasible: bool = False  # no feasible point with the required normalisation
 
 
-def _osqp(P, q, A_eq, A_in, tol):
+def _osqp(P, q, A_eq, A_in, b_eq, tol):
     import osqp
 
     A = sp.vstack([A_eq, A_in]).tocsc()
-    l = np.zeros(A.shape[0])
-    u = np.concatenate([np.zeros(A_eq.shape[0]), np.full(A_in.shape[0], np.inf)])
+    l = np.concatenate([b_eq, np.zeros(A_in.shape[0])])
+    u = np.concatenate([b_eq, np.full(A_in.shape[0], np.inf)])
     solver = osqp.OSQP()
     solver.setup(sp.triu(P).tocsc(), q, A, l, u, eps_abs=tol, eps_rel=tol, max_iter=400000,
                  polishing=True, polish_refine_iter=20, verbose=False, adaptive_rho_interval=25)
     t0 = time.perf_counter()
-    res = solver.solve()
+    res = solver.solve(raise_error=False)
     dt = time.perf_counter() - t0
     status = res.info.status
     if status != "solved":
@@ -56,11 +56,11 @@ def _osqp(P, q, A_eq, A_in, tol):
     return QPSolution(res.x, y[:neq], y[neq:], status, int(res.info.iter), dt, "osqp")
 
 
-def _clarabel(P, q, A_eq, A_in, tol):
+def _clarabel(P, q, A_eq, A_in, b_eq, tol):
     import clarabel
 
     A = sp.vstack([A_eq, -A_in]).tocsc()
-    b = np.zeros(A.shape[0])
+    b = np.concatenate([b_eq, np.zeros(A_in.shape[0])])
     cones = [clarabel.ZeroConeT(A_eq.shape[0]), clarabel.NonnegativeConeT(A_in.shape[0])]
     s = clarabel.DefaultSettings()
     s.verbose = False
@@ -78,11 +78,12 @@ def _clarabel(P, q, A_eq, A_in, tol):
     return QPSolution(np.asarray(sol.x), -z[:neq], z[neq:], status, int(sol.iterations), dt, "clarabel")
 
 
-def solve_qp(P, q, A_eq, A_in, backend: str = "clarabel", tol: float = 1e-10) -> QPSolution:
+def solve_qp(P, q, A_eq, A_in, backend: str = "clarabel", tol: float = 1e-10, b_eq=None) -> QPSolution:
     """Solve the QP with ``backend`` (``"clarabel"`` interior point, ``"osqp"`` ADMM
     with solution polishing); ``tol`` is passed as the absolute/relative tolerance."""
+    b_eq = np.zeros(A_eq.shape[0]) if b_eq is None else np.asarray(b_eq, float)
     if backend == "clarabel":
-        return _clarabel(P, q, A_eq, A_in, tol)
+        return _clarabel(P, q, A_eq, A_in, b_eq, tol)
     if backend == "osqp":
-        return _osqp(P, q, A_eq, A_in, tol)
+        return _osqp(P, q, A_eq, A_in, b_eq, tol)
     raise InputError(f"unknown QP backend {backend!r}; allowed: {', '.join(BACKENDS)}")

@@ -1,0 +1,82 @@
+"""The rigid curved-beam elements: strain operators and kinetic-energy form."""
+import math
+
+import numpy as np
+import pytest
+
+from fembeam import CircularArch, discretize, uniform_nodes
+
+
+@pytest.fixture(scope="module")
+def disc():
+    c = CircularArch.from_ratio(157.5, 0.15, radius=2.0)
+    rng = np.random.default_rng(0)
+    nodes = np.sort(np.concatenate([[0, c.length], rng.uniform(0, c.length, 29)]))  # irregular mesh
+    return discretize(c, nodes)
+
+
+def interior(disc, A):
+    """Rows of the interior joints (the springings are joints against fixed abutments)."""
+    J = disc.n_joints
+    keep = np.ones(A.shape[0], bool)
+    for k in range(A.shape[0] // J):
+        keep[[k * J, k * J + J - 1]] = False
+    return A[keep]
+
+
+@pytest.mark.parametrize("V, omega, about", [((1, 0), 0, (0, 0)), ((0, 1), 0, (0, 0)),
+                                              ((0.3, -2), 1.7, (0.4, -1.1)), ((0, 0), 1, (5, 5))])
+def test_rigid_motions_are_in_the_kernel(disc, V, omega, about):
+    d = disc.rigid(V, omega, about)
+    scale = np.abs(d).max()
+    assert np.abs(interior(disc, disc.B_open @ d)).max() < 1e-14 * scale
+    assert np.abs(interior(disc, disc.B_slide @ d)).max() < 1e-14 * scale
+
+
+def test_springing_joint_rotation_about_a_corner(disc):
+    """Rotating the whole arch about the left springing's intrados corner opens only its
+    extrados there: opening 0 at the pivot, t * |omega| at the other edge, no sliding."""
+    c = disc.curve
+    t0 = c.thickness_at(0.0)
+    corner = c.position(0.0) + 0.5 * t0 * c.normal(0.0)
+    d = disc.rigid((0, 0), -1.0, corner)  # clockwise
+    eps = disc.B_open @ d
+    J = disc.n_joints
+    assert abs(eps[0]) < 1e-14 and eps[J] == pytest.approx(t0, rel=1e-12)
+    assert abs((disc.B_slide @ d)[0]) < 1e-14
+
+
+def test_operators_are_sparse_and_local(disc):
+    # a joint row couples the (w, v, omega) of the two elements it separates
+    assert disc.B_open.getnnz(axis=1).max() <= 6 and disc.B_slide.getnnz(axis=1).max() <= 6
+    assert disc.M.getnnz(axis=1).max() <= 3
+
+
+def test_mass_form_reproduces_annular_sector():
+    """d^T M d for rigid motions gives the exact mass, static moment and polar inertia."""
+    R, t, beta, rho = 2.0, 0.3, 157.5, 1.7
+    c = CircularArch(radius=R, thickness=t, embrace_deg=beta, density=rho)
+    disc = discretize(c, uniform_nodes(c, 9))
+    a, b, B = R - t / 2, R + t / 2, math.radians(beta)
+    m = rho * 0.5 * (b**2 - a**2) * B
+    Sy = rho * (b**3 - a**3) / 3 * 2 * math.sin(B / 2)   # first moment about the x axis
+    Jo = rho * (b**4 - a**4) / 4 * B                      # polar moment about the centre
+    tx, ty, rot = disc.rigid((1, 0)), disc.rigid((0, 1)), disc.rigid(omega=1.0)
+    M = disc.M
+    assert tx @ M @ tx == pytest.approx(m, rel=1e-13)
+    assert ty @ M @ ty == pytest.approx(m, rel=1e-13)
+    assert tx @ M @ ty == pytest.approx(0.0, abs=1e-13)
+    # rotation about the origin: velocity k x X, so x-momentum = -S_y, y-momentum = S_x = 0
+    assert tx @ M @ rot == pytest.approx(-Sy, rel=1e-13)
+    assert ty @ M @ rot == pytest.approx(0.0, abs=1e-13)
+    assert rot @ M @ rot == pytest.approx(Jo, rel=1e-13)
+
+
+def test_mass_matrix_matches_segment_integrals(disc):
+    """Cross-check of the scikit-fem form against the Gauss integrals of fourhinge."""
+    from fembeam.fourhinge import Pieces, product
+
+    c = disc.curve
+    a = Pieces(np.array([0.0, c.length]), np.array([[0.2, -0.7, 1.3]]))
+    da = disc.rigid((0.2, -0.7), 1.3)
+    assert da @ disc.M @ da == pytest.approx(product(c, a, a), rel=1e-12)
