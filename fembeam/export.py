@@ -1,0 +1,251 @@
+"""VTK export of an impact solution with meshio (files described in docs/visualisation.md).
+
+:func:`write_fields` takes the raw ingredients (discretisation, pre-impact field
+``d0``, post-impact field ``d``, hinges before/after, impulse line, thrust line) so
+that any result type can use it; :func:`write_vtk` feeds it an :class:`AnalysisResult`.
+One call writes five unstructured grids and a ParaView multiblock index::
+
+    out.vtu           arch body: quads across the thickness, rigid velocity fields
+    out_joints.vtu    joint sections (extrados -> intrados segments): impulses, thrust
+    out_impulse.vtu   impulse line, polyline through X_j + e_j n_j
+    out_thrust.vtu    thrust line (limit analysis), polyline through X_j + e_j n_j
+    out_hinges.vtu    hinges before/after as vertex cells on the edge they pivot on
+    out.vtm           multiblock index of the five (ParaView / pyvista open it at once)
+
+Conventions (THEORY §1): ``y`` is the offset along the inward normal ``n``, intrados at
+``y = +t/2``; eccentricities are ``y`` of the line (m); velocities in m/s for the
+normalised mechanism (unit mean horizontal speed of ``u = -d0``); impulses in N s per
+unit depth for that velocity scale (paper sign: ``I_t < 0`` is compression); thrust
+forces per unit g.  Points are stored as ``(npoints, 3)`` with ``z = 0``.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from .fem import Discretization
+from .hinges import Hinge
+
+__all__ = ["SIDE_CODE", "rigid_velocity", "body_mesh", "joints_mesh", "line_mesh", "hinges_mesh",
+           "impulse_line", "thrust_line", "write_fields", "write_vtk", "meshes_of", "output_paths"]
+
+SIDE_CODE = {"intrados": 1, "extrados": -1, "separated": 0}  # sign of y of the pivot edge
+PARTS = ("body", "joints", "impulse", "thrust", "hinges")
+
+
+def rigid_velocity(disc: Discretization, d: np.ndarray, elem: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """Velocity (2, n) of element ``elem[i]``'s rigid field at the point ``X[:, i]``:
+    ``w t_e + v n_e + omega k x (X - P_e)`` (m/s)."""
+    fr = disc.frames
+    w, v, om = np.asarray(d, float).reshape(-1, 3)[elem].T
+    P, t, n = fr["P"][:, elem], fr["t"][:, elem], fr["n"][:, elem]
+    r = X - P
+    return w * t + v * n + om * np.array([-r[1], r[0]])
+
+
+def _section_points(disc: Discretization, s: np.ndarray, y_frac: np.ndarray) -> np.ndarray:
+    """Points ``X(s) + y n(s)`` with ``y = y_frac t(s)``, broadcast over ``s`` and ``y_frac``."""
+    c = disc.curve
+    X, n, t = c.position(s), c.normal(s), c.thickness_at(s)
+    return X + y_frac * t * n
+
+
+def _xyz(p2: np.ndarray) -> np.ndarray:
+    """(2, n) -> (n, 3) with z = 0."""
+    return np.column_stack([p2[0], p2[1], np.zeros(p2.shape[1])])
+
+
+def body_mesh(disc: Discretization, fields: Mapping[str, np.ndarray], layers: int = 2,
+              max_cell: float | None = None):
+    """Quads of each rigid element, ``layers`` through the thickness and as many along the
+    element as keep cells shorter than ``max_cell`` (m, default min(L/200, t/2)).
+
+    Points are not shared between elements, so each element's rigid field is evaluated at
+    its own corners and jumps at open joints show.  ``fields`` maps a name to element DOFs
+    (length 3 x elements); each gives point data ``velocity_<name>`` (m/s, 3 comps),
+    ``speed_<name>`` and cell data ``omega_<name>`` (rad/s, counter-clockwise).
+    """
+    import meshio
+
+    c = disc.curve
+    sn = disc.nodes_s
+    h = np.diff(sn)
+    if max_cell is None:
+        max_cell = min(c.length / 200.0, 0.5 * float(np.min(c.thickness_at(sn))))
+    na = np.maximum(1, np.ceil(h / max_cell - 1e-9).astype(int))       # cells along each element
+    ne, nl = h.size, int(layers)
+    # along-element parameter of every point column, element by element
+    col_elem = np.repeat(np.arange(ne), na + 1)
+    col_start = np.concatenate([[0], np.cumsum(na + 1)[:-1]])
+    k = np.arange(col_elem.size) - col_start[col_elem]
+    s_col = sn[col_elem] + h[col_elem] * k / na[col_elem]
+    y_frac = np.linspace(-0.5, 0.5, nl + 1)                            # extrados -> intrados
+    S = np.repeat(s_col, nl + 1)
+    Y = np.tile(y_frac, s_col.size)
+    elem = np.repeat(col_elem, nl + 1)
+    X = _section_points(disc, S, Y)
+    # quads between consecutive columns of the same element
+    cols = np.flatnonzero(np.diff(col_elem) == 0)                      # left column of each strip
+    base = cols[:, None] * (nl + 1) + np.arange(nl)[None, :]
+    quads = np.stack([base, base + nl + 1, base + nl + 2, base + 1], -1).reshape(-1, 4)
+    cell_elem = np.repeat(col_elem[cols], nl)
+    point_data = {"s": S, "y": Y * c.thickness_at(S), "angle_deg": c.angle_deg(S).astype(float),
+                  "element": elem.astype(np.int32)}
+    cell_data = {"element": [cell_elem.astype(np.int32)]}
+    for name, d in fields.items():
+        vel = rigid_velocity(disc, d, elem, X)
+        point_data[f"velocity_{name}"] = _xyz(vel)
+        point_data[f"speed_{name}"] = np.hypot(vel[0], vel[1])
+        cell_data[f"omega_{name}"] = [np.asarray(d, float).reshape(-1, 3)[cell_elem, 2]]
+    return meshio.Mesh(_xyz(X), [("quad", quads)], point_data=point_data, cell_data=cell_data)
+
+
+def joints_mesh(disc: Discretization, fields: Mapping[str, np.ndarray], data: Mapping[str, np.ndarray]):
+    """One line cell per joint, from the extrados (``y = -t/2``) to the intrados point.
+
+    Cell data: ``angle_deg``, ``s`` (m), ``thickness`` (m), the opening rates
+    ``opening_intrados_<name>``/``opening_extrados_<name>`` (m/s) of each field and every
+    per-joint array of ``data`` (length J)."""
+    import meshio
+
+    J = disc.n_joints
+    s = disc.joint_s
+    pts = np.stack([_section_points(disc, s, -0.5), _section_points(disc, s, 0.5)], -1)  # (2, J, 2)
+    X = pts.reshape(2, -1)                                    # joint by joint: extrados, intrados
+    lines = np.arange(2 * J).reshape(J, 2)
+    cd = {"angle_deg": disc.joint_angle_deg.astype(float), "s": s, "thickness": disc.joint_thickness}
+    for name, d in fields.items():
+        eps = disc.B_open @ np.asarray(d, float)
+        cd[f"opening_intrados_{name}"], cd[f"opening_extrados_{name}"] = eps[:J], eps[J:]
+    for k, v in data.items():
+        cd[k] = np.asarray(v, float)
+    return meshio.Mesh(_xyz(X), [("line", lines)], cell_data={k: [v] for k, v in cd.items()},
+                       point_data={"y": np.tile([-0.5, 0.5], J) * np.repeat(disc.joint_thickness, 2)})
+
+
+def line_mesh(disc: Discretization, line: Mapping[str, np.ndarray]):
+    """Polyline through ``X_j + e_j n_j`` at the joints (``line["eccentricity"]``, m);
+    joints where ``e`` is NaN (nothing transmitted) split it into pieces.  Every other
+    array of ``line`` of length J becomes point data, with ``angle_deg`` and ``s``."""
+    import meshio
+
+    e = np.asarray(line["eccentricity"], float)
+    ok = np.flatnonzero(np.isfinite(e))
+    s = disc.joint_s[ok]
+    c = disc.curve
+    X = c.position(s) + e[ok] * c.normal(s)
+    consecutive = np.flatnonzero(np.diff(ok) == 1)
+    segs = np.column_stack([consecutive, consecutive + 1])
+    pd = {"angle_deg": disc.joint_angle_deg[ok].astype(float), "s": s,
+          "thickness": disc.joint_thickness[ok]}
+    for k, v in line.items():
+        v = np.asarray(v, float)
+        if k != "angle_deg" and v.shape == e.shape:
+            pd[k] = v[ok]
+    return meshio.Mesh(_xyz(X), [("line", segs.reshape(-1, 2))], point_data=pd)
+
+
+def hinges_mesh(disc: Discretization, before: Sequence[Hinge], after: Sequence[Hinge]):
+    """Vertex cells on the pivot edge of each hinge (mid-curve for a separated joint).
+
+    Point data: ``after`` (0 = before the impact, 1 = after), ``side`` (+1 intrados,
+    -1 extrados, 0 separated), ``angle_deg``, ``s`` (m), ``rotation`` (rad/s)."""
+    import meshio
+
+    hs = list(before) + list(after)
+    s = np.array([h.s for h in hs], float)
+    side = np.array([SIDE_CODE[h.side] for h in hs], np.int32)
+    X = _section_points(disc, s, 0.5 * side) if hs else np.zeros((2, 0))
+    pd = {"after": np.array([0] * len(before) + [1] * len(after), np.int32), "side": side,
+          "angle_deg": np.array([h.angle_deg for h in hs], float), "s": s,
+          "rotation": np.array([h.rotation for h in hs], float)}
+    return meshio.Mesh(_xyz(X), [("vertex", np.arange(len(hs)).reshape(-1, 1))], point_data=pd)
+
+
+def impulse_line(imp) -> dict:
+    """Impulse-line arrays of an :class:`~fembeam.impact.ImpactResult` (per joint):
+    ``eccentricity`` (m), ``I_t``, ``I_n`` (N s), ``moment`` (N m s), ``mu_intrados``,
+    ``mu_extrados`` (fibre impulses >= 0, compression)."""
+    return {"angle_deg": imp.disc.joint_angle_deg, "eccentricity": imp.eccentricity,
+            "I_t": imp.I_t, "I_n": imp.I_n, "moment": imp.moment,
+            "mu_intrados": imp.mu[0], "mu_extrados": imp.mu[1]}
+
+
+def thrust_line(lim) -> dict:
+    """Thrust-line arrays of a :class:`~fembeam.limit.LimitResult`: ``eccentricity`` (m),
+    ``N`` (total normal force >= 0 compression, per g), ``S`` (shear, per g)."""
+    return {"angle_deg": lim.disc.joint_angle_deg, "eccentricity": lim.eccentricity,
+            "N": lim.N[0] + lim.N[1], "S": lim.S}
+
+
+def meshes_of(disc: Discretization, d0: np.ndarray, d: np.ndarray, hinges_before: Sequence[Hinge] = (),
+              hinges_after: Sequence[Hinge] = (), impulse: Mapping | None = None,
+              thrust: Mapping | None = None, layers: int = 2) -> dict:
+    """The meshio meshes written by :func:`write_fields`, keyed by part name."""
+    fields = {"before": np.asarray(d0, float), "after": np.asarray(d, float)}
+    jdata = {}
+    if impulse is not None:
+        jdata.update({f"{k}_impulse" if k == "eccentricity" else k: v
+                      for k, v in impulse.items() if k != "angle_deg"})
+    if thrust is not None:
+        jdata.update({f"{k}_thrust" if k == "eccentricity" else k: v
+                      for k, v in thrust.items() if k != "angle_deg"})
+    out = {"body": body_mesh(disc, fields, layers), "joints": joints_mesh(disc, fields, jdata),
+           "hinges": hinges_mesh(disc, hinges_before, hinges_after)}
+    if impulse is not None:
+        out["impulse"] = line_mesh(disc, impulse)
+    if thrust is not None:
+        out["thrust"] = line_mesh(disc, thrust)
+    return out
+
+
+def output_paths(path: str | Path) -> dict[str, Path]:
+    """File of each part for the main file ``path`` (``.vtu`` added if missing)."""
+    p = Path(path)
+    if p.suffix.lower() != ".vtu":
+        p = p.with_name(p.name + ".vtu")
+    stem = p.with_suffix("")
+    out = {"body": p}
+    out.update({k: stem.with_name(f"{stem.name}_{k}.vtu") for k in PARTS[1:]})
+    out["multiblock"] = stem.with_suffix(".vtm")
+    return out
+
+
+def write_fields(path: str | Path, disc: Discretization, d0: np.ndarray, d: np.ndarray,
+                 hinges_before: Sequence[Hinge] = (), hinges_after: Sequence[Hinge] = (),
+                 impulse: Mapping | None = None, thrust: Mapping | None = None,
+                 layers: int = 2) -> dict[str, Path]:
+    """Write the parts of :func:`meshes_of` next to ``path`` and a ``.vtm`` index; returns
+    the written files by part name (see the module docstring)."""
+    paths = output_paths(path)
+    paths["body"].parent.mkdir(parents=True, exist_ok=True)
+    meshes = meshes_of(disc, d0, d, hinges_before, hinges_after, impulse, thrust, layers)
+    written = {}
+    for k in PARTS:
+        if k in meshes:
+            meshes[k].write(paths[k], file_format="vtu", binary=True)
+            written[k] = paths[k]
+    blocks = "\n".join(f'    <DataSet index="{i}" name="{k}" file="{p.name}"/>'
+                       for i, (k, p) in enumerate(written.items()))
+    paths["multiblock"].write_text('<?xml version="1.0"?>\n<VTKFile type="vtkMultiBlockDataSet" '
+                                   'version="1.0" byte_order="LittleEndian">\n  <vtkMultiBlockDataSet>\n'
+                                   f"{blocks}\n  </vtkMultiBlockDataSet>\n</VTKFile>\n")
+    written["multiblock"] = paths["multiblock"]
+    return written
+
+
+def write_vtk(result, path: str | Path, layers: int = 2) -> dict[str, Path]:
+    """Export an :class:`~fembeam.analysis.AnalysisResult` (needs a limit-analysis mechanism;
+    the impact fields are zero/absent when it has none). Returns the files written."""
+    from .errors import InputError
+
+    lim, imp = result.limit, result.impact
+    if lim is None:
+        raise InputError(f"nothing to export: the analysis has no mechanism (outcome {result.outcome})")
+    disc = imp.disc if imp is not None else lim.disc
+    d0 = imp.d0 if imp is not None else -lim.u
+    d = imp.d if imp is not None else np.zeros_like(d0)
+    return write_fields(path, disc, d0, d, result.hinges_before, result.hinges_after,
+                        impulse_line(imp) if imp is not None else None, thrust_line(lim), layers)
