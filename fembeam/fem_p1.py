@@ -1,0 +1,123 @@
+"""Continuous P1 curved-beam elements: the alternative to the rigid elements of :mod:`.fem`.
+
+The fields ``(w, v, omega)`` of Appendix B are continuous and piecewise linear in the
+arc length ``s``: ``d[3i:3i+3]`` are their values at node ``i``, ``w`` and ``v`` being
+the components on the tangent ``t_i`` and normal ``n_i`` of that node (so rigid motions
+are set by :func:`fembeam.fem.rigid_dofs` with the node frames).  Inside an element the
+*intrinsic components* are interpolated, so a rigid motion (whose ``w``, ``v`` vary like
+``cos``/``sin`` of the angle) is reproduced only to ``O(h^2)``.
+
+Constraint sections ("joints", in the order of ``joint_s``, left to right):
+
+* the left springing: a joint against the abutment at rest (opening ``w + omega y >= 0``
+  at ``y = +-t/2``, sliding ``v = 0``);
+* each element midpoint: the strain rates of (B.1)-(B.5),
+  ``eps_pm = eps0 +- chi t/2`` with ``eps0 = w' - kappa v``, ``chi = omega'`` and
+  ``gamma = v' + kappa w + omega``, integrated over the element with the one-point
+  (midpoint) rule, i.e. P1 trial / P0 test functions.  A row is then the element's
+  total opening (m/s), commensurate with a joint jump, and its multiplier is the
+  element value of the fibre (or shear) force/impulse, as at a rigid-element joint;
+* the right springing: ``-(w + omega y) >= 0``, ``-v = 0`` (jump abutment minus arch).
+
+The kinetic energy uses the exact annular-sector densities of
+:meth:`MidCurve.inertia_densities` (same as the rigid elements) on the interpolated field.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, ElementVector,
+                   FacetBasis, MeshLine1, asm)
+
+from .errors import InputError
+from .fem import NDOF, Discretization
+from .geometry import MidCurve
+
+__all__ = ["discretize_p1"]
+
+
+def _node_frames(curve: MidCurve, sn: np.ndarray) -> dict:
+    return {"s": sn, "P": curve.position(sn), "t": curve.tangent(sn), "n": curve.normal(sn)}
+
+
+def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
+                  mass_intorder: int = 6) -> Discretization:
+    """Assemble ``M``, ``B_open``, ``B_slide`` for continuous P1 fields on the mesh
+    with nodes ``nodes_s`` (arc lengths, m).
+
+    ``intorder`` is the Gauss order of the strain rows (1: the midpoint rule, one row per
+    element and fibre); ``mass_intorder`` that of the kinetic-energy form (P1 x P1 times
+    smooth densities: order 6 is exact to round-off for elements below ~30 degrees).
+    """
+    nodes_s = np.asarray(nodes_s, float)
+    if nodes_s.ndim != 1 or nodes_s.size < 2 or np.any(np.diff(nodes_s) <= 0):
+        raise InputError("mesh nodes must be a strictly increasing sequence of arc lengths")
+    if intorder > 1:
+        raise InputError("P1 strain rows use the midpoint rule (intorder=1): a higher order "
+                         "would need one row per quadrature point")
+    mesh = MeshLine1.init_tensor(nodes_s)
+    E = ElementVector(ElementLineP1(), NDOF)
+
+    @BilinearForm
+    def mass(u, v, w):
+        s = w.x[0]
+        X, t, n = curve.position(s), curve.tangent(s), curve.normal(s)
+        mu0, mu1, mu2 = curve.inertia_densities(s)
+        Sx, Sy = mu1[0] - mu0 * X[0], mu1[1] - mu0 * X[1]        # first moment about X(s)
+        J = mu2 - 2 * (X[0] * mu1[0] + X[1] * mu1[1]) + mu0 * (X[0]**2 + X[1]**2)
+        Vu = (u[0] * t[0] + u[1] * n[0], u[0] * t[1] + u[1] * n[1])
+        Vv = (v[0] * t[0] + v[1] * n[0], v[0] * t[1] + v[1] * n[1])
+        kS = (-Sy, Sx)                                            # k x S
+        return (mu0 * (Vu[0] * Vv[0] + Vu[1] * Vv[1])
+                + u[2] * (Vv[0] * kS[0] + Vv[1] * kS[1])
+                + v[2] * (Vu[0] * kS[0] + Vu[1] * kS[1])
+                + J * u[2] * v[2])
+
+    M = asm(mass, CellBasis(mesh, E, intorder=mass_intorder))
+
+    # interior strain rates, integrated over each element (rows: P0 test functions)
+    def strain_form(kind: str, y_sign: float):
+        @BilinearForm
+        def form(u, v, w):
+            s = w.x[0]
+            kap = curve.curvature(s)
+            if kind == "slide":
+                return (u.grad[1][0] + kap * u[0] + u[2]) * v
+            y = 0.5 * y_sign * curve.thickness_at(s)
+            return (u.grad[0][0] - kap * u[1] + y * u.grad[2][0]) * v
+        return form
+
+    trial, test = CellBasis(mesh, E, intorder=intorder), CellBasis(mesh, ElementLineP0(), intorder=intorder)
+
+    # springing joints: jump (abutment at rest) = -(outward normal) x (end value)
+    ends = [node for node, end in zip((0, mesh.p.shape[1] - 1), curve.ends) if end == "joint"]
+    if ends:
+        facets = np.array([np.flatnonzero(mesh.facets[0] == node)[0] for node in ends])
+        fb, fb1 = FacetBasis(mesh, E, facets=facets), FacetBasis(mesh, ElementLineP1(), facets=facets)
+
+    def end_form(kind: str, y_sign: float):
+        @BilinearForm
+        def form(u, v, w):
+            if kind == "slide":
+                return -w.n[0] * u[1] * v
+            y = 0.5 * y_sign * curve.thickness_at(w.x[0])
+            return -w.n[0] * (u[0] + y * u[2]) * v
+        return form
+
+    left = [0] if ends and ends[0] == 0 else []
+    right = [mesh.p.shape[1] - 1] if ends and ends[-1] == mesh.p.shape[1] - 1 else []
+
+    def rows(kind: str, y_sign: float) -> sp.csr_matrix:
+        inner = asm(strain_form(kind, y_sign), trial, test).tocsr()
+        if not ends:
+            return inner
+        A = asm(end_form(kind, y_sign), fb, fb1).tocsr()   # rows indexed by node
+        return sp.vstack([A[left], inner, A[right]]).tocsr()
+
+    B_open = sp.vstack([rows("open", +1.0), rows("open", -1.0)]).tocsr()
+    B_slide = rows("slide", 0.0)
+    for A in (B_open, B_slide):
+        A.eliminate_zeros()
+    mid = 0.5 * (nodes_s[:-1] + nodes_s[1:])
+    joint_s = np.concatenate([nodes_s[left], mid, nodes_s[right]])
+    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, joint_s, _node_frames(curve, nodes_s))
