@@ -91,7 +91,8 @@ def body_mesh(disc: Discretization, fields: Mapping[str, np.ndarray], layers: in
     base = cols[:, None] * (nl + 1) + np.arange(nl)[None, :]
     quads = np.stack([base, base + nl + 1, base + nl + 2, base + 1], -1).reshape(-1, 4)
     cell_elem = np.repeat(col_elem[cols], nl)
-    point_data = {"s": S, "y": Y * c.thickness_at(S), "angle_deg": c.angle_deg(S).astype(float),
+    T = c.thickness_at(S)
+    point_data = {"s": S, "y": Y * T, "thickness": T, "angle_deg": c.angle_deg(S).astype(float),
                   "element": elem.astype(np.int32)}
     cell_data = {"element": [cell_elem.astype(np.int32)]}
     for name, d in fields.items():

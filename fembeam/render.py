@@ -1,0 +1,115 @@
+"""Off-screen 3D-engine picture of an impact solution with pyvista (VTK).
+
+Draws the meshes of :mod:`fembeam.export`: the arch body coloured by the post-impact
+speed, the impulse line (red), the thrust line (dashed black), hinges before the impact (grey)
+and after it (blue), in the x-y plane with a parallel projection (equal aspect).
+
+Headless machines: VTK >= 9.4 wheels load libGL/libEGL at run time and fall back from
+X11 to EGL to OSMesa; with no ``DISPLAY`` we ask for EGL directly (Mesa's llvmpipe
+renders on the CPU; Debian packages ``libegl1 libegl-mesa0 libgl1-mesa-dri``, installed
+by ``.ci/run``), which also avoids VTK's "bad X server connection" warning.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["render_png", "render_fields", "title_of"]
+
+
+def _headless_setup() -> None:
+    if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+
+def title_of(result) -> str:
+    """``"r = 0.6065, A_L = 0.3534 g"`` plus the geometry, for picture titles."""
+    g = result.geometry or {}
+    geo = (f"beta = {g['embrace_deg']:g} deg, t/R = {g['t_over_R']:g}: " if "embrace_deg" in g else "")
+    r = f"r = {result.r:.4f}" if np.isfinite(result.r) else f"outcome {result.outcome}"
+    return f"{geo}{r}, A_L = {result.A_L:.4f} g"
+
+
+def _dashed(points: np.ndarray, dash: float) -> np.ndarray:
+    """Segments (2k, 3) of a dashed version of the polyline ``points`` (dash length m)."""
+    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(seg)])
+    n = max(2, int(np.ceil(arc[-1] / dash)))
+    a = np.linspace(0.0, arc[-1], 4 * n + 1)
+    p = np.column_stack([np.interp(a, arc, points[:, i]) for i in range(3)])
+    ends = np.arange(0, 4 * n, 2)                        # dash, gap, dash, ... of length/2 dash
+    return np.stack([p[ends], p[ends + 1]], 1).reshape(-1, 3)
+
+
+def _outline(meshes: dict) -> np.ndarray:
+    """Segments (2k, 3) of the body outline: extrados, intrados and the two end sections,
+    plus every joint section when there are few (voussoirs)."""
+    j = np.asarray(meshes["joints"].points).reshape(-1, 2, 3)      # (J, extrados/intrados, 3)
+    b = meshes["body"]
+    pts, s = np.asarray(b.points), np.asarray(b.point_data["s"])
+    y, t = np.asarray(b.point_data["y"]), np.asarray(b.point_data["thickness"])
+    segs = []
+    for side in (-1, 1):
+        sel = np.flatnonzero(np.abs(2 * side * y - t) <= 1e-9 * t)
+        q = pts[sel[np.argsort(s[sel], kind="stable")]]
+        segs.append(np.stack([q[:-1], q[1:]], 1).reshape(-1, 3))
+    segs.append(j[[0, -1] if j.shape[0] > 30 else slice(None)].reshape(-1, 3))
+    return np.concatenate(segs)
+
+
+def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 900),
+                  scalars: str = "speed_after") -> Path:
+    """Render the meshes of :func:`fembeam.export.meshes_of` to the PNG ``path``."""
+    _headless_setup()
+    import pyvista as pv
+
+    body = pv.from_meshio(meshes["body"])
+    pl = pv.Plotter(off_screen=True, window_size=list(size))
+    pl.set_background("white")
+    pl.add_mesh(body, scalars=scalars, cmap="viridis", show_edges=False, lighting=False,
+                clim=[0.0, max(float(np.max(body[scalars])), 1e-12)],
+                scalar_bar_args={"title": "post-impact speed (m/s)" if scalars == "speed_after" else scalars,
+                                 "color": "black", "vertical": True, "position_x": 0.88,
+                                 "position_y": 0.15, "height": 0.7, "width": 0.05})
+    pl.add_lines(_outline(meshes), color="black", width=2)
+    size_ = float(np.ptp(np.asarray(body.points)[:, :2], axis=0).max())
+    if "thrust" in meshes and len(meshes["thrust"].points) > 1:
+        pl.add_lines(_dashed(np.asarray(meshes["thrust"].points), size_ / 35), color="black", width=3)
+    if "impulse" in meshes and len(meshes["impulse"].points) > 1:
+        pl.add_mesh(pv.from_meshio(meshes["impulse"]), color="red", line_width=4, lighting=False)
+    h = meshes["hinges"]
+    if len(h.points):
+        after = np.asarray(h.point_data["after"]) == 1
+        for sel, color, ps in ((~after, "grey", 22), (after, "blue", 14)):
+            if sel.any():
+                pl.add_points(np.asarray(h.points)[sel], color=color, point_size=ps,
+                              render_points_as_spheres=True, lighting=False)
+    if title:
+        pl.add_text(title, position="upper_left", font_size=14, color="black")
+    pl.view_xy()
+    pl.enable_parallel_projection()
+    pl.reset_camera(bounds=body.bounds)
+    pl.camera.zoom(1.15)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    pl.screenshot(str(path))
+    pl.close()
+    return path
+
+
+def render_png(result, path: str | Path, size=(1600, 900)) -> Path:
+    """Render an :class:`~fembeam.analysis.AnalysisResult` off-screen to ``path`` (PNG)."""
+    from .errors import InputError
+    from .export import impulse_line, meshes_of, thrust_line
+
+    lim, imp = result.limit, result.impact
+    if lim is None:
+        raise InputError(f"nothing to render: the analysis has no mechanism (outcome {result.outcome})")
+    disc = imp.disc if imp is not None else lim.disc
+    d0 = imp.d0 if imp is not None else -lim.u
+    d = imp.d if imp is not None else np.zeros_like(d0)
+    meshes = meshes_of(disc, d0, d, result.hinges_before, result.hinges_after,
+                       impulse_line(imp) if imp is not None else None, thrust_line(lim))
+    return render_fields(meshes, path, title_of(result), size)
