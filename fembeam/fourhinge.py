@@ -19,13 +19,15 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from .errors import SolverError
+from .errors import InputError, SolverError
 from .geometry import MidCurve
 
-__all__ = ["Pieces", "FourHinge", "product", "load_factor", "restitution", "optimise_load_factor"]
+__all__ = ["Pieces", "FourHinge", "ImpactFigures", "product", "momenta", "load_factor", "restitution",
+           "post_impact", "optimise_load_factor", "OPPOSITE"]
 
 SIDE_Y = {"intrados": 0.5, "extrados": -0.5}       # y / t of the pivot
 SIDE_SIGN = {"intrados": -1.0, "extrados": 1.0}    # sign of [omega] that opens the hinge
+OPPOSITE = {"intrados": "extrados", "extrados": "intrados"}
 
 
 @dataclass(frozen=True)
@@ -55,12 +57,66 @@ def product(curve: MidCurve, a: Pieces, b: Pieces) -> float:
                         + ma[:, 2] * mb[:, 2] * J))
 
 
+def momenta(curve: MidCurve, field: Pieces, breaks: np.ndarray) -> np.ndarray:
+    """Linear and angular momenta of ``field`` on the intervals of ``breaks`` (m).
+
+    Returns ``(3, len(breaks) - 1)``: ``p_x, p_y`` (N s per unit depth) and the angular
+    momentum ``L_O`` about the origin (N m s), counter-clockwise; for a rigid piece
+    ``(V, Omega)``: ``p = m V + Omega k x S`` and ``L_O = S x V + Omega J``.
+    """
+    br = np.asarray(breaks, float)
+    mid = 0.5 * (br[:-1] + br[1:])
+    mo = field.motion[np.clip(np.searchsorted(field.breaks, mid) - 1, 0, len(field.motion) - 1)]
+    m, S, J = curve.segment_inertia(br[:-1], br[1:])
+    Vx, Vy, Om = mo.T
+    return np.array([m * Vx - Om * S[1], m * Vy + Om * S[0], S[0] * Vy - S[1] * Vx + Om * J])
+
+
 @dataclass(frozen=True)
 class FourHinge:
     """Hinges ``s = (s1, s13, s23, s2)`` (m, increasing) pivoting on ``sides``."""
 
     s: tuple[float, float, float, float]
     sides: tuple[str, str, str, str]
+
+    def __post_init__(self):
+        if len(self.s) != 4 or len(self.sides) != 4:
+            raise InputError("a four-hinge mechanism needs exactly four hinges")
+        if any(k not in SIDE_Y for k in self.sides):
+            raise InputError(f"hinge sides must be 'intrados' or 'extrados', got {self.sides}")
+        if np.any(np.diff(np.asarray(self.s, float)) < 0):
+            raise InputError(f"the four hinges must be in increasing order along the arch, got s = {self.s}")
+
+    @classmethod
+    def from_hinges(cls, hinges) -> "FourHinge":
+        """From four :class:`~fembeam.hinges.Hinge` (e.g. the LP's incipient mechanism)."""
+        if len(hinges) != 4:
+            raise InputError(f"expected a four-hinge mechanism, got {len(hinges)} hinges")
+        return cls(tuple(float(h.s) for h in hinges), tuple(h.side for h in hinges))
+
+    @classmethod
+    def from_angles(cls, curve: MidCurve, angles_deg, sides) -> "FourHinge":
+        """Hinges at ``angles_deg`` (the curve's reporting coordinate, deg from the left
+        springing for arches; linear in ``s``)."""
+        scale = curve.length / float(curve.angle_deg(curve.length))
+        a = np.asarray(angles_deg, float)
+        if np.any(a < -1e-9) or np.any(a * scale > curve.length * (1 + 1e-12)):
+            raise InputError(f"hinge angles must lie in [0, {float(curve.angle_deg(curve.length)):g}] deg")
+        return cls(tuple(np.clip(a * scale, 0.0, curve.length)), tuple(sides))
+
+    def angles_deg(self, curve: MidCurve) -> np.ndarray:
+        return np.asarray(curve.angle_deg(np.asarray(self.s, float)), float)
+
+    def opposite(self) -> "FourHinge":
+        """Same sections, pivots on the other edge (the points C-bar of Sect. 3)."""
+        return FourHinge(self.s, tuple(OPPOSITE[k] for k in self.sides))
+
+    def mirrored(self, curve: MidCurve) -> "FourHinge":
+        """Mirror image about the symmetry axis (s -> L - s; a side stays a side)."""
+        return FourHinge(tuple(curve.length - np.asarray(self.s[::-1], float)), self.sides[::-1])
+
+    def to_list(self, curve: MidCurve) -> list[dict]:
+        return [{"angle_deg": round(float(a), 6), "side": k} for a, k in zip(self.angles_deg(curve), self.sides)]
 
     def points(self, curve: MidCurve) -> np.ndarray:
         s = np.asarray(self.s, float)
@@ -116,6 +172,35 @@ def restitution(curve: MidCurve, before: Pieces, after: FourHinge) -> float:
     if sgn == 0 or gamma * sgn <= 0:
         return 0.0
     return gamma**2 / (product(curve, before, before) * product(curve, pa, pa))
+
+
+@dataclass(frozen=True)
+class ImpactFigures:
+    """Eqs. (7), (14), (15), (17) for a four-hinge ``after`` following ``before``.
+
+    ``Lambda = 2K`` of ``before`` (its own alpha = 1), ``Lambda_after`` of ``after`` with
+    ``Omega_I = 1``, ``Gamma`` their momentum pairing, ``alpha_ratio = alpha'/alpha =
+    Gamma / Lambda'`` (15) and ``r = Gamma^2 / (Lambda Lambda')`` (17);
+    ``compatible`` is False when ``alpha'`` has not the sign that opens every hinge
+    of ``after`` (then no motion along ``after`` follows and ``r`` is reported 0).
+    """
+
+    Gamma: float
+    Lambda: float
+    Lambda_after: float
+    alpha_ratio: float
+    r: float
+    compatible: bool
+
+
+def post_impact(curve: MidCurve, before: Pieces, after: FourHinge) -> ImpactFigures:
+    """Closed-form four-hinge impact (Sect. 4.2): alpha' and r for prescribed hinges."""
+    sgn = after.compatible_sign(curve)
+    pa = after.pieces(curve)
+    gamma = product(curve, before, pa)
+    lam, lam_a = product(curve, before, before), product(curve, pa, pa)
+    ok = bool(sgn != 0 and gamma * sgn > 0)
+    return ImpactFigures(gamma, lam, lam_a, gamma / lam_a, gamma**2 / (lam * lam_a) if ok else 0.0, ok)
 
 
 def optimise_load_factor(curve: MidCurve, start: FourHinge, direction: int = 1) -> tuple[FourHinge, float]:

@@ -1,0 +1,189 @@
+"""The impulse line of a four-hinge impact (Sects. 2-4, eqs. (3)-(4), (8)-(11)).
+
+For a pre-impact field ``before`` (any :class:`~fembeam.fourhinge.Pieces`) and a
+post-impact mechanism of prescribed shape (``alpha' x`` the unit field of a
+:class:`~fembeam.fourhinge.FourHinge`), the momentum balances (3) of the arch
+portions leave four scalar unknowns: ``alpha'`` and the internal linear and angular
+impulse at one section.  Requiring the line to pass through four points (one per
+section ``s_a < s_b < s_c < s_d``) fixes them; with the points at the new hinges
+this is the paper's system (8)-(11) (impulses ``I_C'1``, ``I_C'2`` applied at
+``C'1``, ``C'2``; zero moment about ``C'13`` and ``C'23``), and ``alpha'`` must then
+equal ``Gamma / Lambda'`` of (15) (checked).  With the points opposite the closing
+hinges it is the classical model (:mod:`fembeam.classical`).
+
+Conventions (as :class:`~fembeam.impact.ImpactResult`): ``I(s)`` is the impulse
+exerted on the part left of ``s`` by the part on its right, so (3) reads
+``I(s) = I(s_a) + int_{s_a}^{s} (dp' - dp)`` and compression is ``I_t < 0``;
+``M`` is the moment of the impulses about the mid-curve point ``X(s)`` and the
+eccentricity ``e = M / I_t`` (m) is measured from the mid-curve along ``n`` (+ to
+the intrados).  The paper's ``lambda`` of (4) is measured from the centroid ``G``,
+which lies ``kappa t^2 / 12`` outward: ``lambda = e + kappa t^2 / 12``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import SolverError
+from .fourhinge import SIDE_Y, FourHinge, Pieces, momenta, post_impact
+from .geometry import MidCurve
+
+__all__ = ["ImpulseLine", "impulse_line_through", "four_hinge_impulse_line", "ADMISSIBILITY_TOL"]
+
+# relative tolerances of the admissibility report (of t for distances, of max|I_t|
+# for forces): the linear algebra is exact to ~1e-13
+ADMISSIBILITY_TOL = 1e-9
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+@dataclass
+class ImpulseLine:
+    """Internal impulses at the sections ``s`` (m) for post-impact field ``alpha' x after``.
+
+    ``I`` (2, n): impulse on the left part by the right part (N s per unit depth);
+    ``M``: its moment about the mid-curve point (N m s); ``thickness`` (m).
+    """
+
+    curve: MidCurve
+    s: np.ndarray
+    I: np.ndarray
+    M: np.ndarray
+    alpha_ratio: float                     # alpha'/alpha of the solved system
+    through: np.ndarray                    # (2, 4): sections s and offsets y (m) imposed
+    after: FourHinge
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def angle_deg(self) -> np.ndarray:
+        return np.asarray(self.curve.angle_deg(self.s), float)
+
+    @property
+    def thickness(self) -> np.ndarray:
+        return self.curve.thickness_at(self.s)
+
+    @property
+    def I_t(self) -> np.ndarray:
+        t = self.curve.tangent(self.s)
+        return self.I[0] * t[0] + self.I[1] * t[1]
+
+    @property
+    def I_n(self) -> np.ndarray:
+        n = self.curve.normal(self.s)
+        return self.I[0] * n[0] + self.I[1] * n[1]
+
+    @property
+    def eccentricity(self) -> np.ndarray:
+        """``e = M / I_t`` (m, from the mid-curve, + to the intrados); NaN where ``I_t = 0``."""
+        It = self.I_t
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(np.abs(It) > 1e-12 * np.max(np.abs(It), initial=0.0), self.M / It, np.nan)
+
+    def at(self, s) -> np.ndarray:
+        """Eccentricity at sections ``s`` that are among ``self.s`` (nearest match)."""
+        idx = np.abs(self.s[None, :] - np.atleast_1d(s)[:, None]).argmin(1)
+        return self.eccentricity[idx]
+
+    def admissibility(self, tol: float = ADMISSIBILITY_TOL) -> dict:
+        """Kinematic (through the new hinges) and static (compressive, inside the
+        thickness) admissibility at the evaluated sections; ``failures`` lists where
+        each check fails (``angle_deg``, ``check``, ``value``)."""
+        curve, t = self.curve, self.thickness
+        It, e = self.I_t, self.eccentricity
+        scale = max(np.max(np.abs(It)), 1e-300)
+        carried = np.abs(It) > 1e-9 * scale
+        fails = []
+        # kinematic: through the four new hinges
+        hs = np.asarray(self.after.s, float)
+        yh = np.array([SIDE_Y[k] for k in self.after.sides]) * curve.thickness_at(hs)
+        eh = self.at(hs)
+        miss = np.abs(eh - yh) / curve.thickness_at(hs)
+        miss = np.where(np.isfinite(miss), miss, np.inf)
+        for s_, m_, e_, t_, k in zip(hs, miss, eh, curve.thickness_at(hs), self.after.sides):
+            if m_ > tol:
+                fails.append({"angle_deg": float(curve.angle_deg(s_)), "check": "through_hinge",
+                              "hinge_side": k, "value": None if not np.isfinite(e_) else float(e_ / t_)})
+        # static: compressive
+        tens = It / scale
+        for j in np.flatnonzero(tens > tol):
+            fails.append({"angle_deg": float(self.angle_deg[j]), "check": "compressive", "value": float(tens[j])})
+        # static: inside the thickness
+        out = np.where(carried, (np.abs(np.nan_to_num(e)) - 0.5 * t) / t, -np.inf)
+        for j in np.flatnonzero(out > tol):
+            fails.append({"angle_deg": float(self.angle_deg[j]), "check": "inside_thickness",
+                          "value": float(e[j] / t[j])})
+        return {
+            "passes_through_hinges": bool(np.all(miss <= tol)),
+            "inside_thickness": bool(np.all(out <= tol)),
+            "compressive": bool(np.all(tens <= tol)),
+            "max_miss_at_hinges": float(np.max(miss)),            # |e - y_hinge| / t
+            "max_outside": float(max(0.0, np.max(out, initial=0.0))),   # (|e| - t/2) / t
+            "max_tension": float(max(0.0, np.max(tens, initial=0.0))),   # I_t / max|I_t|
+            "sections": int(self.s.size),
+            "failures": fails,
+        }
+
+    def to_dict(self) -> dict:
+        e = self.eccentricity
+        return {"angle_deg": self.angle_deg.tolist(), "I_t": self.I_t.tolist(), "I_n": self.I_n.tolist(),
+                "moment": self.M.tolist(),
+                "eccentricity": [None if not np.isfinite(x) else float(x) for x in e]}
+
+
+def impulse_line_through(curve: MidCurve, before: Pieces, after: FourHinge, points_s, points_y,
+                         sections) -> ImpulseLine:
+    """Impulse line for the post-impact field ``alpha' x after.pieces()`` passing through
+    the points at sections ``points_s`` (4, increasing, m) offset ``points_y`` (m, along
+    ``n``); evaluated at ``sections`` (m).  Solves for ``alpha'`` and ``I(points_s[0])``."""
+    ps = np.asarray(points_s, float)
+    pts = curve.position(ps) + np.asarray(points_y, float) * curve.normal(ps)
+    unit = after.pieces(curve, 1.0)
+    sec = np.asarray(sections, float)
+    br = np.unique(np.concatenate([[0.0, curve.length], before.breaks, unit.breaks, ps, sec]))
+    zero = np.zeros((3, 1))
+    cb = np.concatenate([zero, np.cumsum(momenta(curve, before, br), 1)], 1)   # int_0^s of (p, L_O)
+    ca = np.concatenate([zero, np.cumsum(momenta(curve, unit, br), 1)], 1)
+
+    def cum(c, s):
+        return c[:, np.searchsorted(br, s)]
+
+    Pa, Pk = pts[:, 0], pts[:, 1:]
+    dA = cum(ca, ps[1:]) - cum(ca, ps[:1])   # (3, 3): unit after field, from s_a to s_k
+    dB = cum(cb, ps[1:]) - cum(cb, ps[:1])
+    # moment about P_k of the impulse at s_k vanishes:
+    # (P_a - P_k) x I_a + alpha' (dL_a - P_k x dp_a) = dL_b - P_k x dp_b
+    A = np.empty((3, 3))
+    A[:, 0] = dA[2] - _cross(Pk, dA[:2])
+    rel = Pa[:, None] - Pk
+    A[:, 1] = -rel[1]          # d/dI_x of rel x I = rel_x I_y - rel_y I_x
+    A[:, 2] = rel[0]
+    b = dB[2] - _cross(Pk, dB[:2])
+    if np.linalg.cond(A) > 1e12:
+        raise SolverError("the impulse line through these four points is not unique (degenerate points)")
+    alpha, Ix, Iy = np.linalg.solve(A, b)
+    Ia = np.array([Ix, Iy])
+    Ma = _cross(Pa, Ia)   # about the origin: the impulse acts at P_a
+    d = alpha * (cum(ca, sec) - cum(ca, ps[:1])) - (cum(cb, sec) - cum(cb, ps[:1]))
+    I = Ia[:, None] + d[:2]
+    MO = Ma + d[2]
+    X = curve.position(sec)
+    M = MO - _cross(X, I)
+    return ImpulseLine(curve, sec, I, M, float(alpha), np.array([ps, np.asarray(points_y, float)]), after)
+
+
+def four_hinge_impulse_line(curve: MidCurve, before: Pieces, after: FourHinge, sections) -> ImpulseLine:
+    """The equilibrated, kinematically admissible impulse line of the four-hinge
+    mechanism ``after`` (through its hinges, eqs. (8)-(11)); ``extra`` carries the
+    closed-form figures of (15), (17) and the gap between the two ``alpha'``."""
+    hs = np.asarray(after.s, float)
+    y = np.array([SIDE_Y[k] for k in after.sides]) * curve.thickness_at(hs)
+    sec = np.unique(np.concatenate([np.asarray(sections, float), hs]))
+    line = impulse_line_through(curve, before, after, hs, y, sec)
+    fig = post_impact(curve, before, after)
+    line.extra = {"Gamma": fig.Gamma, "Lambda": fig.Lambda, "Lambda_after": fig.Lambda_after,
+                  "alpha_ratio_15": fig.alpha_ratio, "r": fig.r, "compatible": fig.compatible,
+                  "alpha_gap": abs(line.alpha_ratio - fig.alpha_ratio) / max(abs(fig.alpha_ratio), 1e-300)}
+    return line

@@ -1,0 +1,148 @@
+"""The paper's restricted problem (16)-(17): the best compatible four-hinge mechanism
+after the impact.
+
+* Discrete arch (hinges only at the joints ``joint_s``): exhaustive search over all
+  ``C(J, 4) x 2^4`` placements and sides, vectorised with prefix sums of the voussoir
+  inertia, so every candidate costs O(1) whatever the number of voussoirs:
+  ``Lambda' = sum_k a_k^T Q[k] a_k`` and ``Gamma = sum_k a_k . (Q b)[k]`` over the three
+  moving pieces ``k`` (``Q`` = 3x3 inertia matrix of a piece, ``a_k`` its motion
+  ``(V_x, V_y, Omega)``, ``b`` the pre-impact field).
+* Continuous arch: maximise ``r`` of (17) (exact integrals, :func:`fourhinge.post_impact`)
+  over the four hinge positions with the sides fixed, by a bounded quasi-Newton search
+  started from the exhaustive optimum on a fine joint grid.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from itertools import combinations, product as iproduct
+
+import numpy as np
+from scipy.optimize import minimize
+
+from .errors import InputError
+from .fourhinge import SIDE_SIGN, SIDE_Y, FourHinge, Pieces, post_impact
+from .geometry import MidCurve
+
+__all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "SIDES"]
+
+SIDES = ("intrados", "extrados")
+
+
+@dataclass
+class RestrictedResult:
+    """Best four-hinge mechanism ``after`` with its ``r`` (17); ``ranking``: the next
+    best candidates as ``(r, FourHinge)``; ``candidates``/``compatible``: counts."""
+
+    after: FourHinge
+    r: float
+    ranking: list = field(default_factory=list)
+    candidates: int = 0
+    compatible: int = 0
+    method: str = ""
+
+
+def _inertia_matrices(curve: MidCurve, joint_s: np.ndarray) -> np.ndarray:
+    """(N, 3, 3) inertia matrices ``Q`` of the voussoirs: ``a^T Q b = int rho a . b dA``."""
+    m, S, J = curve.segment_inertia(joint_s[:-1], joint_s[1:])
+    Q = np.zeros((m.size, 3, 3))
+    Q[:, 0, 0] = Q[:, 1, 1] = m
+    Q[:, 0, 2] = Q[:, 2, 0] = -S[1]
+    Q[:, 1, 2] = Q[:, 2, 1] = S[0]
+    Q[:, 2, 2] = J
+    return Q
+
+
+def _kernel(P: np.ndarray, sides_sign: np.ndarray, idx: np.ndarray, cQ: np.ndarray, cG: np.ndarray,
+            lam: float):
+    """r of every candidate: ``P`` (n, 4, 2) hinge points, ``sides_sign`` (4,), ``idx``
+    (n, 4) joint indices; prefix sums ``cQ`` (J, 3, 3) and ``cG`` (J, 3)."""
+    C1, C13, C23, C2 = (P[:, i].T for i in range(4))
+    d1, d2 = C13 - C1, C23 - C2
+    det = -d1[0] * d2[1] + d1[1] * d2[0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = (-(C2 - C1)[0] * d2[1] + (C2 - C1)[1] * d2[0]) / det
+        C3 = C1 + a * d1
+        e3 = C13 - C3
+        om3 = np.sum((C13 - C1) * e3, 0) / np.sum(e3 * e3, 0)
+        om2 = om3 * np.sum((C23 - C3) * (C23 - C2), 0) / np.sum((C23 - C2) ** 2, 0)
+    valid = (np.abs(det) > 1e-12 * np.sum(d1 * d1, 0)) & np.isfinite(om3) & np.isfinite(om2)
+    jumps = np.array([np.ones_like(om3), om3 - 1.0, om2 - om3, -om2]) * sides_sign[:, None]
+    sgn = np.where(np.all(jumps >= 0, 0), 1.0, np.where(np.all(jumps <= 0, 0), -1.0, 0.0)) * valid
+    om = np.array([np.ones_like(om3), om3, om2])                       # pieces I, III, II
+    cen = np.array([C1, C3, C2])                                       # (3, 2, n)
+    motion = np.stack([om * cen[:, 1], -om * cen[:, 0], om], -1)       # (3, n, 3)
+    motion = np.nan_to_num(motion)
+    lam_a = np.zeros(om3.shape)
+    gam = np.zeros(om3.shape)
+    for k in range(3):
+        ja, jb = idx[:, k], idx[:, k + 1]
+        Qk = cQ[jb] - cQ[ja]
+        Gk = cG[jb] - cG[ja]
+        ak = motion[k]
+        lam_a += np.einsum("ni,nij,nj->n", ak, Qk, ak)
+        gam += np.einsum("ni,ni->n", ak, Gk)
+    ok = (sgn != 0) & (gam * sgn > 0) & (lam_a > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(ok, gam**2 / (lam * lam_a), 0.0)
+
+
+def best_four_hinge_discrete(curve: MidCurve, joint_s, before: Pieces, keep: int = 5,
+                             chunk: int = 400_000) -> RestrictedResult:
+    """Exhaustive restricted problem on the joints ``joint_s`` (m, increasing, the
+    springings included) for the pre-impact field ``before`` (rigid on each voussoir)."""
+    js = np.asarray(joint_s, float)
+    J = js.size
+    if J < 4:
+        raise InputError("a four-hinge mechanism needs at least four joints")
+    Q = _inertia_matrices(curve, js)
+    mid = 0.5 * (js[:-1] + js[1:])
+    b = before.motion[np.clip(np.searchsorted(before.breaks, mid) - 1, 0, len(before.motion) - 1)]
+    G = np.einsum("vij,vj->vi", Q, b)
+    lam = float(np.einsum("vi,vi->", b, G))
+    cQ = np.concatenate([np.zeros((1, 3, 3)), np.cumsum(Q, 0)])
+    cG = np.concatenate([np.zeros((1, 3)), np.cumsum(G, 0)])
+    X, n, t = curve.position(js), curve.normal(js), curve.thickness_at(js)
+    combos = np.array(list(combinations(range(J), 4)), dtype=np.int64)
+    best: list[tuple[float, tuple[int, ...], tuple[str, ...]]] = []
+    n_compat = 0
+    for sides in iproduct(SIDES, repeat=4):
+        sign = np.array([SIDE_SIGN[k] for k in sides])
+        y = np.array([SIDE_Y[k] for k in sides])
+        for c0 in range(0, len(combos), chunk):
+            idx = combos[c0:c0 + chunk]
+            P = (X[:, idx] + y[None, :] * t[idx] * n[:, idx]).transpose(1, 2, 0)   # (n, 4, 2)
+            r = _kernel(P, sign, idx, cQ, cG, lam)
+            n_compat += int(np.count_nonzero(r > 0))
+            top = np.argsort(r)[::-1][:keep]
+            best += [(float(r[i]), tuple(int(j) for j in idx[i]), sides) for i in top if r[i] > 0]
+            best = sorted(best, key=lambda z: -z[0])[:keep]
+    if not best:
+        return RestrictedResult(None, 0.0, [], 16 * len(combos), 0, "exhaustive")
+    rank = [(r, FourHinge(tuple(js[list(i)]), s)) for r, i, s in best]
+    return RestrictedResult(rank[0][1], rank[0][0], rank[1:], 16 * len(combos), n_compat, "exhaustive")
+
+
+def best_four_hinge_continuous(curve: MidCurve, before: Pieces, grid: int = 63,
+                               starts: list[FourHinge] | None = None) -> RestrictedResult:
+    """Restricted problem on a continuous arch: exhaustive search on ``grid`` uniform
+    voussoirs for the sides and a start, then maximise the exact ``r`` over the four
+    hinge positions (L-BFGS-B, sides fixed) from it and from ``starts``."""
+    L = curve.length
+    coarse = best_four_hinge_discrete(curve, np.linspace(0.0, L, grid + 1), before, keep=4)
+    cands = [m for m in [coarse.after] + [h for _, h in coarse.ranking] + list(starts or []) if m is not None]
+    results = []
+    for start in cands:
+        sides = start.sides
+
+        def f(x, sides=sides):
+            s = np.sort(np.clip(x, 0.0, 1.0)) * L
+            return -post_impact(curve, before, FourHinge(tuple(s), sides)).r
+
+        x0 = np.asarray(start.s) / L
+        res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * 4,
+                       options={"ftol": 1e-15, "gtol": 1e-12, "eps": 1e-9, "maxiter": 1000})
+        x = res.x if res.fun <= f(x0) else x0
+        results.append((-f(x), FourHinge(tuple(np.sort(np.clip(x, 0, 1)) * L), sides)))
+    results.sort(key=lambda z: -z[0])
+    return RestrictedResult(results[0][1], results[0][0], results[1:], coarse.candidates, coarse.compatible,
+                            f"exhaustive on {grid} voussoirs, then L-BFGS-B on the exact r")
