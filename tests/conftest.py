@@ -1,3 +1,7 @@
+import os
+
+os.environ.setdefault("MPLBACKEND", "Agg")  # headless figures
+
 import pytest
 
 from fembeam import CircularArch, analyze
