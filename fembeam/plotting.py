@@ -1,0 +1,96 @@
+"""Matplotlib figure of an impact solution in the style of the paper's Figs. 10-12.
+
+Arch outline (extrados, intrados, springing sections; every joint for a voussoir arch),
+hinges before the impact as grey circles, hinges after it as blue dots, the impulse
+line in red, the thrust line of the limit analysis dashed, equal aspect, and a title
+with ``r`` and ``A_L``.  Hinges sit on the edge they pivot on (``Hinge.side``).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from .fem import Discretization
+from .hinges import Hinge
+
+__all__ = ["plot_paper_figure", "draw_paper_figure", "hinge_points", "line_points"]
+
+_Y = {"intrados": 0.5, "extrados": -0.5, "separated": 0.0}
+
+
+def hinge_points(disc: Discretization, hinges: Sequence[Hinge]) -> np.ndarray:
+    """(2, n) points of ``hinges`` on their pivot edge ``X + y n``, ``y = +-t/2`` (m)."""
+    c = disc.curve
+    s = np.array([h.s for h in hinges], float)
+    y = np.array([_Y[h.side] for h in hinges]) * c.thickness_at(s)
+    return c.position(s) + y * c.normal(s)
+
+
+def line_points(disc: Discretization, eccentricity: np.ndarray) -> np.ndarray:
+    """(2, J) points ``X_j + e_j n_j`` of a thrust/impulse line (NaN where ``e`` is)."""
+    c = disc.curve
+    s = disc.joint_s
+    return c.position(s) + np.asarray(eccentricity, float) * c.normal(s)
+
+
+def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] = (),
+                      hinges_after: Sequence[Hinge] = (), impulse_e: np.ndarray | None = None,
+                      thrust_e: np.ndarray | None = None, title: str = "") -> None:
+    """Draw on the matplotlib axes ``ax`` (see the module docstring)."""
+    c = disc.curve
+    s = np.linspace(0.0, c.length, 721)
+    X, n, t = c.position(s), c.normal(s), c.thickness_at(s)
+    kw = dict(color="black", lw=1.0)
+    for y in (-0.5, 0.5):
+        P = X + y * t * n
+        ax.plot(P[0], P[1], **kw)
+    sj = disc.joint_s if disc.n_elements <= 30 else np.array([0.0, c.length])
+    for sec in sj:  # springing sections (and voussoir joints)
+        P = c.position(sec)[:, None] + np.array([-0.5, 0.5]) * c.thickness_at(sec) * c.normal(sec)[:, None]
+        ax.plot(P[0], P[1], **kw)
+    if thrust_e is not None:
+        L = line_points(disc, thrust_e)
+        ax.plot(L[0], L[1], color="black", lw=1.2, ls=(0, (5, 3)), label="thrust line (limit analysis)")
+    if impulse_e is not None:
+        L = line_points(disc, impulse_e)
+        ax.plot(L[0], L[1], color="red", lw=1.8, label="impulse line")
+    if len(hinges_before):
+        H = hinge_points(disc, hinges_before)
+        ax.plot(H[0], H[1], "o", ms=11, mfc="none", mec="grey", mew=2.0, label="hinges before impact")
+    if len(hinges_after):
+        H = hinge_points(disc, hinges_after)
+        ax.plot(H[0], H[1], "o", ms=6, color="blue", label="hinges after impact")
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.legend(loc="lower center", ncol=2, frameon=False, fontsize=9, bbox_to_anchor=(0.5, -0.12))
+    if title:
+        ax.set_title(title)
+
+
+def plot_paper_figure(result, path: str | Path, dpi: int = 150) -> Path:
+    """Paper-style figure of an :class:`~fembeam.analysis.AnalysisResult` saved to ``path``
+    (format from the suffix: png, pdf, svg ...)."""
+    import matplotlib
+    matplotlib.use("Agg", force=False) if matplotlib.get_backend().lower() != "agg" else None
+    import matplotlib.pyplot as plt
+
+    from .errors import InputError
+    from .render import title_of
+
+    lim, imp = result.limit, result.impact
+    if lim is None:
+        raise InputError(f"nothing to plot: the analysis has no mechanism (outcome {result.outcome})")
+    disc = imp.disc if imp is not None else lim.disc
+    fig, ax = plt.subplots(figsize=(7.5, 4.6))
+    try:
+        draw_paper_figure(ax, disc, result.hinges_before, result.hinges_after,
+                          imp.eccentricity if imp is not None else None, lim.eccentricity, title_of(result))
+        fig.tight_layout()
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=dpi)
+    finally:
+        plt.close(fig)
+    return path
