@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from .errors import SolverError
+from .errors import CannotStandError, SolverError
 from .fem import Discretization
 from .hinges import Hinge, find_hinges
 
@@ -58,8 +58,19 @@ class LimitResult:
             return np.where(Nt > 1e-12 * np.max(Nt), 0.5 * t * (self.N[0] - self.N[1]) / Nt, np.nan)
 
 
-def limit_analysis(disc: Discretization, direction: int = 1) -> LimitResult:
-    """Solve the kinematic LP on ``disc``; the load acts in ``direction`` (+1: +x)."""
+def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = False) -> LimitResult:
+    """Solve the kinematic LP on ``disc``; the load acts in ``direction`` (+1: +x).
+
+    With ``strict`` an arch that cannot stand raises :class:`CannotStandError` instead of
+    returning ``status == "cannot_stand"``."""
+    res = _solve(disc, direction)
+    if strict and res.status == "cannot_stand":
+        raise CannotStandError("the arch cannot stand under its own weight (A_L <= 0): its thickness is "
+                               "below the minimum for its embrace angle (see fembeam.minimum_thickness)")
+    return res
+
+
+def _solve(disc: Discretization, direction: int) -> LimitResult:
     D = dof_scaling(disc)
     fx, fy = disc.load_vectors()
     m = float(fx @ disc.rigid(V=(1.0, 0.0)))

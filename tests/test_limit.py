@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fembeam import CircularArch, analyze, discretize, limit_analysis, minimum_thickness, uniform_nodes
+from fembeam import CannotStandError, CircularArch, analyze, discretize, limit_analysis, minimum_thickness, uniform_nodes
 from fembeam.analysis import THRESHOLDS
 
 
@@ -67,3 +67,9 @@ def test_too_thin_and_too_thick_are_outcomes():
     assert thin.outcome == "cannot_stand" and thin.t_min_over_R == pytest.approx(0.1075, abs=1e-3)
     flat = analyze(CircularArch.from_ratio(60, 0.2), elements=60)  # a straight strut fits inside
     assert flat.outcome == "no_mechanism"
+
+
+def test_strict_limit_analysis_names_the_problem():
+    c = CircularArch.from_ratio(180, 0.08)
+    with pytest.raises(CannotStandError, match="cannot stand under its own weight"):
+        limit_analysis(discretize(c, uniform_nodes(c, 40)), strict=True)
