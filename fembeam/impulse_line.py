@@ -29,11 +29,19 @@ from .errors import SolverError
 from .fourhinge import SIDE_Y, FourHinge, Pieces, momenta, post_impact
 from .geometry import MidCurve
 
-__all__ = ["ImpulseLine", "impulse_line_through", "four_hinge_impulse_line", "ADMISSIBILITY_TOL"]
+__all__ = ["ImpulseLine", "impulse_line_through", "four_hinge_impulse_line", "sections_union",
+           "ADMISSIBILITY_TOL"]
 
 # relative tolerances of the admissibility report (of t for distances, of max|I_t|
 # for forces): the linear algebra is exact to ~1e-13
 ADMISSIBILITY_TOL = 1e-9
+
+
+def sections_union(curve: MidCurve, *arrays) -> np.ndarray:
+    """Sorted union of section arrays (m), merging points closer than 1e-9 L."""
+    s = np.sort(np.concatenate([np.atleast_1d(np.asarray(a, float)) for a in arrays]))
+    keep = np.concatenate([[True], np.diff(s) > 1e-9 * curve.length])
+    return s[keep]
 
 
 def _cross(a, b):
@@ -142,13 +150,15 @@ def impulse_line_through(curve: MidCurve, before: Pieces, after: FourHinge, poin
     pts = curve.position(ps) + np.asarray(points_y, float) * curve.normal(ps)
     unit = after.pieces(curve, 1.0)
     sec = np.asarray(sections, float)
-    br = np.unique(np.concatenate([[0.0, curve.length], before.breaks, unit.breaks, ps, sec]))
+    br = sections_union(curve, ps, sec, [0.0, curve.length], before.breaks, unit.breaks)
     zero = np.zeros((3, 1))
     cb = np.concatenate([zero, np.cumsum(momenta(curve, before, br), 1)], 1)   # int_0^s of (p, L_O)
     ca = np.concatenate([zero, np.cumsum(momenta(curve, unit, br), 1)], 1)
 
-    def cum(c, s):
-        return c[:, np.searchsorted(br, s)]
+    def cum(c, s):   # value at the break nearest to each s (s are among the breaks up to 1e-9 L)
+        i = np.clip(np.searchsorted(br, s), 1, br.size - 1)
+        i = np.where(np.abs(br[i - 1] - s) < np.abs(br[i] - s), i - 1, i)
+        return c[:, i]
 
     Pa, Pk = pts[:, 0], pts[:, 1:]
     dA = cum(ca, ps[1:]) - cum(ca, ps[:1])   # (3, 3): unit after field, from s_a to s_k
@@ -180,7 +190,7 @@ def four_hinge_impulse_line(curve: MidCurve, before: Pieces, after: FourHinge, s
     closed-form figures of (15), (17) and the gap between the two ``alpha'``."""
     hs = np.asarray(after.s, float)
     y = np.array([SIDE_Y[k] for k in after.sides]) * curve.thickness_at(hs)
-    sec = np.unique(np.concatenate([np.asarray(sections, float), hs]))
+    sec = sections_union(curve, hs, sections)
     line = impulse_line_through(curve, before, after, hs, y, sec)
     fig = post_impact(curve, before, after)
     line.extra = {"Gamma": fig.Gamma, "Lambda": fig.Lambda, "Lambda_after": fig.Lambda_after,

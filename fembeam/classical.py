@@ -1,0 +1,58 @@
+"""The classical impact model of De Lorenzis, DeJong and Ochsendorf (2007), ref. [27].
+
+Two assumptions (Sect. 1 and Fig. 11a of the paper): (i) the hinges after the impact
+are the mirror image, about the vertical symmetry axis, of those closing at the
+impact; (ii) the resultant impulses at the sections of the closing hinges ``C`` pass
+through the points ``C-bar`` opposite them across the thickness.  (ii) is four
+conditions on the impulse line, which fix ``alpha'`` and the impulses
+(:func:`fembeam.impulse_line.impulse_line_through`), hence ``r = Lambda'/Lambda
+(alpha'/alpha)^2``.  The line need not pass through the new hinges: where it does not,
+compressive impulses act inside those sections and resist their opening (not
+kinematically admissible; the paper's green crosses).  When the mirrored hinges are
+the points ``C-bar`` themselves (Oppenheim's arch at 150 deg) the model coincides
+with the four-hinge model of Sect. 4.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .fourhinge import SIDE_Y, FourHinge, Pieces, post_impact
+from .geometry import MidCurve
+from .impulse_line import ImpulseLine, impulse_line_through, sections_union
+
+__all__ = ["ClassicalResult", "classical_impact"]
+
+
+@dataclass
+class ClassicalResult:
+    """``after`` (mirrored hinges), ``alpha_ratio = alpha'/alpha``, ``r`` and the line."""
+
+    after: FourHinge
+    alpha_ratio: float
+    r: float
+    line: ImpulseLine
+    r_energy: float     # the energy model's r (15)-(17) for the same mirrored hinges
+
+
+def classical_impact(curve: MidCurve, before: FourHinge, sections, alpha: float | None = None) -> ClassicalResult:
+    """Classical model for an arch arriving along ``-before`` (``alpha``: the pre-impact
+    parameter, default the closing sense ``-compatible_sign``)."""
+    if alpha is None:
+        alpha = -before.compatible_sign(curve)
+    pre: Pieces = before.pieces(curve, alpha)
+    after = before.mirrored(curve)
+    bar = before.opposite()
+    hs = np.asarray(bar.s, float)
+    y = np.array([SIDE_Y[k] for k in bar.sides]) * curve.thickness_at(hs)
+    sec = sections_union(curve, hs, after.s, sections)
+    line = impulse_line_through(curve, pre, after, hs, y, sec)
+    fig = post_impact(curve, pre, after)
+    r = fig.Lambda_after * line.alpha_ratio**2 / fig.Lambda
+    # the model assumes motion along the mirrored mechanism: report whether alpha'
+    # has the sign that opens its hinges
+    sgn = after.compatible_sign(curve)
+    line.extra = {"opens_mirrored_hinges": bool(sgn != 0 and line.alpha_ratio * sgn > 0),
+                  "Lambda": fig.Lambda, "Lambda_after": fig.Lambda_after}
+    return ClassicalResult(after, line.alpha_ratio, float(r), line, fig.r)
