@@ -132,8 +132,8 @@ def _element_frames(curve: MidCurve, mesh: MeshLine1) -> dict:
 def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Discretization:
     """Assemble ``M``, ``B_open`` and ``B_slide`` on the mesh with nodes ``nodes_s``.
 
-    ``intorder`` is the Gauss order of the mass form (exact to round-off for
-    elements up to ~60 degrees of a circle).
+    ``intorder`` is the Gauss order of the mass form (round-off accuracy for a single
+    element spanning 120 degrees of a circle).
     """
     nodes_s = np.asarray(nodes_s, float)
     if nodes_s.ndim != 1 or nodes_s.size < 2 or np.any(np.diff(nodes_s) <= 0):
