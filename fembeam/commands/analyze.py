@@ -2,8 +2,11 @@
 from __future__ import annotations
 
 import json
+import sys
+from pathlib import Path
 
 from ..analysis import AnalysisResult, analyze
+from ..errors import InputError
 from ._args import add_arch, add_solver, arch_from
 
 
@@ -15,16 +18,75 @@ def register(sub) -> None:
     add_solver(p)
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--fields", action="store_true", help="with --json: add the impulse and thrust lines")
+    add_picture_options(p)
     p.set_defaults(func=run)
 
 
+def add_picture_options(p) -> None:
+    """``--vtk``, ``--png``, ``--figure`` (docs/visualisation.md); reusable by other commands."""
+    g = p.add_argument_group("files (docs/visualisation.md)")
+    g.add_argument("--vtk", type=Path, metavar="PATH.vtu",
+                   help="VTK export: PATH.vtu (arch body) plus PATH_joints/_impulse/_thrust/_hinges.vtu "
+                        "and a PATH.vtm index that ParaView/pyvista open at once")
+    g.add_argument("--png", type=Path, metavar="PATH.png",
+                   help="off-screen pyvista rendering: body coloured by post-impact speed, lines, hinges")
+    g.add_argument("--figure", type=Path, metavar="PATH",
+                   help="paper-style matplotlib figure (Figs. 10-12); format from the suffix (png, pdf, svg)")
+
+
+def check_picture_options(args) -> None:
+    """Reject bad output paths before any computation (exit 2)."""
+    if getattr(args, "png", None) is not None and args.png.suffix.lower() != ".png":
+        raise InputError(f"--png needs a .png file name, got {str(args.png)!r}")
+    if getattr(args, "figure", None) is not None:
+        from matplotlib.figure import Figure
+        ok = Figure().canvas.get_supported_filetypes()
+        if args.figure.suffix.lower().lstrip(".") not in ok:
+            raise InputError(f"--figure: unknown format {args.figure.suffix or '(no suffix)'!r}; "
+                             f"use one of {', '.join(sorted(ok))}")
+    for opt in ("vtk", "png", "figure"):
+        f = getattr(args, opt, None)
+        if f is not None and f.exists() and f.is_dir():
+            raise InputError(f"--{opt}: {str(f)!r} is a directory")
+
+
+def write_pictures(res, args) -> list[str]:
+    """Write what ``--vtk/--png/--figure`` ask for; returns one line per file written.
+    Results without a mechanism (cannot stand, no mechanism) have nothing to draw: a
+    note goes to stderr."""
+    wanted = [o for o in ("vtk", "png", "figure") if getattr(args, o, None) is not None]
+    if not wanted:
+        return []
+    if res.limit is None:
+        print(f"fembeam: note: outcome {res.outcome}: no mechanism, nothing written for "
+              + ", ".join(f"--{o}" for o in wanted), file=sys.stderr)
+        return []
+    out = []
+    if args.vtk is not None:
+        from ..export import write_vtk
+        files = write_vtk(res, args.vtk)
+        out.append(f"VTK: {files['multiblock']} -> " + ", ".join(str(p) for k, p in files.items()
+                                                                if k != "multiblock"))
+    if args.png is not None:
+        from ..render import render_png
+        out.append(f"rendering: {render_png(res, args.png)}")
+    if args.figure is not None:
+        from ..plotting import plot_paper_figure
+        out.append(f"figure: {plot_paper_figure(res, args.figure)}")
+    return out
+
+
 def run(args) -> int:
+    check_picture_options(args)
     res = analyze(arch_from(args), elements=args.elements, voussoirs=args.voussoirs,
                   direction=args.direction, backend=args.backend, refine_hinges=not args.no_refine)
-    if args.json:
+    written = write_pictures(res, args)
+    if args.json:  # stdout carries the JSON object only
         print(json.dumps(res.to_dict(fields=args.fields)))
     else:
         print(summary(res))
+        for line in written:
+            print(f"  wrote {line}")
     return 0
 
 
