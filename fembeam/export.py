@@ -219,15 +219,19 @@ def write_fields(path: str | Path, disc: Discretization, d0: np.ndarray, d: np.n
                  impulse: Mapping | None = None, thrust: Mapping | None = None,
                  layers: int = 2) -> dict[str, Path]:
     """Write the parts of :func:`meshes_of` next to ``path`` and a ``.vtm`` index; returns
-    the written files by part name (see the module docstring)."""
+    the written files by part name (see the module docstring).  A part with nothing in
+    it (no hinges, no impulse line) is not written, and the index leaves it out."""
     paths = output_paths(path)
     paths["body"].parent.mkdir(parents=True, exist_ok=True)
     meshes = meshes_of(disc, d0, d, hinges_before, hinges_after, impulse, thrust, layers)
     written = {}
     for k in PARTS:
-        if k in meshes:
+        if k in meshes and len(meshes[k].points):  # empty parts are not written (meshio
+            # cannot read an empty appended array back)
             meshes[k].write(paths[k], file_format="vtu", binary=True)
             written[k] = paths[k]
+        elif paths[k].exists():                     # stale file of an earlier export
+            paths[k].unlink()
     blocks = "\n".join(f'    <DataSet index="{i}" name="{k}" file="{p.name}"/>'
                        for i, (k, p) in enumerate(written.items()))
     paths["multiblock"].write_text('<?xml version="1.0"?>\n<VTKFile type="vtkMultiBlockDataSet" '
