@@ -23,7 +23,8 @@ from .errors import InputError
 from .fourhinge import SIDE_SIGN, SIDE_Y, FourHinge, Pieces, post_impact
 from .geometry import MidCurve
 
-__all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "SIDES"]
+__all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "qp_with_hinges_only_at",
+           "SIDES"]
 
 SIDES = ("intrados", "extrados")
 
@@ -146,3 +147,31 @@ def best_four_hinge_continuous(curve: MidCurve, before: Pieces, grid: int = 63,
     results.sort(key=lambda z: -z[0])
     return RestrictedResult(results[0][1], results[0][0], results[1:], coarse.candidates, coarse.compatible,
                             f"exhaustive on {grid} voussoirs, then L-BFGS-B on the exact r")
+
+
+def qp_with_hinges_only_at(disc, d0: np.ndarray, open_joints, backend: str = "clarabel") -> tuple[float, np.ndarray]:
+    """The impact QP of :mod:`fembeam.impact` with every joint except ``open_joints``
+    locked (both fibre openings = 0): ``(r, d')``.  With four joints it is the
+    restricted problem on those sections, solved by the FE machinery: a cross-check
+    of the closed form, and the tool that shows what extra open joints buy."""
+    import scipy.sparse as sp
+
+    from .limit import dof_scaling
+    from .qp import solve_qp
+
+    J = disc.n_joints
+    free = np.zeros(J, bool)
+    free[np.asarray(open_joints, int)] = True
+    rows = np.concatenate([np.arange(J), J + np.arange(J)])
+    free2 = np.concatenate([free, free])
+    D = dof_scaling(disc)
+    M = disc.M
+    two_k = float(d0 @ M @ d0)
+    m = float(disc.rigid(V=(1.0, 0.0)) @ M @ disc.rigid(V=(1.0, 0.0)))
+    sigma = np.sqrt(two_k / m)
+    Bo = disc.B_open[rows]
+    A_eq = sp.vstack([disc.B_slide, Bo[~free2]]).tocsr() @ D
+    A_in = Bo[free2] @ D
+    sol = solve_qp((D @ M @ D / m).tocsc(), -(D @ (M @ d0)) / (m * sigma), A_eq, A_in, backend=backend)
+    d = sigma * (D @ sol.x)
+    return float(d @ M @ d) / two_k, d
