@@ -41,17 +41,28 @@ def _node_frames(curve: MidCurve, sn: np.ndarray) -> dict:
 
 
 def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
-                  mass_intorder: int = 6) -> Discretization:
+                  mass_intorder: int = 6, components: str = "intrinsic") -> Discretization:
     """Assemble ``M``, ``B_open``, ``B_slide`` for continuous P1 fields on the mesh
     with nodes ``nodes_s`` (arc lengths, m).
 
     ``intorder`` is the Gauss order of the strain rows (1: the midpoint rule, one row per
     element and fibre); ``mass_intorder`` that of the kinetic-energy form (P1 x P1 times
     smooth densities: order 6 is exact to round-off for elements below ~30 degrees).
+
+    ``components`` selects what is interpolated linearly between the nodes:
+    ``"intrinsic"`` (default) the components ``(w, v)`` on the local frame, or
+    ``"cartesian"`` the velocity vector ``(v_x, v_y)`` (then ``w = V . t(s)``,
+    ``v = V . n(s)`` and ``eps0 = V' . t``, ``gamma = V' . n + omega``): translations are
+    exact and, on a circle, rigid motions have no fibre strain at the midpoints (the
+    chord is parallel to the midpoint tangent); only ``gamma`` keeps an ``O(h^2)``
+    residual.  The DOFs are intrinsic nodal components in both cases.
     """
     nodes_s = np.asarray(nodes_s, float)
     if nodes_s.ndim != 1 or nodes_s.size < 2 or np.any(np.diff(nodes_s) <= 0):
         raise InputError("mesh nodes must be a strictly increasing sequence of arc lengths")
+    if components not in ("intrinsic", "cartesian"):
+        raise InputError(f"components must be 'intrinsic' or 'cartesian', got {components!r}")
+    cart = components == "cartesian"
     if intorder > 1:
         raise InputError("P1 strain rows use the midpoint rule (intorder=1): a higher order "
                          "would need one row per quadrature point")
@@ -65,8 +76,11 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
         mu0, mu1, mu2 = curve.inertia_densities(s)
         Sx, Sy = mu1[0] - mu0 * X[0], mu1[1] - mu0 * X[1]        # first moment about X(s)
         J = mu2 - 2 * (X[0] * mu1[0] + X[1] * mu1[1]) + mu0 * (X[0]**2 + X[1]**2)
-        Vu = (u[0] * t[0] + u[1] * n[0], u[0] * t[1] + u[1] * n[1])
-        Vv = (v[0] * t[0] + v[1] * n[0], v[0] * t[1] + v[1] * n[1])
+        if cart:
+            Vu, Vv = (u[0], u[1]), (v[0], v[1])
+        else:
+            Vu = (u[0] * t[0] + u[1] * n[0], u[0] * t[1] + u[1] * n[1])
+            Vv = (v[0] * t[0] + v[1] * n[0], v[0] * t[1] + v[1] * n[1])
         kS = (-Sy, Sx)                                            # k x S
         return (mu0 * (Vu[0] * Vv[0] + Vu[1] * Vv[1])
                 + u[2] * (Vv[0] * kS[0] + Vv[1] * kS[1])
@@ -80,10 +94,16 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
         @BilinearForm
         def form(u, v, w):
             s = w.x[0]
+            y = 0.5 * y_sign * curve.thickness_at(s)
+            if cart:
+                t, n = curve.tangent(s), curve.normal(s)
+                dV = (u.grad[0][0], u.grad[1][0])
+                if kind == "slide":
+                    return (dV[0] * n[0] + dV[1] * n[1] + u[2]) * v
+                return (dV[0] * t[0] + dV[1] * t[1] + y * u.grad[2][0]) * v
             kap = curve.curvature(s)
             if kind == "slide":
                 return (u.grad[1][0] + kap * u[0] + u[2]) * v
-            y = 0.5 * y_sign * curve.thickness_at(s)
             return (u.grad[0][0] - kap * u[1] + y * u.grad[2][0]) * v
         return form
 
@@ -98,10 +118,16 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
     def end_form(kind: str, y_sign: float):
         @BilinearForm
         def form(u, v, w):
+            s = w.x[0]
+            if cart:
+                t, n = curve.tangent(s), curve.normal(s)
+                wv = (u[0] * t[0] + u[1] * t[1], u[0] * n[0] + u[1] * n[1])
+            else:
+                wv = (u[0], u[1])
             if kind == "slide":
-                return -w.n[0] * u[1] * v
-            y = 0.5 * y_sign * curve.thickness_at(w.x[0])
-            return -w.n[0] * (u[0] + y * u[2]) * v
+                return -w.n[0] * wv[1] * v
+            y = 0.5 * y_sign * curve.thickness_at(s)
+            return -w.n[0] * (wv[0] + y * u[2]) * v
         return form
 
     left = [0] if ends and ends[0] == 0 else []
@@ -116,8 +142,48 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
 
     B_open = sp.vstack([rows("open", +1.0), rows("open", -1.0)]).tocsr()
     B_slide = rows("slide", 0.0)
+    frames = _node_frames(curve, nodes_s)
+    if cart:   # nodal (v_x, v_y, omega) = T (w, v, omega)
+        T = _frame_rotation(frames)
+        M, B_open, B_slide = (T.T @ M @ T), (B_open @ T).tocsr(), (B_slide @ T).tocsr()
     for A in (B_open, B_slide):
         A.eliminate_zeros()
     mid = 0.5 * (nodes_s[:-1] + nodes_s[1:])
     joint_s = np.concatenate([nodes_s[left], mid, nodes_s[right]])
-    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, joint_s, _node_frames(curve, nodes_s))
+    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, joint_s, frames)
+
+
+def _frame_rotation(frames: dict) -> sp.csr_matrix:
+    """Block-diagonal ``T`` with ``(v_x, v_y, omega)_i = T_i (w, v, omega)_i``."""
+    t, n = frames["t"], frames["n"]
+    k = t.shape[1]
+    blocks = np.zeros((k, NDOF, NDOF))
+    blocks[:, 0, 0], blocks[:, 0, 1], blocks[:, 1, 0], blocks[:, 1, 1] = t[0], n[0], t[1], n[1]
+    blocks[:, 2, 2] = 1.0
+    return sp.block_diag(list(blocks), format="csr")
+
+
+def midpoints_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
+    """Copy of ``nodes_s`` with, for each interior point of ``points_s``, the element
+    containing it shifted (same length, or shortened next to a springing) so that its
+    midpoint is exactly there: a P1 hinge sits at an element midpoint (its strain row).
+    Points at the ends are left alone (the springings are joints of their own)."""
+    out = np.array(nodes_s, float)
+    L0, L1 = out[0], out[-1]
+    tol = 1e-12 * (L1 - L0)
+    for p in np.atleast_1d(points_s):
+        if p <= L0 + tol or p >= L1 - tol:
+            continue
+        k = int(np.clip(np.searchsorted(out, p) - 1, 0, out.size - 2))
+        if k == 0:
+            lo, hi = L0, 2 * p - L0
+        elif k == out.size - 2:
+            lo, hi = 2 * p - L1, L1
+        else:
+            half = 0.5 * (out[k + 1] - out[k])
+            lo, hi = p - half, p + half
+        ok_lo = k == 0 or out[k - 1] < lo
+        ok_hi = k + 2 >= out.size or hi < out[k + 2]
+        if ok_lo and ok_hi:
+            out[k], out[k + 1] = lo, hi
+    return out

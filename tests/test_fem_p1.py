@@ -106,3 +106,30 @@ def test_impact_runs_unchanged_and_verifies():
     assert v["equilibrium_residual"] < 1e-8 and v["impulse_work"] < 1e-7
     assert v["max_tensile_impulse"] < 1e-6 and v["impulse_line_outside"] < 1e-6
     assert [h.side for h in imp.hinges][:1] == ["extrados"] and len(imp.hinges) >= 4
+
+
+def test_cartesian_components_variant():
+    """Interpolating (v_x, v_y): translations exact, fibre rows of rigid motions exactly 0
+    on a circle, sliding rows O(h^2); rotations are interpolated, so the first moment and
+    polar inertia (paired with a rotation) are the O(h^2) ones."""
+    m, Sy, Jc = _sector(ARCH)
+    Ns = np.array([10, 20, 40, 80])
+    eg, eS, eJ = [], [], []
+    for N in Ns:
+        d = discretize_p1(ARCH, uniform_nodes(ARCH, N), components="cartesian")
+        J = d.n_joints
+        u = d.rigid(V=(0.3, -0.7), omega=1.3, about=(0.4, -0.1))
+        inner = np.r_[1:J - 1, J + 1:2 * J - 1]
+        assert np.max(np.abs((d.B_open @ u)[inner])) < 1e-13
+        eg.append(np.max(np.abs((d.B_slide @ u)[1:J - 1])) * N / ARCH.length)
+        tx, ty, rot = d.rigid(V=(1.0, 0.0)), d.rigid(V=(0.0, 1.0)), d.rigid(omega=1.0)
+        assert tx @ d.M @ tx == pytest.approx(m, rel=1e-13)
+        assert ty @ d.M @ ty == pytest.approx(m, rel=1e-13) and abs(tx @ d.M @ ty) < 1e-13 * m
+        eS.append(abs(-(tx @ d.M @ rot) - Sy) / Sy)
+        eJ.append(abs(rot @ d.M @ rot - Jc) / Jc)
+    assert 1.9 < _rate(1.0 / Ns, np.array(eg)) < 2.1
+    assert 1.9 < _rate(1.0 / Ns, np.array(eS)) < 2.1
+    assert 1.9 < _rate(1.0 / Ns, np.array(eJ)) < 2.1
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    AL = limit_analysis(discretize_p1(arch, uniform_nodes(arch, 400), components="cartesian")).A_L
+    assert 0 < AL - 0.353384 < 3e-5
