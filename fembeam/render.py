@@ -66,28 +66,31 @@ def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 9
     import pyvista as pv
 
     body = pv.from_meshio(meshes["body"])
+    f = (size[0] / 1600.0) ** 0.5                         # sizes below are tuned for 1600 px
     pl = pv.Plotter(off_screen=True, window_size=list(size))
     pl.set_background("white")
     pl.add_mesh(body, scalars=scalars, cmap="viridis", show_edges=False, lighting=False,
                 clim=[0.0, max(float(np.max(body[scalars])), 1e-12)],
-                scalar_bar_args={"title": "post-impact speed (m/s)" if scalars == "speed_after" else scalars,
-                                 "color": "black", "vertical": True, "position_x": 0.88,
-                                 "position_y": 0.15, "height": 0.7, "width": 0.05})
-    pl.add_lines(_outline(meshes), color="black", width=2)
+                scalar_bar_args={"title": "speed after (m/s)" if scalars == "speed_after" else scalars,
+                                 "color": "black", "vertical": True, "position_x": 0.87,
+                                 "position_y": 0.15, "height": 0.7, "width": 0.05,
+                                 "title_font_size": max(8, round(20 * f)),
+                                 "label_font_size": max(8, round(16 * f))})
+    pl.add_lines(_outline(meshes), color="black", width=max(1, 2 * f))
     size_ = float(np.ptp(np.asarray(body.points)[:, :2], axis=0).max())
     if "thrust" in meshes and len(meshes["thrust"].points) > 1:
-        pl.add_lines(_dashed(np.asarray(meshes["thrust"].points), size_ / 35), color="black", width=3)
+        pl.add_lines(_dashed(np.asarray(meshes["thrust"].points), size_ / 35), color="black", width=max(1, 3 * f))
     if "impulse" in meshes and len(meshes["impulse"].points) > 1:
-        pl.add_mesh(pv.from_meshio(meshes["impulse"]), color="red", line_width=4, lighting=False)
+        pl.add_mesh(pv.from_meshio(meshes["impulse"]), color="red", line_width=max(2, 4 * f), lighting=False)
     h = meshes["hinges"]
     if len(h.points):
         after = np.asarray(h.point_data["after"]) == 1
         for sel, color, ps in ((~after, "grey", 22), (after, "blue", 14)):
             if sel.any():
-                pl.add_points(np.asarray(h.points)[sel], color=color, point_size=ps,
+                pl.add_points(np.asarray(h.points)[sel], color=color, point_size=max(4, ps * f),
                               render_points_as_spheres=True, lighting=False)
     if title:
-        pl.add_text(title, position="upper_left", font_size=14, color="black")
+        pl.add_text(title, position="upper_left", font_size=max(7, round(14 * f)), color="black")
     pl.view_xy()
     pl.enable_parallel_projection()
     pl.reset_camera(bounds=body.bounds)
