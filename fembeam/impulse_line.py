@@ -98,7 +98,9 @@ class ImpulseLine:
     def admissibility(self, tol: float = ADMISSIBILITY_TOL) -> dict:
         """Kinematic (through the new hinges) and static (compressive, inside the
         thickness) admissibility at the evaluated sections; ``failures`` lists where
-        each check fails (``angle_deg``, ``check``, ``value``)."""
+        each check fails: for the hinges one entry per missed hinge, for the static checks
+        one entry per run of consecutive failing sections (``from_deg``-``to_deg``,
+        worst section ``angle_deg`` and its ``value``)."""
         curve, t = self.curve, self.thickness
         It, e = self.I_t, self.eccentricity
         scale = max(np.max(np.abs(It)), 1e-300)
@@ -114,15 +116,11 @@ class ImpulseLine:
             if m_ > tol:
                 fails.append({"angle_deg": float(curve.angle_deg(s_)), "check": "through_hinge",
                               "hinge_side": k, "value": None if not np.isfinite(e_) else float(e_ / t_)})
-        # static: compressive
+        # static: compressive (I_t <= 0), and inside the thickness (|e| <= t/2)
         tens = It / scale
-        for j in np.flatnonzero(tens > tol):
-            fails.append({"angle_deg": float(self.angle_deg[j]), "check": "compressive", "value": float(tens[j])})
-        # static: inside the thickness
         out = np.where(carried, (np.abs(np.nan_to_num(e)) - 0.5 * t) / t, -np.inf)
-        for j in np.flatnonzero(out > tol):
-            fails.append({"angle_deg": float(self.angle_deg[j]), "check": "inside_thickness",
-                          "value": float(e[j] / t[j])})
+        fails += self._zones(tens > tol, tens, "compressive", tens)
+        fails += self._zones(out > tol, out, "inside_thickness", e / t)
         return {
             "passes_through_hinges": bool(np.all(miss <= tol)),
             "inside_thickness": bool(np.all(out <= tol)),
@@ -133,6 +131,18 @@ class ImpulseLine:
             "sections": int(self.s.size),
             "failures": fails,
         }
+
+    def _zones(self, bad: np.ndarray, severity: np.ndarray, check: str, value: np.ndarray) -> list[dict]:
+        """Runs of consecutive failing sections: extent and worst section (``value``:
+        e/t for the thickness check, I_t/max|I_t| for the compression check)."""
+        idx = np.flatnonzero(bad)
+        out = []
+        for run in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1) if idx.size else []:
+            w = run[np.argmax(severity[run])]
+            out.append({"check": check, "angle_deg": float(self.angle_deg[w]), "value": float(value[w]),
+                        "from_deg": float(self.angle_deg[run[0]]), "to_deg": float(self.angle_deg[run[-1]]),
+                        "sections": int(run.size)})
+        return out
 
     def to_dict(self) -> dict:
         e = self.eccentricity

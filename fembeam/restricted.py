@@ -123,13 +123,13 @@ def best_four_hinge_discrete(curve: MidCurve, joint_s, before: Pieces, keep: int
     return RestrictedResult(rank[0][1], rank[0][0], rank[1:], 16 * len(combos), n_compat, "exhaustive")
 
 
-def best_four_hinge_continuous(curve: MidCurve, before: Pieces, grid: int = 63,
+def best_four_hinge_continuous(curve: MidCurve, before: Pieces, grid: int = 31,
                                starts: list[FourHinge] | None = None) -> RestrictedResult:
     """Restricted problem on a continuous arch: exhaustive search on ``grid`` uniform
     voussoirs for the sides and a start, then maximise the exact ``r`` over the four
     hinge positions (L-BFGS-B, sides fixed) from it and from ``starts``."""
     L = curve.length
-    coarse = best_four_hinge_discrete(curve, np.linspace(0.0, L, grid + 1), before, keep=4)
+    coarse = best_four_hinge_discrete(curve, np.linspace(0.0, L, grid + 1), before, keep=2)
     cands = [m for m in [coarse.after] + [h for _, h in coarse.ranking] + list(starts or []) if m is not None]
     results = []
     for start in cands:
