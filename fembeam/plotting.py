@@ -46,7 +46,7 @@ def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] =
     for y in (-0.5, 0.5):
         P = X + y * t * n
         ax.plot(P[0], P[1], **kw)
-    sj = disc.joint_s if disc.n_elements <= 30 else np.array([0.0, c.length])
+    sj = np.union1d([0.0, c.length], disc.joint_s if disc.n_elements <= 30 else [])
     for sec in sj:  # springing sections (and voussoir joints)
         P = c.position(sec)[:, None] + np.array([-0.5, 0.5]) * c.thickness_at(sec) * c.normal(sec)[:, None]
         ax.plot(P[0], P[1], **kw)
@@ -58,10 +58,11 @@ def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] =
         ax.plot(L[0], L[1], color="red", lw=1.8, label="impulse line")
     if len(hinges_before):
         H = hinge_points(disc, hinges_before)
-        ax.plot(H[0], H[1], "o", ms=11, mfc="none", mec="grey", mew=2.0, label="hinges before impact")
+        ax.plot(H[0], H[1], "o", ms=11, mfc="none", mec="grey", mew=2.0, label="hinges before impact",
+                clip_on=False)
     if len(hinges_after):
         H = hinge_points(disc, hinges_after)
-        ax.plot(H[0], H[1], "o", ms=6, color="blue", label="hinges after impact")
+        ax.plot(H[0], H[1], "o", ms=6, color="blue", label="hinges after impact", clip_on=False)
     ax.set_aspect("equal")
     ax.axis("off")
     ax.legend(loc="lower center", ncol=2, frameon=False, fontsize=9, bbox_to_anchor=(0.5, -0.12))

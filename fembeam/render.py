@@ -20,8 +20,17 @@ __all__ = ["render_png", "render_fields", "title_of"]
 
 
 def _headless_setup() -> None:
-    if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
-        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    """Ask VTK for EGL when there is no display; fail with one clear line (instead of VTK
+    ending the process) when neither libEGL nor libOSMesa is on the machine."""
+    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
+        return
+    from ctypes.util import find_library
+
+    if find_library("EGL") is None and find_library("OSMesa") is None:
+        from .errors import FembeamError
+        raise FembeamError("off-screen rendering needs libEGL or libOSMesa (Debian: apt-get install "
+                           "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6; see docs/visualisation.md)")
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
 def title_of(result) -> str:
@@ -55,8 +64,30 @@ def _outline(meshes: dict) -> np.ndarray:
         sel = np.flatnonzero(np.abs(2 * side * y - t) <= 1e-9 * t)
         q = pts[sel[np.argsort(s[sel], kind="stable")]]
         segs.append(np.stack([q[:-1], q[1:]], 1).reshape(-1, 3))
-    segs.append(j[[0, -1] if j.shape[0] > 30 else slice(None)].reshape(-1, 3))
+    if j.shape[0] <= 30:                                        # voussoir joints
+        segs.append(j.reshape(-1, 3))
+    for end in (s.min(), s.max()):                              # end sections (free ends too)
+        q = pts[np.flatnonzero(np.isclose(s, end, rtol=0, atol=1e-12) & (np.abs(2 * np.abs(y) - t) <= 1e-9 * t))]
+        segs.append(q[np.argsort(q[:, 0] + q[:, 1])][[0, -1]])
     return np.concatenate(segs)
+
+
+def _fit_camera(pl, bounds, size, margin: float = 1.25, room: float = 0.82) -> None:
+    """Parallel projection of the x-y plane, equal aspect, with the whole body in the left
+    ``room`` of the window (the scalar bar takes the right) and ``margin`` around it."""
+    x0, x1, y0, y1 = bounds[:4]
+    aspect = size[0] / size[1]
+    half_h = 0.5 * margin * max(y1 - y0, (x1 - x0) / (room * aspect))
+    half_w = half_h * aspect
+    cx = 0.5 * (x0 + x1) + half_w * (1.0 - room)                 # body centred in the left part
+    cy = 0.5 * (y0 + y1) + 0.03 * half_h                         # a little room for the title
+    cam = pl.camera
+    cam.parallel_projection = True
+    cam.focal_point = (cx, cy, 0.0)
+    cam.position = (cx, cy, 10.0 * max(x1 - x0, y1 - y0, 1e-9))
+    cam.up = (0.0, 1.0, 0.0)
+    cam.parallel_scale = half_h
+    pl.renderer.ResetCameraClippingRange()
 
 
 def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 900),
@@ -91,10 +122,7 @@ def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 9
                               render_points_as_spheres=True, lighting=False)
     if title:
         pl.add_text(title, position="upper_left", font_size=max(7, round(14 * f)), color="black")
-    pl.view_xy()
-    pl.enable_parallel_projection()
-    pl.reset_camera(bounds=body.bounds)
-    pl.camera.zoom(1.15)
+    _fit_camera(pl, body.bounds, size)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     pl.screenshot(str(path))
