@@ -23,7 +23,7 @@ from ..fourhinge import FourHinge
 from ..hinges import Hinge
 from ..impulse_line import four_hinge_impulse_line
 from ..restricted import best_four_hinge_continuous, best_four_hinge_discrete
-from ._args import add_arch, arch_from
+from ._args import add_arch, arch_from, int_list
 
 SIDE_CODES = {"i": "intrados", "e": "extrados", "intrados": "intrados", "extrados": "extrados"}
 DEFAULT_SECTIONS = 720   # continuous arch: impulse line checked at 720 + 1 sections (+ the hinges)
@@ -73,6 +73,10 @@ def register(sub) -> None:
     w.add_argument("--restricted", action="store_true", help="best compatible four-hinge mechanism (default)")
     w.add_argument("--classical", action="store_true",
                    help="De Lorenzis-DeJong-Ochsendorf: mirrored hinges, impulses through the points opposite C")
+    p.add_argument("--series", type=int_list, default=None, metavar="N,N,...",
+                   help="instead: discrete -> continuous table of A_L, r_max, r_4hinge for these voussoir counts")
+    p.add_argument("--exhaustive-max", type=int, default=31, metavar="N",
+                   help="with --series: exhaustive r_4hinge up to N voussoirs (default 31; 63 takes ~12 s)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--fields", action="store_true", help="with --json: add the impulse line at every section")
     p.set_defaults(func=run)
@@ -183,11 +187,31 @@ def compute(args) -> dict:
 
 
 def run(args) -> int:
+    if args.series is not None:
+        return run_series(args)
     out = compute(args)
     if args.json:
         print(json.dumps(out))
         return 0
     print(summary(out))
+    return 0
+
+
+def run_series(args) -> int:
+    from ..discrete_series import discrete_series
+
+    if any(n < 1 for n in args.series):
+        raise InputError("--series needs positive voussoir counts")
+    curve = arch_from(args)
+    rows = discrete_series(curve, args.series, exhaustive_max=args.exhaustive_max)
+    if args.json:
+        print(json.dumps({"command": "impact --series", "geometry": curve.describe(), "rows": rows}))
+        return 0
+    print(f"fembeam impact --series: embrace {curve.embrace_deg:g} deg, t/R = {curve.t_over_r:g}")
+    print(f"  {'voussoirs':>10s} {'A_L':>10s} {'r_max (QP)':>11s} {'QP hinges':>9s} {'r_4hinge':>10s}")
+    for r in rows:
+        r4 = "-" if r["r_4hinge"] is None else f"{r['r_4hinge']:.6f}"
+        print(f"  {str(r['voussoirs']):>10s} {r['A_L']:10.6f} {r['r_max']:11.6f} {r['qp_hinges']:9d} {r4:>10s}")
     return 0
 
 
