@@ -128,7 +128,8 @@ def joints_mesh(disc: Discretization, fields: Mapping[str, np.ndarray], data: Ma
 
 def line_mesh(disc: Discretization, line: Mapping[str, np.ndarray]):
     """Polyline through ``X_j + e_j n_j`` at the joints (``line["eccentricity"]``, m);
-    joints where ``e`` is NaN (nothing transmitted) split it into pieces.  Every other
+    joints where ``e`` is NaN (nothing transmitted) split it into pieces, and a joint with
+    no neighbour on the line (a block on its base) is a vertex cell.  Every other
     array of ``line`` of length J becomes point data, with ``angle_deg`` and ``s``."""
     import meshio
 
@@ -145,7 +146,10 @@ def line_mesh(disc: Discretization, line: Mapping[str, np.ndarray]):
         v = np.asarray(v, float)
         if k != "angle_deg" and v.shape == e.shape:
             pd[k] = v[ok]
-    return meshio.Mesh(_xyz(X), [("line", segs.reshape(-1, 2))], point_data=pd)
+    alone = np.setdiff1d(np.arange(ok.size), segs.ravel())      # isolated joints: vertices
+    cells = [(kind, c) for kind, c in (("line", segs.reshape(-1, 2)), ("vertex", alone.reshape(-1, 1)))
+             if len(c)]
+    return meshio.Mesh(_xyz(X), cells, point_data=pd)
 
 
 def hinges_mesh(disc: Discretization, before: Sequence[Hinge], after: Sequence[Hinge]):

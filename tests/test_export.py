@@ -151,3 +151,21 @@ def test_cli_json_stdout_untouched(tmp_path, capsys):
     assert d["r"] == pytest.approx(0.55924, abs=5e-5)
     assert out.exists() and (tmp_path / "cli_impulse.vtu").exists() and fig.stat().st_size > 1000
     assert main(["analyze", "--png", str(tmp_path / "x.jpg")]) == 2
+
+
+def test_rocking_block(tmp_path):
+    """Housner's block: one joint, so each line is one point (a vertex) on the base; the
+    hinges sit on the base corners (before: right corner, after: left corner)."""
+    from fembeam.geometry import StraightMember
+
+    res = analyze(StraightMember(1.0, 0.3), voussoirs=1)
+    parts = _read(write_vtk(res, tmp_path / "block.vtu"))
+    for key in ("impulse", "thrust"):
+        assert [c.type for c in parts[key].cells] == ["vertex"] and len(parts[key].points) == 1
+    h = parts["hinges"]
+    # the thrust passes through the pivot before the impact, the impulse through the new one
+    assert np.allclose(parts["thrust"].points[0], h.points[h.point_data["after"] == 0][0], atol=1e-9)
+    assert np.allclose(parts["impulse"].points[0], h.points[h.point_data["after"] == 1][0], atol=1e-9)
+    assert np.allclose(h.points[:, :2], [[0.15, 0.0], [-0.15, 0.0]], atol=1e-12)
+    b = parts["body"]
+    assert np.allclose([b.points[:, 0].min(), b.points[:, 0].max(), b.points[:, 1].max()], [-0.15, 0.15, 1.0])
