@@ -265,6 +265,8 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
     h = np.array([r["h_over_R"] for r in rows])
     series = {"A_L": [r["A_L"] for r in rows], "A_L_mesh": [r["A_L_mesh"] for r in rows],
               "r": [r["r"] for r in rows]}
+    if mode == "voussoirs":  # no hinge refinement: A_L is the LP on the voussoirs, A_L_mesh the same
+        del series["A_L_mesh"]
     series.update(_hinge_series(rows, "hinges_before"))
     series.update(_hinge_series(rows, "hinges_after"))
     quantities = {}
@@ -291,36 +293,47 @@ def plot_convergence(study: ConvergenceStudy, path: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
 
     h = study.h
     hinge_q = {k: q for k, q in study.quantities.items() if k.startswith("hinges_") and not q["exact"]}
     main_q = {k: q for k, q in study.quantities.items() if k in ("A_L", "A_L_mesh", "r")}
     ncol = 2 if hinge_q else 1
     fig, axes = plt.subplots(1, ncol, figsize=(6.2 * ncol, 4.8), squeeze=False)
-    labels = {"A_L": "$A_L$ (hinge-refined)", "A_L_mesh": "$A_L$ uniform-mesh LP", "r": "$r$"}
+    labels = {"A_L": "$A_L$ (hinge-refined)" if study.mode == "continuous" else "$A_L$ (voussoir LP)",
+              "A_L_mesh": "$A_L$ uniform-mesh LP", "r": "$r$"}
     against = ("Richardson, assumed p = %g" % study.assumed_order if study.mode == "continuous"
                else "continuous arch, %d el." % study.reference["elements"])
+
+    def label(name):
+        if name in labels:
+            return labels[name]
+        key, k, _ = name.rsplit("_", 2)
+        return f"hinge {k} {key.split('_')[1]} impact"
 
     def draw(ax, qs, ylabel, title):
         for name, q in qs.items():
             err = np.array([np.nan if e is None else e for e in q["errors"]], float)
             ok = np.isfinite(err) & (err > 0)
-            if not ok.any():
+            if q["exact"] or not ok.any():  # nothing to plot on a log scale: say so in the legend
+                lim = q.get("extrapolated", q.get("reference"))
+                ax.plot([], [], " ", label=f"{label(name)} = {lim:.8g} at every N (spread "
+                                           f"{np.nanmax(err) if ok.any() else 0:.0e})")
                 continue
-            if q["exact"]:
-                lab = f"{labels.get(name, name)}: exact to round-off at every N"
-            else:
-                fo = q.get("fitted_order")
-                lab = (f"{labels.get(name, name)}: rate {q['rate']:.2f}"
-                       + (f" (fitted p = {fo:.2f})" if fo is not None else ""))
-            ax.loglog(h[ok], err[ok], "o-", label=lab)
-            if not q["exact"] and q["rate"] is not None:
-                c = np.polyfit(np.log(h[ok]), np.log(err[ok]), 1)
-                ax.loglog(h[ok], np.exp(np.polyval(c, np.log(h[ok]))), ":", color=ax.lines[-1].get_color(), lw=1)
+            fo = q.get("fitted_order") if study.mode == "continuous" else None
+            ax.loglog(h[ok], err[ok], "o-", label=f"{label(name)}: rate {q['rate']:.2f}"
+                      + (f" (fitted p = {fo:.2f})" if fo is not None else ""))
+            c = np.polyfit(np.log(h[ok]), np.log(err[ok]), 1)
+            ax.loglog(h[ok], np.exp(np.polyval(c, np.log(h[ok]))), ":", color=ax.lines[-1].get_color(), lw=1)
+        if ax.lines and any(ln.get_xdata().size for ln in ax.lines):
+            ys = [y for ln in ax.lines for y in np.atleast_1d(ln.get_ydata()) if np.isfinite(y) and y > 0]
+            h2 = np.array([h.min(), h.max()])
+            ax.loglog(h2, min(ys) * 0.3 * (h2 / h2[0]) ** 2, "--", color="0.6", lw=1, label="slope 2")
         ax.set_xlabel("h / R = beta / N")
         ax.set_ylabel(ylabel)
         ax.set_title(title, fontsize=10)
-        ax.grid(True, which="both", alpha=0.3)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.legend(fontsize=8)
 
     g = study.geometry

@@ -147,3 +147,13 @@ def test_sweep_command_files(tmp_path, capsys):
 def test_sweep_bad_input(capsys):
     assert main(["sweep", "--embrace", "400", "--t-over-r", "0.1", "--quiet"]) == 2
     assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_known_t_min_shortcut_matches_analyze():
+    # below t_min the case needs one LP instead of analyze's own bisection; same outcome
+    fast = sweep_case(180.0, 0.10, elements=60, t_min_over_r=0.1075)
+    full = sweep_case(180.0, 0.10, elements=60)
+    assert fast["outcome"] == full["outcome"] == "cannot_stand"
+    assert fast["t_min_over_R"] == 0.1075 and full["t_min_over_R"] == pytest.approx(0.1075, abs=2e-3)
+    # above t_min the shortcut is not taken: identical numbers
+    assert sweep_case(180.0, 0.20, elements=60, t_min_over_r=0.1075)["r"] == sweep_case(180.0, 0.20, elements=60)["r"]
