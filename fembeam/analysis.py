@@ -34,9 +34,11 @@ DEFAULT_ELEMENTS = 200
 MIN_ELEMENTS = 4
 
 # Verification thresholds (dimensionless, see docs/verification.md): residuals of
-# linear algebra at ~1e-14 and solver tolerances of 1e-10 leave ample margin.
+# linear algebra at ~1e-14 and solver tolerances of 1e-10 leave ample margin.  The
+# LP's duals come from simplex basis solves on a chain whose condition number grows
+# like N^2: their equilibrium residual reaches 7e-8 at 3200 elements, hence 1e-6.
 THRESHOLDS = {
-    "equilibrium_residual": 1e-8,
+    "equilibrium_residual": 1e-6,
     "impulse_line_outside": 1e-6,
     "thrust_line_outside": 1e-6,
     "max_tensile_impulse": 1e-6,
