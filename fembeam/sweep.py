@@ -191,7 +191,7 @@ def plot_sweep(result: SweepResult, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7.5, 5.2))
+    fig, ax = plt.subplots(figsize=(9.6, 5.2))
     colors = plt.cm.viridis(np.linspace(0.0, 0.85, len(result.embrace)))
     seen = set()
     for b, col in zip(result.embrace, colors):
@@ -222,7 +222,7 @@ def plot_sweep(result: SweepResult, path: str) -> None:
     ax.set_ylabel("$r_{max}$")
     ax.set_title(f"Continuous circular arches ({result.settings['elements']} elements, hinges refined)", fontsize=10)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.01, 0.07))
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)

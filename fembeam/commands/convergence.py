@@ -96,8 +96,9 @@ def table(study: ConvergenceStudy) -> str:
     out = [f"fembeam convergence: circular arch, embrace {g.get('embrace_deg'):g} deg, t/R = {g.get('t_over_R'):g}, "
            f"{what} {','.join(map(str, study.levels))}",
            f"  {'N':>5} {'h/R':>9} {'h deg':>7} {'A_L':>11} {'A_L_mesh':>11} {'r':>10} "
-           f"{'err r':>9} {'err A_Lm':>9} {'eq.res':>8} {'tensile':>8} {'work':>8} {'t [s]':>6} {'LP':>5} {'QP':>5}"]
-    qr, qm = study.quantities.get("r", {}), study.quantities.get("A_L_mesh", {})
+           f"{'err r':>9} {('err A_Lm' if study.mode == 'continuous' else 'err A_L'):>9} {'eq.res':>8} {'tensile':>8} {'work':>8} {'t [s]':>6} {'LP':>5} {'QP':>5}"]
+    qr = study.quantities.get("r", {})
+    qm = study.quantities.get("A_L_mesh", study.quantities.get("A_L", {}))
     for i, row in enumerate(study.rows):
         er = qr.get("errors", [None] * len(study.rows))[i]
         em = qm.get("errors", [None] * len(study.rows))[i]
