@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .analysis import DEFAULT_ELEMENTS, analyze, minimum_thickness
-from .errors import FembeamError
+from .errors import FembeamError, SolverError
 from .fem import discretize, uniform_nodes
 from .geometry import CircularArch
 from .limit import limit_analysis
@@ -154,7 +154,11 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
     client = None
     if isinstance(scheduler, str):  # one connection for both phases
         from distributed import Client
-        client = scheduler = Client(scheduler)
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as e:
+            raise SolverError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
+        scheduler = client
     try:
         env = run_tasks([(envelope_case, {"embrace_deg": b, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
                                           "above": above, **common}) for b in env_betas],
