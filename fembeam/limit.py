@@ -80,8 +80,11 @@ def _solve(disc: Discretization, direction: int) -> LimitResult:
     b_eq = np.zeros(A_eq.shape[0])
     b_eq[-1] = 1.0
     t0 = time.perf_counter()
-    res = linprog(c, A_ub=-Bo, b_ub=np.zeros(Bo.shape[0]), A_eq=A_eq, b_eq=b_eq,
-                  bounds=(None, None), method="highs")
+    for method in ("highs", "highs-ipm"):  # dual simplex, then IPM + crossover
+        res = linprog(c, A_ub=-Bo, b_ub=np.zeros(Bo.shape[0]), A_eq=A_eq, b_eq=b_eq,
+                      bounds=(None, None), method=method)
+        if res.status != 4:  # 4: "numerical difficulties" (seen on nearly locked arches)
+            break
     dt = time.perf_counter() - t0
     if res.status == 2:
         return LimitResult("no_mechanism", disc, direction, solve_time=dt)

@@ -73,3 +73,10 @@ def test_strict_limit_analysis_names_the_problem():
     c = CircularArch.from_ratio(180, 0.08)
     with pytest.raises(CannotStandError, match="cannot stand under its own weight"):
         limit_analysis(discretize(c, uniform_nodes(c, 40)), strict=True)
+
+
+def test_nearly_locked_arch_is_an_outcome_not_a_solver_failure():
+    """80 deg, t/R 0.28: the simplex reports numerical difficulties; the IPM retry finds the
+    LP infeasible (a straight strut almost fits inside the thickness)."""
+    res = analyze(CircularArch.from_ratio(80, 0.28), elements=200)
+    assert res.outcome == "no_mechanism"
