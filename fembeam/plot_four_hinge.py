@@ -55,7 +55,6 @@ def plot_hinge_zone(out: str, embrace: float = 157.5, t_over_r: float = 0.15, me
         axe.legend(fontsize=8, loc="lower center")
         axr = ax[1, col]
         for n, r in res.items():
-            d = r.impact.disc
             h = [x for x in r.impact.hinges if lo <= x.angle_deg <= hi and x.side == side]
             dphi = float(c.angle_deg(c.length)) / n
             a = np.array([x.angle_deg for x in h])

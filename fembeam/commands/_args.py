@@ -2,7 +2,10 @@
 from __future__ import annotations
 
 import argparse
+import csv
+import json
 import math
+import os
 
 from ..analysis import DEFAULT_ELEMENTS
 from ..geometry import CircularArch
@@ -73,3 +76,25 @@ def add_solver(p: argparse.ArgumentParser, elements_default: int | None = DEFAUL
 
 def arch_from(args) -> CircularArch:
     return CircularArch.from_ratio(args.embrace, args.t_over_r, radius=args.radius, density=args.density)
+
+
+def write_outputs(result, args, stem: str, plot) -> None:
+    """Write ``result`` (with ``to_dict()`` and ``csv_rows()``) where ``--csv``, ``--plot``
+    and ``--out-dir`` (``stem``.csv/.json/.png) ask; ``plot(result, path)`` draws the PNG."""
+    csv_path, plot_path, json_path = args.csv, args.plot, None
+    if args.out_dir:
+        os.makedirs(args.out_dir, exist_ok=True)
+        csv_path = csv_path or os.path.join(args.out_dir, f"{stem}.csv")
+        plot_path = plot_path or os.path.join(args.out_dir, f"{stem}.png")
+        json_path = os.path.join(args.out_dir, f"{stem}.json")
+    if csv_path:
+        rows = result.csv_rows()
+        with open(csv_path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+    if json_path:
+        with open(json_path, "w") as f:
+            json.dump(result.to_dict(), f, indent=1)
+    if plot_path:
+        plot(result, plot_path)

@@ -2,14 +2,12 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import json
-import os
 
 from ..convergence import ConvergenceStudy, convergence_study, plot_convergence
 from ..errors import InputError
 from ..qp import BACKENDS
-from ._args import add_arch, arch_from, finite_float, int_list
+from ._args import add_arch, arch_from, finite_float, int_list, write_outputs
 
 DEFAULT_ELEMENTS = [50, 100, 200, 400, 800, 1600]
 
@@ -57,29 +55,9 @@ def run(args: argparse.Namespace) -> int:
     study = convergence_study(arch_from(args), elements=elements, voussoirs=args.voussoirs, order=args.order,
                               reference_elements=args.reference_elements, direction=args.direction,
                               backend=args.backend, refine_hinges=not args.no_refine, progress=not args.quiet)
-    csv_path, plot_path, json_path = args.csv, args.plot, None
-    if args.out_dir:
-        os.makedirs(args.out_dir, exist_ok=True)
-        csv_path = csv_path or os.path.join(args.out_dir, "convergence.csv")
-        plot_path = plot_path or os.path.join(args.out_dir, "convergence.png")
-        json_path = os.path.join(args.out_dir, "convergence.json")
-    if csv_path:
-        write_csv(study, csv_path)
-    if json_path:
-        with open(json_path, "w") as f:
-            json.dump(study.to_dict(), f, indent=1)
-    if plot_path:
-        plot_convergence(study, plot_path)
+    write_outputs(study, args, "convergence", plot_convergence)
     print(json.dumps(study.to_dict()) if args.json else table(study))
     return 0
-
-
-def write_csv(study: ConvergenceStudy, path: str) -> None:
-    rows = study.csv_rows()
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
 
 
 def _f(x, fmt):

@@ -2,15 +2,13 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import json
-import os
 
 from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
 from ..qp import BACKENDS
 from ..sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, plot_sweep, sweep
-from ._args import finite_float, float_list
+from ._args import finite_float, float_list, write_outputs
 
 CODES = {"rocking": "", "arrested": "A", "cannot_stand": "C", "no_mechanism": "N", "solver_error": "E"}
 
@@ -68,29 +66,9 @@ def run(args: argparse.Namespace) -> int:
                 envelope=not args.no_envelope, envelope_embrace=args.envelope_embrace,
                 tmin_elements=args.tmin_elements, tmin_tol=args.tmin_tol, above=args.above, workers=args.workers,
                 scheduler=args.scheduler, progress=not args.quiet)
-    csv_path, plot_path, json_path = args.csv, args.plot, None
-    if args.out_dir:
-        os.makedirs(args.out_dir, exist_ok=True)
-        csv_path = csv_path or os.path.join(args.out_dir, "sweep.csv")
-        plot_path = plot_path or os.path.join(args.out_dir, "sweep.png")
-        json_path = os.path.join(args.out_dir, "sweep.json")
-    if csv_path:
-        write_csv(res, csv_path)
-    if json_path:
-        with open(json_path, "w") as f:
-            json.dump(res.to_dict(), f, indent=1)
-    if plot_path:
-        plot_sweep(res, plot_path)
+    write_outputs(res, args, "sweep", plot_sweep)
     print(json.dumps(res.to_dict()) if args.json else table(res))
     return 0
-
-
-def write_csv(res: SweepResult, path: str) -> None:
-    rows = res.csv_rows()
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
 
 
 def table(res: SweepResult) -> str:
