@@ -245,16 +245,23 @@ def write_fields(path: str | Path, disc: Discretization, d0: np.ndarray, d: np.n
     return written
 
 
-def write_vtk(result, path: str | Path, layers: int = 2) -> dict[str, Path]:
-    """Export an :class:`~fembeam.analysis.AnalysisResult` (needs a limit-analysis mechanism;
-    the impact fields are zero/absent when it has none). Returns the files written."""
+def fields_of(result, what: str = "export") -> tuple:
+    """Arguments of :func:`write_fields` / :func:`meshes_of` (after ``path``) for an
+    :class:`~fembeam.analysis.AnalysisResult`; the impact fields are zero/absent when there
+    was no impact. Raises InputError when the analysis found no mechanism."""
     from .errors import InputError
 
     lim, imp = result.limit, result.impact
     if lim is None:
-        raise InputError(f"nothing to export: the analysis has no mechanism (outcome {result.outcome})")
+        raise InputError(f"nothing to {what}: the analysis has no mechanism (outcome {result.outcome})")
     disc = imp.disc if imp is not None else lim.disc
     d0 = imp.d0 if imp is not None else -lim.u
     d = imp.d if imp is not None else np.zeros_like(d0)
-    return write_fields(path, disc, d0, d, result.hinges_before, result.hinges_after,
-                        impulse_line(imp) if imp is not None else None, thrust_line(lim), layers)
+    return (disc, d0, d, result.hinges_before, result.hinges_after,
+            impulse_line(imp) if imp is not None else None, thrust_line(lim))
+
+
+def write_vtk(result, path: str | Path, layers: int = 2) -> dict[str, Path]:
+    """Export an :class:`~fembeam.analysis.AnalysisResult` (needs a limit-analysis mechanism;
+    the impact fields are zero/absent when it has none). Returns the files written."""
+    return write_fields(path, *fields_of(result), layers)

@@ -132,15 +132,7 @@ def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 9
 
 def render_png(result, path: str | Path, size=(1600, 900)) -> Path:
     """Render an :class:`~fembeam.analysis.AnalysisResult` off-screen to ``path`` (PNG)."""
-    from .errors import InputError
-    from .export import impulse_line, meshes_of, thrust_line
+    from .export import fields_of, meshes_of
 
-    lim, imp = result.limit, result.impact
-    if lim is None:
-        raise InputError(f"nothing to render: the analysis has no mechanism (outcome {result.outcome})")
-    disc = imp.disc if imp is not None else lim.disc
-    d0 = imp.d0 if imp is not None else -lim.u
-    d = imp.d if imp is not None else np.zeros_like(d0)
-    meshes = meshes_of(disc, d0, d, result.hinges_before, result.hinges_after,
-                       impulse_line(imp) if imp is not None else None, thrust_line(lim))
+    meshes = meshes_of(*fields_of(result, "render"))
     return render_fields(meshes, path, title_of(result), size)
