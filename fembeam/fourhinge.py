@@ -42,6 +42,16 @@ class Pieces:
     def rigid(cls, curve: MidCurve, V=(0.0, 0.0), omega: float = 0.0) -> "Pieces":
         return cls(np.array([0.0, curve.length]), np.array([[V[0], V[1], omega]]))
 
+    def dofs(self, disc) -> np.ndarray:
+        """Element DOFs of this field on the rigid-element mesh ``disc``: each element
+        takes the motion of the piece containing its midpoint (exact when the breaks are
+        nodes of the mesh)."""
+        from .fem import rigid_dofs
+
+        k = np.clip(np.searchsorted(self.breaks, disc.frames["s"]) - 1, 0, len(self.motion) - 1)
+        Vx, Vy, W = self.motion[k].T
+        return rigid_dofs(disc, (Vx, Vy), W)
+
 
 def product(curve: MidCurve, a: Pieces, b: Pieces) -> float:
     """Momentum pairing ``int rho vel_a . vel_b dA`` (so ``2K = product(a, a)``)."""
@@ -117,6 +127,16 @@ class FourHinge:
 
     def to_list(self, curve: MidCurve) -> list[dict]:
         return [{"angle_deg": round(float(a), 6), "side": k} for a, k in zip(self.angles_deg(curve), self.sides)]
+
+    def hinges(self, curve: MidCurve, alpha: float = 1.0) -> list:
+        """The four hinges as :class:`~fembeam.hinges.Hinge` (rotation = jump of the
+        angular velocity, right minus left, for ``Omega_I = alpha``)."""
+        from .hinges import Hinge
+
+        om = alpha * self.omegas(curve)[0]
+        jumps = [om[0], om[1] - om[0], om[2] - om[1], -om[2]]
+        return [Hinge(float(s), float(curve.angle_deg(s)), k, float(j), ())
+                for s, k, j in zip(self.s, self.sides, jumps)]
 
     def points(self, curve: MidCurve) -> np.ndarray:
         s = np.asarray(self.s, float)

@@ -70,24 +70,17 @@ def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] =
         ax.set_title(title)
 
 
-def plot_paper_figure(result, path: str | Path, dpi: int = 150) -> Path:
-    """Paper-style figure of an :class:`~fembeam.analysis.AnalysisResult` saved to ``path``
-    (format from the suffix: png, pdf, svg ...)."""
+def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Sequence[Hinge] = (),
+                      hinges_after: Sequence[Hinge] = (), impulse_e: np.ndarray | None = None,
+                      thrust_e: np.ndarray | None = None, title: str = "", dpi: int = 150) -> Path:
+    """:func:`draw_paper_figure` on a new figure saved to ``path`` (format from the suffix)."""
     import matplotlib
     matplotlib.use("Agg", force=False) if matplotlib.get_backend().lower() != "agg" else None
     import matplotlib.pyplot as plt
 
-    from .errors import InputError
-    from .render import title_of
-
-    lim, imp = result.limit, result.impact
-    if lim is None:
-        raise InputError(f"nothing to plot: the analysis has no mechanism (outcome {result.outcome})")
-    disc = imp.disc if imp is not None else lim.disc
     fig, ax = plt.subplots(figsize=(7.5, 4.6))
     try:
-        draw_paper_figure(ax, disc, result.hinges_before, result.hinges_after,
-                          imp.eccentricity if imp is not None else None, lim.eccentricity, title_of(result))
+        draw_paper_figure(ax, disc, hinges_before, hinges_after, impulse_e, thrust_e, title)
         fig.tight_layout()
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -95,3 +88,18 @@ def plot_paper_figure(result, path: str | Path, dpi: int = 150) -> Path:
     finally:
         plt.close(fig)
     return path
+
+
+def plot_paper_figure(result, path: str | Path, dpi: int = 150) -> Path:
+    """Paper-style figure of an :class:`~fembeam.analysis.AnalysisResult` saved to ``path``
+    (format from the suffix: png, pdf, svg ...)."""
+    from .errors import InputError
+    from .render import title_of
+
+    lim, imp = result.limit, result.impact
+    if lim is None:
+        raise InputError(f"nothing to plot: the analysis has no mechanism (outcome {result.outcome})")
+    disc = imp.disc if imp is not None else lim.disc
+    return save_paper_figure(path, disc, result.hinges_before, result.hinges_after,
+                             imp.eccentricity if imp is not None else None, lim.eccentricity,
+                             title_of(result), dpi)

@@ -18,12 +18,13 @@ import numpy as np
 from ..analysis import analyze
 from ..classical import classical_impact
 from ..errors import InputError
-from ..fem import uniform_nodes
+from ..fem import discretize, nodes_through, uniform_nodes
 from ..fourhinge import FourHinge
 from ..hinges import Hinge
 from ..impulse_line import four_hinge_impulse_line
 from ..restricted import best_four_hinge_continuous, best_four_hinge_discrete
 from ._args import add_arch, arch_from, int_list
+from .analyze import add_picture_options, check_picture_options
 
 SIDE_CODES = {"i": "intrados", "e": "extrados", "intrados": "intrados", "extrados": "extrados"}
 DEFAULT_SECTIONS = 720   # continuous arch: impulse line checked at 720 + 1 sections (+ the hinges)
@@ -79,6 +80,7 @@ def register(sub) -> None:
                    help="with --series: exhaustive r_4hinge up to N voussoirs (default 31; 63 takes ~12 s)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--fields", action="store_true", help="with --json: add the impulse line at every section")
+    add_picture_options(p)
     p.set_defaults(func=run)
 
 
@@ -133,6 +135,7 @@ def compute(args) -> dict:
         model = "classical"
         cl = classical_impact(curve, before, sections, alpha=-sgn)
         after, line, r = cl.after, cl.line, cl.r
+        line_at = lambda sec: classical_impact(curve, before, sec, alpha=-sgn).line  # noqa: E731
         extra = {"alpha_ratio": cl.alpha_ratio, "r_energy_same_hinges": cl.r_energy,
                  "opens_mirrored_hinges": cl.line.extra["opens_mirrored_hinges"],
                  "impulses_through": before.opposite().to_list(curve)}
@@ -162,6 +165,7 @@ def compute(args) -> dict:
             extra = {"candidates": rr.candidates, "compatible_candidates": rr.compatible, "search": rr.method,
                      "runner_up": [{"r": r_, "hinges": h.to_list(curve)} for r_, h in rr.ranking[:3]]}
         line = four_hinge_impulse_line(curve, pre, after, sections)
+        line_at = lambda sec: four_hinge_impulse_line(curve, pre, after, sec)  # noqa: E731
         r = line.extra["r"]
         extra.update(alpha_ratio=line.extra["alpha_ratio_15"], alpha_ratio_8_11=line.alpha_ratio,
                      alpha_gap=line.extra["alpha_gap"], compatible=line.extra["compatible"],
@@ -183,17 +187,57 @@ def compute(args) -> dict:
     if args.fields:
         out["impulse_line"] = line.to_dict()
     out["time_s"] = round(time.perf_counter() - clock, 3)
+    out["_pictures"] = (curve, pre, before, after, line_at, args.voussoirs or args.elements or 200)
     return out
+
+
+def write_pictures(out: dict, args) -> list[str]:
+    """``--vtk/--png/--figure`` for the four-hinge impact: rigid elements whose joints are
+    the voussoir joints (or a uniform mesh through both sets of hinges), the pre-impact
+    field, the post-impact four-hinge field ``alpha' x after`` and its impulse line."""
+    wanted = [o for o in ("vtk", "png", "figure") if getattr(args, o, None) is not None]
+    if not wanted or "_pictures" not in out:
+        return []
+    curve, pre, before, after, line_at, n = out["_pictures"]
+    nodes = nodes_through(uniform_nodes(curve, n), np.concatenate([before.s, after.s]))
+    disc = discretize(curve, nodes)
+    line = line_at(disc.joint_s)
+    idx = np.abs(line.s[None, :] - disc.joint_s[:, None]).argmin(1)
+    impulse = {"angle_deg": disc.joint_angle_deg, "eccentricity": line.eccentricity[idx],
+               "I_t": line.I_t[idx], "I_n": line.I_n[idx], "moment": line.M[idx]}
+    post = after.pieces(curve, line.alpha_ratio)
+    hb = before.hinges(curve, float(pre.motion[1, 2]))
+    ha = after.hinges(curve, line.alpha_ratio)
+    title = f"{out['model']} four-hinge impact: r = {out['r']:.4f}"
+    written = []
+    if args.vtk is not None:
+        from ..export import write_fields
+        files = write_fields(args.vtk, disc, pre.dofs(disc), post.dofs(disc), hb, ha, impulse)
+        written.append(f"VTK: {files['multiblock']}")
+    if args.png is not None:
+        from ..export import meshes_of
+        from ..render import render_fields
+        meshes = meshes_of(disc, pre.dofs(disc), post.dofs(disc), hb, ha, impulse)
+        written.append(f"rendering: {render_fields(meshes, args.png, title)}")
+    if args.figure is not None:
+        from ..plotting import save_paper_figure
+        written.append(f"figure: {save_paper_figure(args.figure, disc, hb, ha, impulse['eccentricity'], None, title)}")
+    return written
 
 
 def run(args) -> int:
     if args.series is not None:
         return run_series(args)
+    check_picture_options(args)
     out = compute(args)
+    written = write_pictures(out, args)
+    out.pop("_pictures", None)
     if args.json:
         print(json.dumps(out))
         return 0
     print(summary(out))
+    for line in written:
+        print(f"  wrote {line}")
     return 0
 
 
