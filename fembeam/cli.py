@@ -14,11 +14,11 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .commands import analyze, convergence, sweep, impact
+    from .commands import analyze, convergence, sweep, impact, report
 
     p = _Parser(prog="fembeam", description="Rocking masonry arches: limit analysis, impact, impulse line.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for mod in (analyze, convergence, sweep, impact):
+    for mod in (analyze, convergence, sweep, impact, report):
         mod.register(sub)
     return p
 
