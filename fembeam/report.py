@@ -696,7 +696,11 @@ def markdown(rep: Report, command: str) -> str:
                      hs(o["hinges_after_qp"]), _fmt(o["r_4hinge"]), hs(o["hinges_after_4hinge"]), "-"])
         L += _table(["arch", "A_L [g]", "hinges u (deg, i/e)", "r_max (QP)", "QP hinges after", "r_4hinge",
                      "four-hinge u'", "classical r"], rows)
-        L += ["", "![paper](paper.png)", ""]
+        beyond = [c for c in rep.checks if c.section == "paper" and c.diff is not None and "±" in c.expected
+                  and abs(c.diff) > 0.5 * float(c.expected.split("±")[1])]
+        L += ["", "Differences larger than the paper's rounding (half a unit of the last digit): "
+              + ("; ".join(f"{c.name} ({c.diff:+.2e})" for c in beyond) if beyond else "none") + ".", "",
+              "![paper](paper.png)", ""]
 
     if "kkt" in d:
         k = d["kkt"]
