@@ -102,7 +102,7 @@ class AnalysisResult:
             "hinges_after": [h.to_dict() for h in self.hinges_after],
             "hinge_joints_after": [h.to_dict() for h in (self.impact.hinges if self.impact else [])],
             "A_L_uniform_mesh": num(self.A_L_mesh),
-            "t_min_over_R": self.t_min_over_R,
+            "t_min_over_R": num(self.t_min_over_R),
             "backend": self.backend,
             "solver_iterations": self.impact.iterations if self.impact else None,
             "verification": self.verification,
@@ -201,7 +201,8 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
 
 def minimum_thickness(embrace_deg: float, elements: int = 200, tol: float = 1e-5) -> float:
     """Smallest t/R at which a circular arch of embrace ``embrace_deg`` stands under
-    its own weight (bisection on the sign of the LP's A_L; semicircle: 0.1075)."""
+    its own weight (bisection on the sign of the LP's A_L; semicircle: 0.1075); ``inf``
+    if no t/R below 2 does (embrace beyond about 305 degrees)."""
     def stands(tr: float) -> bool:
         c = CircularArch.from_ratio(embrace_deg, tr)
         lim = limit_analysis(discretize(c, uniform_nodes(c, elements)))
@@ -209,9 +210,9 @@ def minimum_thickness(embrace_deg: float, elements: int = 200, tol: float = 1e-5
 
     lo, hi = 1e-4, 0.05
     while not stands(hi):
-        lo, hi = hi, min(2 * hi, 1.99)
         if hi >= 1.99:
-            raise SolverError("no thickness below 2R lets this arch stand")
+            return float("inf")   # no thickness below 2R lets this arch stand (rings near 360 deg)
+        lo, hi = hi, min(2 * hi, 1.99)
     while hi - lo > tol:
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if stands(mid) else (mid, hi)

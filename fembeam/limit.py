@@ -80,10 +80,13 @@ def _solve(disc: Discretization, direction: int) -> LimitResult:
     b_eq = np.zeros(A_eq.shape[0])
     b_eq[-1] = 1.0
     t0 = time.perf_counter()
-    for method in ("highs", "highs-ipm"):  # dual simplex, then IPM + crossover
+    # status 4 ("numerical difficulties") was seen on nearly locked arches (the IPM then
+    # proves infeasibility) and on nearly closed rings (presolve fails, the plain simplex
+    # proves unboundedness): retry in that order
+    for method, presolve in (("highs", True), ("highs-ipm", True), ("highs", False)):
         res = linprog(c, A_ub=-Bo, b_ub=np.zeros(Bo.shape[0]), A_eq=A_eq, b_eq=b_eq,
-                      bounds=(None, None), method=method)
-        if res.status != 4:  # 4: "numerical difficulties" (seen on nearly locked arches)
+                      bounds=(None, None), method=method, options={"presolve": presolve})
+        if res.status != 4:
             break
     dt = time.perf_counter() - t0
     if res.status == 2:

@@ -80,3 +80,12 @@ def test_nearly_locked_arch_is_an_outcome_not_a_solver_failure():
     LP infeasible (a straight strut almost fits inside the thickness)."""
     res = analyze(CircularArch.from_ratio(80, 0.28), elements=200)
     assert res.outcome == "no_mechanism"
+
+
+def test_nearly_closed_ring_cannot_stand_at_any_thickness():
+    """350 deg: presolve fails on this LP (HiGHS status 4); the retry without presolve
+    proves it unbounded. No t/R below 2 lets such a ring stand on its springings."""
+    res = analyze(CircularArch.from_ratio(350, 0.005), elements=60)
+    assert res.outcome == "cannot_stand" and res.t_min_over_R == float("inf")
+    assert res.to_dict()["t_min_over_R"] is None
+    assert minimum_thickness(300.0, elements=60, tol=1e-3) == pytest.approx(1.18, abs=0.02)

@@ -101,7 +101,8 @@ def summary(res: AnalysisResult) -> str:
              f"  mesh: {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
              f" ({res.mode}), load direction {res.direction:+d}"]
     if res.outcome == "cannot_stand":
-        tmin = f"; it needs t/R >= {res.t_min_over_R:.4f}" if res.t_min_over_R else ""
+        tmin = "" if res.t_min_over_R is None else (
+            f"; it needs t/R >= {res.t_min_over_R:.4f}" if res.t_min_over_R < 2 else "; no t/R below 2 lets it stand")
         lines.append(f"  outcome: the arch CANNOT STAND under its own weight (A_L <= 0){tmin}")
         return "\n".join(lines)
     if res.outcome == "no_mechanism":

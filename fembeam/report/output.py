@@ -225,7 +225,7 @@ def markdown(rep: Report, command: str) -> str:
                      + [_fmt(env.get(b, {}).get("t_min_over_R")), _fmt(env.get(b, {}).get("r"))] for b in f["embrace_deg"]])
         L += ["", "![fig13](fig13.png)", ""]
 
-    L += ["## References and tolerances", "", "Published values (the only numbers typed into `fembeam/report.py`, "
+    L += ["## References and tolerances", "", "Published values (the only numbers typed into `fembeam/report/checks.py`, "
           "with the tolerances):", ""]
     L += _table(["key", "value", "tolerance", "source"],
                 [[k, f"{r.value:g}", f"{r.tol:g}", r.source] for k, r in REFERENCES.items()])
