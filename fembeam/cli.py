@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from .errors import FembeamError, InputError
@@ -33,6 +34,9 @@ def main(argv: list[str] | None = None) -> int:
     except FembeamError as e:
         print(f"fembeam: {type(e).__name__}: {e}", file=sys.stderr)
         return 3
+    except BrokenPipeError:  # e.g. `fembeam analyze | head`: stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
 
 
 if __name__ == "__main__":
