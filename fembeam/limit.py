@@ -80,10 +80,11 @@ def _solve(disc: Discretization, direction: int) -> LimitResult:
     b_eq = np.zeros(A_eq.shape[0])
     b_eq[-1] = 1.0
     t0 = time.perf_counter()
-    # status 4 ("numerical difficulties") was seen on nearly locked arches (the IPM then
-    # proves infeasibility) and on nearly closed rings (presolve fails, the plain simplex
-    # proves unboundedness): retry in that order
-    for method, presolve in (("highs", True), ("highs-ipm", True), ("highs", False)):
+    # HiGHS's interior point with crossover (a vertex solution and its duals) is 2-5 times
+    # faster than the simplex from 1600 elements on (benchmarks/lp_methods.py). Status 4
+    # ("numerical difficulties") was seen on nearly locked arches and on nearly closed
+    # rings (where presolve fails and the plain simplex proves unboundedness): retry.
+    for method, presolve in (("highs-ipm", True), ("highs-ds", True), ("highs-ds", False)):
         res = linprog(c, A_ub=-Bo, b_ub=np.zeros(Bo.shape[0]), A_eq=A_eq, b_eq=b_eq,
                       bounds=(None, None), method=method, options={"presolve": presolve})
         if res.status != 4:
