@@ -105,7 +105,8 @@ class AnalysisResult:
             "t_min_over_R": num(self.t_min_over_R),
             "backend": self.backend,
             "solver_iterations": self.impact.iterations if self.impact else None,
-            "verification": self.verification,
+            # the impact's figures (issue item 5) at the top level, and by group
+            "verification": {**self.verification.get("impact", {}), **self.verification},
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
         if fields and self.impact is not None:

@@ -25,7 +25,8 @@ def test_analyze_json_keys_and_values():
         assert 0.0 <= h["angle_deg"] <= 157.5
     for k in ("equilibrium_residual", "impulse_line_outside", "max_tensile_impulse", "impulse_work",
               "max_shear_ratio"):
-        assert k in out["verification"]["impact"]
+        assert out["verification"][k] == out["verification"]["impact"][k]
+    assert out["verification"]["equilibrium_residual"] < 1e-10 and out["verification"]["impulse_work"] < 1e-8
 
 
 def test_summary_is_readable(capsys):
