@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fourhinge import SIDE_Y, FourHinge, Pieces, post_impact
+from .fourhinge import FourHinge, Pieces, pivot_y, post_impact
 from .geometry import MidCurve
 from .impulse_line import ImpulseLine, impulse_line_through, sections_union
 
@@ -45,7 +45,7 @@ def classical_impact(curve: MidCurve, before: FourHinge, sections, alpha: float 
     after = before.mirrored(curve)
     bar = before.opposite()
     hs = np.asarray(bar.s, float)
-    y = np.array([SIDE_Y[k] for k in bar.sides]) * curve.thickness_at(hs)
+    y = pivot_y(curve, hs, bar.sides)
     sec = sections_union(curve, hs, after.s, sections)
     line = impulse_line_through(curve, pre, after, hs, y, sec)
     fig = post_impact(curve, pre, after)

@@ -48,8 +48,7 @@ def rigid_velocity(disc: Discretization, d: np.ndarray, elem: np.ndarray, X: np.
 def _section_points(disc: Discretization, s: np.ndarray, y_frac: np.ndarray) -> np.ndarray:
     """Points ``X(s) + y n(s)`` with ``y = y_frac t(s)``, broadcast over ``s`` and ``y_frac``."""
     c = disc.curve
-    X, n, t = c.position(s), c.normal(s), c.thickness_at(s)
-    return X + y_frac * t * n
+    return c.point(s, y_frac * c.thickness_at(s))
 
 
 def _xyz(p2: np.ndarray) -> np.ndarray:
@@ -137,7 +136,7 @@ def line_mesh(disc: Discretization, line: Mapping[str, np.ndarray]):
     ok = np.flatnonzero(np.isfinite(e))
     s = disc.joint_s[ok]
     c = disc.curve
-    X = c.position(s) + e[ok] * c.normal(s)
+    X = c.point(s, e[ok])
     consecutive = np.flatnonzero(np.diff(ok) == 1)
     segs = np.column_stack([consecutive, consecutive + 1])
     pd = {"angle_deg": disc.joint_angle_deg[ok].astype(float), "s": s,

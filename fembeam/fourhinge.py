@@ -25,9 +25,14 @@ from .geometry import MidCurve
 __all__ = ["Pieces", "FourHinge", "ImpactFigures", "product", "momenta", "load_factor", "restitution",
            "post_impact", "optimise_load_factor", "OPPOSITE"]
 
-SIDE_Y = {"intrados": 0.5, "extrados": -0.5}       # y / t of the pivot
+SIDE_Y = {"intrados": 0.5, "extrados": -0.5}       # y / t of the pivot (a subset of hinges.PIVOT_Y)
 SIDE_SIGN = {"intrados": -1.0, "extrados": 1.0}    # sign of [omega] that opens the hinge
 OPPOSITE = {"intrados": "extrados", "extrados": "intrados"}
+
+
+def pivot_y(curve: MidCurve, s, sides) -> np.ndarray:
+    """Offsets ``y`` (m, along n) of the pivot edges ``sides`` of the sections at ``s``."""
+    return np.array([SIDE_Y[k] for k in sides]) * curve.thickness_at(np.asarray(s, float))
 
 
 @dataclass(frozen=True)
@@ -140,8 +145,7 @@ class FourHinge:
 
     def points(self, curve: MidCurve) -> np.ndarray:
         s = np.asarray(self.s, float)
-        y = np.array([SIDE_Y[k] for k in self.sides]) * curve.thickness_at(s)
-        return curve.position(s) + y * curve.normal(s)
+        return curve.point(s, pivot_y(curve, s, self.sides))
 
     def omegas(self, curve: MidCurve):
         """Angular velocities (I, III, II) for Omega_I = 1 and centres (C1, C3, C2)."""

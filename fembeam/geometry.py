@@ -48,6 +48,10 @@ class MidCurve:
         t = self.tangent(s)
         return np.array([t[1], -t[0]])
 
+    def point(self, s: np.ndarray, y) -> np.ndarray:
+        """Points ``X(s) + y n(s)`` of the sections at ``s``, ``y`` (m) along the normal."""
+        return self.position(s) + np.asarray(y, float) * self.normal(s)
+
     def angle_deg(self, s: np.ndarray) -> np.ndarray:
         """Reporting coordinate of a section (deg from the left end for arches)."""
         return np.asarray(s, dtype=float)

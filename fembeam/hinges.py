@@ -15,9 +15,10 @@ import numpy as np
 
 from .fem import Discretization
 
-__all__ = ["Hinge", "find_hinges", "merge_adjacent", "HINGE_REL_TOL"]
+__all__ = ["Hinge", "find_hinges", "merge_adjacent", "HINGE_REL_TOL", "PIVOT_Y"]
 
 HINGE_REL_TOL = 1e-5
+PIVOT_Y = {"intrados": 0.5, "extrados": -0.5, "separated": 0.0}  # y / t of the pivot point
 
 
 @dataclass(frozen=True)

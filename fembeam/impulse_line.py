@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import SolverError
-from .fourhinge import SIDE_Y, FourHinge, Pieces, momenta, post_impact
+from .fourhinge import FourHinge, Pieces, momenta, pivot_y, post_impact
 from .geometry import MidCurve
 
 __all__ = ["ImpulseLine", "impulse_line_through", "four_hinge_impulse_line", "sections_union",
@@ -108,7 +108,7 @@ class ImpulseLine:
         fails = []
         # kinematic: through the four new hinges
         hs = np.asarray(self.after.s, float)
-        yh = np.array([SIDE_Y[k] for k in self.after.sides]) * curve.thickness_at(hs)
+        yh = pivot_y(curve, hs, self.after.sides)
         eh = self.at(hs)
         miss = np.abs(eh - yh) / curve.thickness_at(hs)
         miss = np.where(np.isfinite(miss), miss, np.inf)
@@ -157,7 +157,7 @@ def impulse_line_through(curve: MidCurve, before: Pieces, after: FourHinge, poin
     the points at sections ``points_s`` (4, increasing, m) offset ``points_y`` (m, along
     ``n``); evaluated at ``sections`` (m).  Solves for ``alpha'`` and ``I(points_s[0])``."""
     ps = np.asarray(points_s, float)
-    pts = curve.position(ps) + np.asarray(points_y, float) * curve.normal(ps)
+    pts = curve.point(ps, points_y)
     unit = after.pieces(curve, 1.0)
     sec = np.asarray(sections, float)
     br = sections_union(curve, ps, sec, [0.0, curve.length], before.breaks, unit.breaks)
@@ -199,7 +199,7 @@ def four_hinge_impulse_line(curve: MidCurve, before: Pieces, after: FourHinge, s
     mechanism ``after`` (through its hinges, eqs. (8)-(11)); ``extra`` carries the
     closed-form figures of (15), (17) and the gap between the two ``alpha'``."""
     hs = np.asarray(after.s, float)
-    y = np.array([SIDE_Y[k] for k in after.sides]) * curve.thickness_at(hs)
+    y = pivot_y(curve, hs, after.sides)
     sec = sections_union(curve, hs, sections)
     line = impulse_line_through(curve, before, after, hs, y, sec)
     fig = post_impact(curve, before, after)

@@ -13,26 +13,23 @@ from typing import Sequence
 import numpy as np
 
 from .fem import Discretization
-from .hinges import Hinge
+from .hinges import PIVOT_Y, Hinge
 
 __all__ = ["plot_paper_figure", "draw_paper_figure", "hinge_points", "line_points"]
-
-_Y = {"intrados": 0.5, "extrados": -0.5, "separated": 0.0}
 
 
 def hinge_points(disc: Discretization, hinges: Sequence[Hinge]) -> np.ndarray:
     """(2, n) points of ``hinges`` on their pivot edge ``X + y n``, ``y = +-t/2`` (m)."""
     c = disc.curve
     s = np.array([h.s for h in hinges], float)
-    y = np.array([_Y[h.side] for h in hinges]) * c.thickness_at(s)
-    return c.position(s) + y * c.normal(s)
+    return c.point(s, np.array([PIVOT_Y[h.side] for h in hinges]) * c.thickness_at(s))
 
 
 def line_points(disc: Discretization, eccentricity: np.ndarray) -> np.ndarray:
     """(2, J) points ``X_j + e_j n_j`` of a thrust/impulse line (NaN where ``e`` is)."""
     c = disc.curve
     s = disc.joint_s
-    return c.position(s) + np.asarray(eccentricity, float) * c.normal(s)
+    return c.point(s, eccentricity)
 
 
 def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] = (),

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 from ..errors import InputError
 from ..report import SECTIONS, ReportSettings, build_report, write_report
