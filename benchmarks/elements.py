@@ -32,8 +32,8 @@ from fembeam.fem_p1 import discretize_p1, midpoints_through
 from fembeam.fourhinge import FourHinge, optimise_load_factor
 from fembeam.geometry import CircularArch
 from fembeam.hinges import merge_adjacent
-from fembeam.impact import impact
-from fembeam.limit import limit_analysis
+from fembeam.analysis.impact import impact
+from fembeam.analysis.limit import limit_analysis
 
 GEOMETRIES = ((157.5, 0.15), (180.0, 0.20))
 VARIANTS = ("rigid", "rigid+ref", "p1", "p1-cart", "p1+ref")

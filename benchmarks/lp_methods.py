@@ -14,7 +14,7 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 from fembeam import CircularArch, discretize, uniform_nodes
-from fembeam.limit import dof_scaling
+from fembeam.fem import dof_scaling
 
 
 def run(N: int, method: str):

@@ -35,8 +35,8 @@ from fembeam.analysis import THRESHOLDS
 from fembeam.errors import SolverError
 from fembeam.geometry import CircularArch
 from fembeam.hinges import find_hinges
-from fembeam.impact import ImpactResult, _verify, impact
-from fembeam.limit import dof_scaling
+from fembeam.analysis.impact import ImpactResult, _verify, impact
+from fembeam.fem import dof_scaling
 
 TIME_LIMIT = 60.0
 SKIP_AFTER = 10.0

@@ -9,8 +9,8 @@ from .errors import CannotStandError, FembeamError, InputError, SolverError
 from .fem import Discretization, discretize, nodes_through, uniform_nodes
 from .fourhinge import FourHinge, Pieces
 from .geometry import CircularArch, MidCurve, StraightMember
-from .impact import ImpactResult, impact
-from .limit import LimitResult, limit_analysis
+from .analysis import ImpactResult, impact
+from .analysis import LimitResult, limit_analysis
 
 __all__ = ["AnalysisResult", "analyze", "minimum_thickness", "CannotStandError", "FembeamError",
            "InputError", "SolverError", "Discretization", "discretize", "nodes_through", "uniform_nodes",

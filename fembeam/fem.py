@@ -32,7 +32,7 @@ from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, Elemen
 from .errors import InputError
 from .geometry import MidCurve
 
-__all__ = ["Discretization", "discretize", "uniform_nodes", "nodes_through", "rigid_dofs"]
+__all__ = ["Discretization", "discretize", "uniform_nodes", "nodes_through", "rigid_dofs", "dof_scaling"]
 
 NDOF = 3  # (w, v, omega) per element
 
@@ -45,15 +45,25 @@ def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
 
 
 def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
-    """Copy of ``nodes_s`` with, for each of ``points_s``, the nearest node moved onto it
-    (end nodes stay put), so that the mesh has joints exactly there."""
+    """Copy of ``nodes_s`` with a node on each of ``points_s``: the nearest interior
+    node not yet used is moved there (the element count stays), or, when the neighbours
+    do not allow it, a node is inserted.  Points within 1e-12 of the length of a node
+    are already there."""
     out = np.array(nodes_s, float)
-    for p in np.atleast_1d(points_s):
-        if np.min(np.abs(out - p)) <= 1e-12 * out[-1]:
+    tol = 1e-12 * (out[-1] - out[0])
+    moved = np.zeros(out.size, bool)
+    moved[[0, -1]] = True
+    for p in np.sort(np.atleast_1d(np.asarray(points_s, float))):   # a handful of hinges
+        d = np.abs(out - p)
+        if np.min(d) <= tol:
+            moved[np.argmin(d)] = True
             continue
-        i = 1 + int(np.argmin(np.abs(out[1:-1] - p)))
-        if out[i - 1] < p < out[i + 1]:
-            out[i] = p
+        i = int(np.argmin(np.where(moved, np.inf, d)))
+        if not moved[i] and out[i - 1] < p < out[i + 1]:
+            out[i], moved[i] = p, True
+        else:
+            j = int(np.searchsorted(out, p))
+            out, moved = np.insert(out, j, p), np.insert(moved, j, True)
     return out
 
 
@@ -75,6 +85,7 @@ class Discretization:
     B_slide: sp.csr_matrix
     joint_s: np.ndarray
     frames: dict = field(repr=False)
+    element: str = "rigid"       # "rigid" (this module) or "p1" (fembeam.fem_p1)
 
     @property
     def n_elements(self) -> int:
@@ -121,6 +132,14 @@ def rigid_dofs(disc: Discretization, V=(0.0, 0.0), omega: float = 0.0, about=(0.
     d[:, 1] = vx * ne[0] + vy * ne[1]
     d[:, 2] = omega
     return d.ravel()
+
+
+def dof_scaling(disc: Discretization) -> sp.dia_matrix:
+    """Diagonal ``D`` with ``d = D d~``: the rotation DOFs of ``d~`` are velocities
+    (multiplied by the member length), so that every column of ``B D`` and ``M`` is of
+    one physical dimension and the solvers see numbers independent of the units."""
+    s = np.tile([1.0, 1.0, 1.0 / disc.curve.length], disc.M.shape[0] // 3)
+    return sp.diags(s)
 
 
 def _element_frames(curve: MidCurve, mesh: MeshLine1) -> dict:

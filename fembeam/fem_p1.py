@@ -150,7 +150,7 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
         A.eliminate_zeros()
     mid = 0.5 * (nodes_s[:-1] + nodes_s[1:])
     joint_s = np.concatenate([nodes_s[left], mid, nodes_s[right]])
-    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, joint_s, frames)
+    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, joint_s, frames, element="p1")
 
 
 def _frame_rotation(frames: dict) -> sp.csr_matrix:

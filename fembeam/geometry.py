@@ -14,6 +14,8 @@ thickness, plus the density and what its two ends rest on.  Conventions (THEORY 
 """
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -43,6 +45,15 @@ class MidCurve:
 
     def thickness_at(self, s: np.ndarray) -> np.ndarray:  # m
         raise NotImplementedError
+
+    def with_thickness_scaled(self, factor: float) -> "MidCurve":
+        """The same mid-curve with every thickness multiplied by ``factor``."""
+        raise NotImplementedError
+
+    @property
+    def max_thickness_scale(self) -> float:
+        """Largest thickness factor the shape admits (e.g. intrados radius > 0)."""
+        return math.inf
 
     def normal(self, s: np.ndarray) -> np.ndarray:
         t = self.tangent(s)
@@ -76,12 +87,17 @@ class MidCurve:
         """Mass ``m``, first moment ``S`` (2-vector) and polar moment ``J`` about the
         origin of the member pieces ``[sa, sb]`` (arrays), by Gauss-Legendre quadrature."""
         sa, sb = np.atleast_1d(np.asarray(sa, float)), np.atleast_1d(np.asarray(sb, float))
-        xg, wg = np.polynomial.legendre.leggauss(order)
+        xg, wg = _gauss(order)
         half = 0.5 * (sb - sa)
         s = 0.5 * (sa + sb)[:, None] + half[:, None] * xg[None, :]
         mu0, mu1, mu2 = self.inertia_densities(s)
         wq = half[:, None] * wg[None, :]
         return np.sum(mu0 * wq, 1), np.sum(mu1 * wq, 2), np.sum(mu2 * wq, 1)
+
+
+@functools.lru_cache(maxsize=8)
+def _gauss(order: int):
+    return np.polynomial.legendre.leggauss(order)
 
 
 def _finite_positive(name: str, value: float, allowed: str) -> float:
@@ -160,6 +176,13 @@ class CircularArch(MidCurve):
     def angle_deg(self, s):
         return np.degrees(np.asarray(s, float) / self.radius)
 
+    def with_thickness_scaled(self, factor: float) -> "CircularArch":
+        return dataclasses.replace(self, thickness=self.thickness * factor)
+
+    @property
+    def max_thickness_scale(self) -> float:
+        return 2.0 * self.radius / self.thickness
+
     def describe(self) -> dict:
         return {"shape": "circular", "radius": self.radius, "thickness": self.thickness,
                 "t_over_R": self.t_over_r, "embrace_deg": self.embrace_deg, "density": self.density}
@@ -201,6 +224,9 @@ class StraightMember(MidCurve):
 
     def thickness_at(self, s):
         return np.full(np.shape(s), self.width)
+
+    def with_thickness_scaled(self, factor: float) -> "StraightMember":
+        return dataclasses.replace(self, width=self.width * factor)
 
     def describe(self) -> dict:
         return {"shape": "block", "height": self.height, "width": self.width, "density": self.density}

@@ -156,8 +156,8 @@ def qp_with_hinges_only_at(disc, d0: np.ndarray, open_joints, backend: str = "cl
     of the closed form, and the tool that shows what extra open joints buy."""
     import scipy.sparse as sp
 
-    from .limit import dof_scaling
-    from .qp import solve_qp
+    from .fem import dof_scaling
+    from .analysis.qp import solve_qp
 
     J = disc.n_joints
     free = np.zeros(J, bool)

@@ -25,7 +25,7 @@ from .analysis import DEFAULT_ELEMENTS, analyze, minimum_thickness
 from .errors import FembeamError, SolverError
 from .fem import discretize, uniform_nodes
 from .geometry import CircularArch
-from .limit import limit_analysis
+from .analysis import limit_analysis
 from .parallel import default_workers, run_tasks
 
 __all__ = ["sweep_case", "envelope_case", "SweepResult", "sweep", "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
@@ -84,7 +84,7 @@ def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_ele
     ``elements`` elements too."""
     t0 = time.perf_counter()
     try:
-        tmin = minimum_thickness(embrace_deg, elements=tmin_elements, tol=tmin_tol)
+        tmin = minimum_thickness(CircularArch.from_ratio(embrace_deg, 0.5), elements=tmin_elements, tol=tmin_tol).t_over_R
     except FembeamError as e:
         return {"kind": "envelope", "embrace_deg": float(embrace_deg), "t_over_R": None, "outcome": "solver_error",
                 "error": f"{type(e).__name__}: {e}", "time_s": time.perf_counter() - t0}

@@ -5,8 +5,8 @@ import pytest
 from fembeam.fem import uniform_nodes
 from fembeam.fem_p1 import discretize_p1
 from fembeam.geometry import CircularArch
-from fembeam.impact import impact
-from fembeam.limit import limit_analysis
+from fembeam.analysis.impact import impact
+from fembeam.analysis.limit import limit_analysis
 
 ARCH = CircularArch.from_ratio(157.5, 0.15, radius=2.0, density=3.0)
 

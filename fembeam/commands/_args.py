@@ -9,7 +9,7 @@ import os
 
 from ..analysis import DEFAULT_ELEMENTS
 from ..geometry import CircularArch
-from ..qp import BACKENDS
+from ..analysis.qp import BACKENDS
 
 
 def finite_float(text: str) -> float:

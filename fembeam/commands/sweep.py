@@ -6,7 +6,7 @@ import json
 
 from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
-from ..qp import BACKENDS
+from ..analysis.qp import BACKENDS
 from ..sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, plot_sweep, sweep
 from ._args import finite_float, float_list, write_outputs
 

@@ -9,6 +9,7 @@ import time
 import numpy as np
 
 from ..analysis import THRESHOLDS, analyze, minimum_thickness
+from ..geometry import CircularArch
 from ..errors import FembeamError
 from .checks import (SECTIONS, TOLERANCES, Check, Report, ReportSettings, _against, _at_least, _at_most, _close,
                      _holds, _info)
@@ -85,7 +86,7 @@ def section_exact(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
     # Milankovitch
     say("exact: Milankovitch minimum thickness")
-    tmin = minimum_thickness(180.0, elements=cfg.tmin_elements, tol=cfg.tmin_tol)
+    tmin = minimum_thickness(CircularArch.from_ratio(180.0, 0.5), elements=cfg.tmin_elements, tol=cfg.tmin_tol).t_over_R
     data["milankovitch"] = {"t_min_over_R": tmin, "elements": cfg.tmin_elements, "bisection_tol": cfg.tmin_tol}
     checks.append(_against(S, f"Milankovitch: semicircle t_min/R ({cfg.tmin_elements} el., bisection {cfg.tmin_tol:g})",
                            tmin, "milankovitch.t_min"))

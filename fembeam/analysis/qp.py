@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .errors import InputError, SolverError
+from ..errors import InputError, SolverError
 
 __all__ = ["QPSolution", "solve_qp", "BACKENDS"]
 

@@ -1,0 +1,233 @@
+"""Equivalent static analysis: the incipient rocking acceleration ``A_L`` (in g) and
+its mechanism, on the joints of a discretisation, with certificates.
+
+Static (lower-bound) linear programme in the ``k`` redundants ``x`` of the chain
+(:mod:`~fembeam.analysis.statics`) and the load factor ``lambda``::
+
+    maximise lambda   s.t.  N+_j(x, lambda) >= 0,  N-_j(x, lambda) >= 0   (every joint)
+
+with the horizontal acceleration ``direction * lambda g``: both fibre forces of every
+joint compressive (the thrust line inside the section), the shear free (no sliding).
+``k + 1 <= 4`` unknowns and ``2 J`` rows, solved by constraint generation in O(J)
+(:mod:`~fembeam.analysis.lp`).  Its duals are the opening rates of the joints: the
+mechanism ``u`` (element velocities from :meth:`Statics.mechanism`), whose kinematic
+load factor ``f_y.u / (direction f_x.u)`` must equal the static one (duality gap).
+
+Outcomes, each with its certificate, checked before it is returned:
+
+* ``"ok"``: forces admissible at ``A_L`` and a compatible mechanism with the same load
+  factor (static and kinematic theorems agree);
+* ``"cannot_stand"``: no admissible state under gravity alone (largest margin
+  ``max_x min_j N(x, 0) < 0``); certificate: a compatible mechanism on which gravity
+  does positive work (the duals of the margin LP);
+* ``"no_mechanism"``: an admissible state under gravity and an admissible ray of
+  self-stress plus horizontal load (``N(x0 + lambda dx, lambda) >= 0`` for every
+  ``lambda >= 0``): no horizontal acceleration turns the member into a mechanism.
+
+Forces are reported per unit g (multiply by g for newtons per unit depth).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import CannotStandError, InputError, SolverError
+from ..fem import Discretization
+from ..hinges import Hinge, find_hinges
+from .lp import FEAS_TOL, maximise
+from .statics import Statics, section_forces, statics
+from .verification import check
+
+__all__ = ["LimitResult", "limit_analysis", "joint_rows", "STAND_TOL", "BOX"]
+
+BOX = 1e6          # bound on lambda (g): beyond it, look for a no-mechanism certificate
+XBOX = 1e3         # bound on the redundants (units of the weight)
+STAND_TOL = 1e-12  # margin (units of weight) below which the member does not stand
+
+
+@dataclass
+class LimitResult:
+    """Outcome of the limit analysis (see the module docstring for ``status``)."""
+
+    status: str
+    disc: Discretization
+    direction: int
+    A_L: float = float("nan")              # units of g
+    u: np.ndarray | None = None            # mechanism: direction f_x.u = m ("ok"), f_y.u = -m ("cannot_stand")
+    N: np.ndarray | None = None            # (2, J) fibre forces intrados/extrados, per g (>= 0: compression)
+    S: np.ndarray | None = None            # (J,) shear forces, per g
+    hinges: list[Hinge] = field(default_factory=list)
+    margin: float = float("nan")           # max_x min_j N(x, 0) / (m g): > 0 stands under gravity
+    verification: dict = field(default_factory=dict)
+    solve_time: float = 0.0
+    lp_rounds: int = 0
+
+    @property
+    def eccentricity(self) -> np.ndarray:
+        """Thrust-line eccentricity at the joints (m, from the mid-curve, + to intrados);
+        NaN where the joint carries no force."""
+        t, Nt = self.disc.joint_thickness, self.N[0] + self.N[1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(Nt > 1e-12 * np.max(Nt), 0.5 * t * (self.N[0] - self.N[1]) / Nt, np.nan)
+
+
+def joint_rows(st: Statics, direction: int) -> np.ndarray:
+    """``(2 J, k + 2)``: fibre forces ``N+`` then ``N-`` of every joint as rows acting on
+    ``(x, lambda, 1)`` (units of weight; lambda along ``direction``)."""
+    k = st.k
+    return np.concatenate([np.concatenate([st.G_x[i], direction * st.G_lambda[i][:, None], st.G0[i][:, None]], 1)
+                           for i in (1, 2)])
+
+
+def stand_lp(R: np.ndarray, k: int):
+    """Largest margin under gravity alone: ``max tau s.t. rows(x, 0) >= tau``."""
+    A = np.column_stack([R[:, :k], -np.ones(R.shape[0])])
+    return maximise(np.r_[np.zeros(k), 1.0], A, R[:, k + 1], [(-XBOX, XBOX)] * k + [(None, 1.0)],
+                    seq=R.shape[0] // 2)
+
+
+def main_lp(R: np.ndarray, k: int, start=None):
+    """``max lambda s.t. rows(x, lambda) >= 0``."""
+    return maximise(np.r_[np.zeros(k), 1.0], R[:, :k + 1], R[:, k + 1], [(-XBOX, XBOX)] * k + [(None, BOX)],
+                    seq=R.shape[0] // 2, start=start)
+
+
+def _check_direction(direction) -> int:
+    if isinstance(direction, bool) or direction not in (1, -1):
+        raise InputError(f"direction must be +1 or -1, got {direction!r}")
+    return int(direction)
+
+
+def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = False,
+                   verify: bool = True) -> LimitResult:
+    """Static LP on the joints of ``disc`` for a horizontal acceleration along
+    ``direction`` (+1: +x); its certificate is checked (``verify``) and a failed check
+    raises :class:`SolverError`.  With ``strict`` a member that cannot stand raises
+    :class:`CannotStandError` instead of returning ``status == "cannot_stand"``."""
+    if not isinstance(disc, Discretization):
+        raise InputError(f"limit_analysis needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
+    direction = _check_direction(direction)
+    t0 = time.perf_counter()
+    st = statics(disc)
+    k, J = st.k, disc.n_joints
+    R = joint_rows(st, direction)
+    stand = stand_lp(R, k)
+    margin = stand.value
+    if margin < -STAND_TOL:
+        res = _cannot_stand(st, direction, stand)
+    else:
+        main = main_lp(R, k)
+        if main.at_bound.any():   # lambda, or the thrust growing with it, at its bound
+            res = _no_mechanism(st, direction, stand, R)
+        else:
+            res = _ok(st, direction, main)
+        res.lp_rounds = stand.rounds + main.rounds
+    res.margin = margin
+    res.solve_time = time.perf_counter() - t0
+    if verify:
+        check(res.verification, f"limit analysis ({res.status})")
+    if strict and res.status == "cannot_stand":
+        raise CannotStandError("the member cannot stand under its own weight: no thrust line fits inside it "
+                               "(see fembeam.minimum_thickness)")
+    return res
+
+
+def _eps(y: np.ndarray, J: int) -> np.ndarray:
+    return y.reshape(2, J)
+
+
+def _incompatibility(disc, u, eps, closure) -> float:
+    e = disc.B_open @ u
+    scale = max(np.max(np.abs(e)), 1e-300)
+    return float(max(closure, -np.min(e) / scale, np.max(np.abs(disc.B_slide @ u)) / scale))
+
+
+def _ok(st: Statics, direction: int, lp) -> LimitResult:
+    disc, m, k, J = st.disc, st.mass, st.k, st.disc.n_joints
+    x, lam = lp.z[:k], float(lp.z[k])
+    eps = _eps(lp.y, J)
+    u, closure = st.mechanism(eps)
+    fx, fy = disc.load_vectors()
+    power = direction * float(fx @ u)
+    if not power > 0:
+        raise SolverError("limit LP: the dual mechanism does no work against the horizontal load")
+    u *= m / power
+    g = st.forces(x, direction * lam)
+    out = LimitResult("ok", disc, direction, lam, u, m * g[1:], m * g[0], find_hinges(disc, u))
+    lam_k = float(fy @ u) / m
+    out.verification = _static_figures(st, x, direction * lam, g, fy - direction * lam * fx)
+    opening = disc.B_open @ u
+    out.verification.update({
+        "duality_gap": abs(lam_k - lam) / (1.0 + abs(lam)),
+        "complementarity": float(np.max(np.abs(g[1:].ravel() * opening))
+                                 / (np.max(g[1:]) * max(np.max(np.abs(opening)), 1e-300))),
+        "incompatibility": _incompatibility(disc, u, eps, closure),
+        "max_shear_ratio": _shear_ratio(g),
+    })
+    return out
+
+
+def _static_figures(st: Statics, x, lam_signed, g, p) -> dict:
+    """Equilibrium with the sparse operators, the joint forces recomputed from the
+    equilibrium of the part left of each joint, and the thrust line from the latter."""
+    disc, m = st.disc, st.mass
+    B = disc.B_open.T @ g[1:].ravel() + disc.B_slide.T @ g[0]
+    eq = float(np.linalg.norm(m * B - p) / np.linalg.norm(p))
+    gmax = np.max(np.abs(g))
+    # rigid elements: the part left of a joint is a union of exact rigid pieces, so its
+    # equilibrium gives the joint forces independently (P1 elements have no such pieces)
+    gs = section_forces(st, disc.joint_s, x, lam_signed) if disc.element == "rigid" else g
+    Ns = gs[1] + gs[2]
+    carried = Ns > 1e-9 * gmax
+    outside = -np.minimum(gs[1], gs[2])[carried] / Ns[carried]
+    return {
+        "equilibrium_residual": eq,
+        "statics_mismatch": float(np.max(np.abs(gs - g)) / gmax),
+        "thrust_line_outside": float(max(0.0, np.max(outside, initial=0.0))),
+        "max_tensile_force": float(max(0.0, -np.min(g[1:])) / np.max(g[1:])),
+    }
+
+
+def _shear_ratio(g) -> float:
+    Nt = g[1] + g[2]
+    carried = Nt > 1e-9 * np.max(Nt)
+    return float(np.max(np.abs(g[0][carried]) / Nt[carried], initial=0.0))
+
+
+def _cannot_stand(st: Statics, direction: int, lp) -> LimitResult:
+    """Certificate: the margin LP's duals, a compatible mechanism that gravity drives."""
+    disc, m, J = st.disc, st.mass, st.disc.n_joints
+    eps = _eps(lp.y, J)
+    u, closure = st.mechanism(eps)
+    fx, fy = disc.load_vectors()
+    lift = float(fy @ u)
+    if not lift < 0:
+        raise SolverError("cannot-stand certificate failed: gravity does no work on the margin LP's mechanism")
+    u *= m / -lift
+    out = LimitResult("cannot_stand", disc, direction, u=u, hinges=find_hinges(disc, u))
+    rms = np.sqrt(float(u @ disc.M @ u) / m)
+    out.verification = {"incompatibility": _incompatibility(disc, u, eps, closure),
+                        "gravity_power": -m / (m * rms)}   # f_y.u / (m v_rms) < 0: the weight descends
+    return out
+
+
+def _no_mechanism(st: Statics, direction: int, stand, R) -> LimitResult:
+    """Certificate: an admissible state at lambda = 0 and an admissible ray of
+    (self-stress, horizontal load)."""
+    disc, m, k = st.disc, st.mass, st.k
+    A = np.column_stack([R[:, :k], -np.ones(R.shape[0])])
+    ray = maximise(np.r_[np.zeros(k), 1.0], A, R[:, k], [(-XBOX, XBOX)] * k + [(None, 1.0)], seq=R.shape[0] // 2)
+    if ray.value < -FEAS_TOL:
+        raise SolverError(f"limit LP: A_L exceeds {BOX:g} g but no admissible ray exists")
+    dx = ray.z[:k]
+    g0 = st.forces(stand.z[:k], 0.0)
+    gr = st.forces(dx, direction * 1.0) - st.forces(np.zeros(k), 0.0)   # forces per unit lambda
+    fx, fy = disc.load_vectors()
+    B = disc.B_open.T @ gr[1:].ravel() + disc.B_slide.T @ gr[0]
+    out = LimitResult("no_mechanism", disc, direction, A_L=float("inf"), N=m * g0[1:], S=m * g0[0])
+    out.verification = _static_figures(st, stand.z[:k], 0.0, g0, fy)
+    out.verification["ray_residual"] = float(max(np.linalg.norm(m * B + direction * fx) / np.linalg.norm(fx),
+                                                 max(0.0, -np.min(gr[1:])) / max(np.max(np.abs(gr)), 1e-300)))
+    return out

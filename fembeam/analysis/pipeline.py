@@ -1,0 +1,188 @@
+"""The main job: equivalent static analysis, then the impact, every result checked.
+
+``analyze`` runs, on a mesh of ``elements`` rigid elements (continuous arch) or of
+``voussoirs`` rigid voussoirs (discrete arch):
+
+1. the limit LP on the uniform mesh (``A_L_mesh``: hinges at joints only);
+2. continuous arch: the limit analysis of the continuum (joints plus the weakest
+   sections between them, :mod:`~fembeam.analysis.continuum`), which brackets ``A_L``
+   between a mechanism and an admissible thrust line; the mesh then gets nodes at the
+   hinges and the limit LP on it must reproduce ``A_L`` (``hinge_refinement_gap``);
+3. the impact QP with ``d0 = -u``: ``r``, post-impact field, impulses, hinges.
+
+Physical outcomes are reported in ``outcome``, not raised: ``"rocking"`` (r > 0),
+``"arrested"`` (r = 0, the arch stops dead), ``"cannot_stand"`` (no thrust line under
+gravity fits: the minimum thickness of the analysed arch is reported) and
+``"no_mechanism"`` (no horizontal acceleration turns the arch into a mechanism).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError, SolverError
+from ..fem import discretize, nodes_through, uniform_nodes
+from ..geometry import MidCurve
+from ..hinges import merge_adjacent
+from .continuum import continuum_limit
+from .impact import ImpactResult, impact
+from .limit import LimitResult, _check_direction, limit_analysis
+from .thickness import MinimumThickness, thickness_on
+from .verification import THRESHOLDS, check
+
+__all__ = ["AnalysisResult", "analyze", "DEFAULT_ELEMENTS", "MAX_ELEMENTS"]
+
+DEFAULT_ELEMENTS = 200
+MIN_ELEMENTS = 4
+MAX_ELEMENTS = 1_000_000   # ~3 GB of operators and factors; the limit LP alone takes ~6 s there
+
+
+@dataclass
+class AnalysisResult:
+    """Everything ``fembeam analyze`` reports; :meth:`to_dict` is its JSON."""
+
+    geometry: dict
+    mode: str                       # "continuous" or "voussoirs"
+    elements: int
+    direction: int
+    backend: str
+    outcome: str
+    limit: LimitResult | None = None
+    impact: ImpactResult | None = None
+    A_L_mesh: float = float("nan")  # LP on the uniform mesh (hinges at its joints only)
+    A_L: float = float("nan")
+    A_L_lower: float = float("nan")  # continuum: admissible thrust line (lower bound)
+    thickness: MinimumThickness | None = None
+    verification: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def t_min_over_R(self) -> float | None:
+        return None if self.thickness is None else self.thickness.t_over_R
+
+    @property
+    def r(self) -> float:
+        if self.outcome == "rocking":
+            return self.impact.r
+        return 0.0 if self.outcome == "arrested" else float("nan")
+
+    @property
+    def hinges_before(self):
+        """Hinges of the incipient mechanism (none unless the arch rocks or is arrested)."""
+        return self.limit.hinges if self.outcome in ("rocking", "arrested") else []
+
+    @property
+    def hinges_after(self):
+        if self.impact is None:
+            return []
+        h = self.impact.hinges
+        return merge_adjacent(self.impact.disc, h) if self.mode == "continuous" else h
+
+    def to_dict(self, fields: bool = False) -> dict:
+        def num(x):
+            return None if x is None or not np.isfinite(x) else float(x)
+
+        out = {
+            "outcome": self.outcome,
+            "A_L": num(self.A_L),
+            "r": num(self.r),
+            "elements": self.elements,
+            "mode": self.mode,
+            "direction": self.direction,
+            "geometry": self.geometry,
+            "hinges_before": [h.to_dict() for h in self.hinges_before],
+            "hinges_after": [h.to_dict() for h in self.hinges_after],
+            "hinge_joints_after": [h.to_dict() for h in (self.impact.hinges if self.impact else [])],
+            "A_L_uniform_mesh": num(self.A_L_mesh),
+            "A_L_lower_bound": num(self.A_L_lower),
+            "t_min_over_R": num(self.t_min_over_R),
+            "minimum_thickness": self.thickness.to_dict() if self.thickness is not None else None,
+            "backend": self.backend,
+            "solver_iterations": self.impact.iterations if self.impact else None,
+            # the impact's figures (issue item 5) at the top level, and by group
+            "verification": {**self.verification.get("impact", {}), **self.verification},
+            "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
+        }
+        if fields and self.impact is not None:
+            imp = self.impact
+            out["impulse_line"] = {
+                "angle_deg": imp.disc.joint_angle_deg.tolist(),
+                "I_t": imp.I_t.tolist(), "I_n": imp.I_n.tolist(),
+                "moment": imp.moment.tolist(),
+                "eccentricity": [None if not np.isfinite(e) else float(e) for e in imp.eccentricity],
+            }
+        if fields and self.limit is not None and self.limit.N is not None:
+            lim = self.limit
+            out["thrust_line"] = {"angle_deg": lim.disc.joint_angle_deg.tolist(),
+                                  "N": (lim.N[0] + lim.N[1]).tolist(), "eccentricity": lim.eccentricity.tolist()}
+        return out
+
+
+def _count(n, name: str, lowest: int) -> int:
+    if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or not lowest <= n <= MAX_ELEMENTS:
+        raise InputError(f"the number of {name} must be an integer in [{lowest}, {MAX_ELEMENTS}], got {n!r}")
+    return int(n)
+
+
+def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
+            direction: int = 1, backend: str = "clarabel", refine_hinges: bool = True,
+            verify: bool = True, tmin_tol: float = 1e-6) -> AnalysisResult:
+    """Limit analysis and impact of ``curve`` (see the module docstring)."""
+    if not isinstance(curve, MidCurve):
+        raise InputError(f"analyze needs a member (e.g. fembeam.CircularArch), got {type(curve).__name__}")
+    if elements is not None and voussoirs is not None:
+        raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
+    direction = _check_direction(direction)
+    mode = "voussoirs" if voussoirs is not None else "continuous"
+    n = (_count(voussoirs, "voussoirs", 1) if mode == "voussoirs"
+         else _count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS))
+    continuum = mode == "continuous" and refine_hinges
+    desc = curve.describe() if hasattr(curve, "describe") else {}
+    res = AnalysisResult(desc, mode, n, direction, backend, "rocking")
+    clock = time.perf_counter()
+
+    nodes = uniform_nodes(curve, n)
+    disc = discretize(curve, nodes)
+    lim = limit_analysis(disc, direction, verify=verify)
+    res.A_L_mesh = lim.A_L
+    res.verification["limit_uniform_mesh"] = lim.verification
+    res.timings["limit"] = time.perf_counter() - clock
+    if continuum and lim.status != "no_mechanism":
+        t0 = time.perf_counter()
+        cont = continuum_limit(disc, direction)
+        disc = discretize(curve, nodes_through(nodes, cont.hinge_s))
+        lim = limit_analysis(disc, direction, verify=verify)
+        if lim.status != cont.status:
+            raise SolverError(f"limit analysis: the continuum says {cont.status}, the mesh through its "
+                              f"hinges says {lim.status}")
+        if cont.status == "ok":
+            res.verification["continuum_violation"] = cont.violation
+            res.verification["continuum_gap"] = cont.gap
+            res.verification["hinge_refinement_gap"] = abs(lim.A_L - cont.A_L) / cont.A_L
+            res.A_L_lower = cont.A_L_lower
+        res.timings["continuum"] = time.perf_counter() - t0
+    res.limit = lim
+    res.A_L = lim.A_L if lim.status == "ok" else float("nan")
+    res.verification["limit"] = lim.verification
+    if verify:
+        check(res.verification, "limit analysis of the continuum")
+    if lim.status != "ok":
+        res.outcome = lim.status
+        if lim.status == "cannot_stand":
+            res.thickness = thickness_on(curve, nodes, continuum, tmin_tol)
+        res.timings["total"] = time.perf_counter() - clock
+        return res
+
+    t0 = time.perf_counter()
+    imp = impact(disc, -lim.u, backend=backend, verify=verify)
+    res.timings["impact"] = time.perf_counter() - t0
+    res.timings["impact_solver"] = imp.solve_time
+    res.impact = imp
+    res.verification["impact"] = imp.verification
+    res.verification["thresholds"] = THRESHOLDS
+    if imp.arrested:
+        res.outcome = "arrested"
+    res.timings["total"] = time.perf_counter() - clock
+    return res

@@ -1,0 +1,113 @@
+"""Minimum thickness: the smallest factor of the thickness law at which the member stands.
+
+"Stands" is decided by the margin LP of :mod:`~fembeam.analysis.limit` (a thrust line
+under gravity alone inside every section), on the arch actually analysed: the joints of
+the mesh (voussoirs, or a mesh with hinges at joints only) or, for the continuous member,
+every section (:func:`~fembeam.analysis.continuum.continuum_stands`).  The mid-curve and
+the mesh stay fixed; the thickness law is scaled by a factor ``k``.  The bracket
+``[lower, scale]`` (``lower`` does not stand, ``scale`` does) is halved until
+``scale - lower <= tol * scale``: at most ``log2(1/tol)`` solves after the bracket is
+found, which itself takes at most ~60 doublings or halvings.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..fem import discretize, uniform_nodes
+from ..geometry import MidCurve
+from .continuum import continuum_stands
+from .limit import STAND_TOL, joint_rows, stand_lp
+from .statics import statics
+
+__all__ = ["MinimumThickness", "minimum_thickness", "thickness_on"]
+
+SMALLEST_SCALE = 1e-9   # below this factor the member "stands at any thickness"
+
+
+@dataclass(frozen=True)
+class MinimumThickness:
+    """``scale``: smallest thickness factor that stands (``0`` if every factor down to
+    1e-9 stands, ``inf`` if none up to the shape's limit does); ``lower``: a factor that
+    does not stand (``scale - lower <= tol scale``); ``solves``: margin LPs used."""
+
+    curve: MidCurve
+    scale: float
+    lower: float
+    solves: int
+    continuum: bool
+
+    @property
+    def t_over_R(self) -> float | None:
+        """Minimum t/R of a circular arch (None for other shapes)."""
+        tr = getattr(self.curve, "t_over_r", None)
+        return None if tr is None else self.scale * tr
+
+    @property
+    def outcome(self) -> str:
+        if self.scale == 0.0:
+            return "stands_at_any_thickness"
+        return "never_stands" if math.isinf(self.scale) else "ok"
+
+    def to_dict(self) -> dict:
+        fin = (lambda x: float(x) if math.isfinite(x) else None)  # noqa: E731
+        return {"outcome": self.outcome, "thickness_scale": fin(self.scale), "lower": fin(self.lower),
+                "t_min_over_R": None if self.t_over_R is None else fin(self.t_over_R), "solves": self.solves,
+                "continuum": self.continuum}
+
+
+def _stands(curve: MidCurve, nodes: np.ndarray, continuum: bool) -> bool:
+    disc = discretize(curve, nodes)
+    if continuum:
+        return continuum_stands(disc)[0]
+    st = statics(disc)
+    return stand_lp(joint_rows(st, 1), st.k).value >= -STAND_TOL
+
+
+def minimum_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
+                      tol: float = 1e-6) -> MinimumThickness:
+    """Smallest thickness factor at which ``curve`` stands under its own weight: the
+    continuous member meshed by ``elements`` (default 200) rigid elements, every section
+    checked, or the discrete arch of ``voussoirs``; ``tol`` relative, in [1e-12, 0.1]."""
+    from .pipeline import DEFAULT_ELEMENTS, _count
+
+    if elements is not None and voussoirs is not None:
+        raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
+    if voussoirs is not None:
+        return thickness_on(curve, uniform_nodes(curve, _count(voussoirs, "voussoirs", 1)), False, tol)
+    n = _count(DEFAULT_ELEMENTS if elements is None else elements, "elements", 4)
+    return thickness_on(curve, uniform_nodes(curve, n), True, tol)
+
+
+def thickness_on(curve: MidCurve, nodes: np.ndarray, continuum: bool, tol: float = 1e-6) -> MinimumThickness:
+    """:func:`minimum_thickness` on the mesh ``nodes`` (arc lengths, m); ``continuum``:
+    every section checked, else the joints only."""
+    if not isinstance(tol, (int, float)) or not 1e-12 <= tol <= 0.1:
+        raise InputError(f"the minimum-thickness tolerance must be in [1e-12, 0.1], got {tol!r}")
+    cap = curve.max_thickness_scale * (1 - 1e-9)
+    solves = 0
+
+    def stands(k: float) -> bool:
+        nonlocal solves
+        solves += 1
+        return _stands(curve.with_thickness_scaled(k), nodes, continuum)
+
+    if stands(1.0):
+        lo, hi = 0.5, 1.0
+        while stands(lo):
+            if lo < SMALLEST_SCALE:
+                return MinimumThickness(curve, 0.0, 0.0, solves, continuum)
+            lo, hi = 0.5 * lo, lo
+    else:
+        lo, hi = 1.0, min(2.0, cap)
+        while not stands(hi):
+            if hi >= cap:
+                return MinimumThickness(curve, math.inf, hi, solves, continuum)
+            lo, hi = hi, min(2.0 * hi, cap)
+    while hi - lo > tol * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if stands(mid) else (mid, hi)
+    return MinimumThickness(curve, hi, lo, solves, continuum)
