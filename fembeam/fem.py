@@ -53,7 +53,10 @@ def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
     tol = 1e-12 * (out[-1] - out[0])
     moved = np.zeros(out.size, bool)
     moved[[0, -1]] = True
-    for p in np.sort(np.atleast_1d(np.asarray(points_s, float))):   # a handful of hinges
+    pts = np.atleast_1d(np.asarray(points_s, float))
+    # closest first: the result does not depend on the order of the points, and the
+    # mesh of the mirror image is the mirror image of the mesh
+    for p in pts[np.argsort([np.min(np.abs(out - q)) for q in pts], kind="stable")]:
         d = np.abs(out - p)
         if np.min(d) <= tol:
             moved[np.argmin(d)] = True

@@ -19,7 +19,7 @@ from .statics import Statics, section_force_rows, statics
 __all__ = ["weakest_sections", "ContinuumLimit", "continuum_limit"]
 
 SAMPLES = 4          # interior samples per element
-GOLDEN_STEPS = 45    # bracket shrinks by 0.618^45 ~ 4e-10 of an element
+GOLDEN_STEPS = 60    # at most; the bracket shrinks by 0.618 a step, down to 1e-7 of the length
 NEAR = 0.05          # elements whose sampled fibre force is below this (units of weight) are searched
 
 
@@ -54,7 +54,10 @@ def weakest_sections(st: Statics, z: np.ndarray, near: float) -> tuple[np.ndarra
         return _fibres(st, x, z)[fib, np.arange(fib.size)]
 
     fc, fd = val(c), val(d)
+    width = 1e-7 * (nodes[-1] - nodes[0])   # f(s* +- ds) - f(s*) ~ f'' ds^2: 1e-14 of the weight
     for _ in range(GOLDEN_STEPS):
+        if np.max(b - a) <= width:
+            break
         left = fc < fd                       # the minimum lies in [a, d]: drop (d, b]
         b = np.where(left, d, b)
         a = np.where(left, a, c)
@@ -70,7 +73,12 @@ def weakest_sections(st: Statics, z: np.ndarray, near: float) -> tuple[np.ndarra
 class ContinuumLimit:
     """The continuous member's limit state, bracketed: ``A_L`` (upper bound: a mechanism
     with hinges at ``hinge_s``) and ``A_L_lower`` (lower bound: an admissible thrust line
-    everywhere); ``status`` as :class:`~fembeam.analysis.limit.LimitResult`."""
+    everywhere); ``status`` as :class:`~fembeam.analysis.limit.LimitResult`.
+
+    ``exact_hinges``: the hinge positions solve the optimality conditions to round-off.
+    It is False when the optimum is degenerate, e.g. two hinges of one edge merging
+    (thick arches: the thrust line touches the edge with a contact of fourth order), where
+    the positions are determined only to about the square root of the tolerance."""
 
     status: str
     A_L: float
@@ -80,6 +88,7 @@ class ContinuumLimit:
     cuts: np.ndarray              # sections between the joints added as constraints (m)
     violation: float              # thrust line outside between the joints at A_L (units of weight)
     rounds: int
+    exact_hinges: bool = False    # hinge positions solved to round-off (Newton); False: degenerate
 
     @property
     def gap(self) -> float:
@@ -124,8 +133,84 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
             break
         cuts, fib = np.concatenate([cuts, s_new[keep]]), np.concatenate([fib, f_new[keep]])
     lam = float(main.z[k])
+    hinge_s = _support(disc, cuts, main.y, J)
+    exact = False
+    polished = _polish(st, direction, *_clusters(disc, cuts, fib, main.y, J), main.z[:k], lam)
+    if polished is not None:
+        x_p, lam_p, s_p = polished
+        s_new, f_new, v = weakest_sections(st, np.r_[x_p, direction * lam_p, 1.0], NEAR)
+        joints = joint_rows(st, direction) @ np.r_[x_p, lam_p, 1.0]
+        v_p = max(0.0, -float(np.min(v, initial=0.0)), -float(np.min(joints)))
+        if v_p <= tol and lam_p <= lam * (1 + 1e-9):
+            lam, violation, hinge_s, exact = lam_p, v_p, s_p, True
     lower = lam * margin / (margin + violation) if margin > 0 else 0.0
-    return ContinuumLimit("ok", lam, min(lam, lower), margin, _support(disc, cuts, main.y, J), cuts, violation, rounds)
+    return ContinuumLimit("ok", lam, min(lam, lower), margin, hinge_s, cuts, violation, rounds, exact)
+
+
+def _clusters(disc, cuts, fib, y, J):
+    """The LP's hinges: supporting sections (positive duals) of one fibre closer than two
+    elements merge into one, at their dual-weighted mean; ``(s, fibre, fixed)``, where a
+    hinge at a springing stays fixed there."""
+    s_all = np.concatenate([disc.joint_s, disc.joint_s, cuts])
+    f_all = np.concatenate([np.zeros(J, int), np.ones(J, int), fib])
+    w = np.abs(y)
+    on = w > 1e-6 * max(np.max(w), 1e-300)
+    order = np.lexsort((s_all[on], f_all[on]))
+    s, f, w = s_all[on][order], f_all[on][order], w[on][order]
+    gap = 2.0 * np.max(np.diff(disc.nodes_s))
+    new = np.concatenate([[True], (np.diff(s) > gap) | (np.diff(f) != 0)])
+    grp = np.cumsum(new) - 1
+    wsum = np.bincount(grp, w)
+    sc = np.bincount(grp, w * s) / wsum
+    fc = f[new]
+    L = disc.nodes_s[-1]
+    ends = np.bincount(grp, (s == 0.0) | (s == L)) > 0
+    sc = np.where(ends, np.where(sc < 0.5 * L, 0.0, L), sc)
+    order = np.argsort(sc)
+    return sc[order], fc[order], ends[order]
+
+
+def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
+    """Newton on the optimality conditions of the continuum LP with its hinges known:
+    the fibre force vanishes at every hinge, and so does its derivative along the member
+    at an interior hinge (the thrust line touches the edge).  Unknowns: the redundants,
+    the load factor and the interior hinge positions; as many equations when the
+    mechanism is not degenerate (``k + 1`` hinges).  Returns ``(x, lambda, s)`` or None."""
+    from scipy.optimize import root
+
+    k = st.k
+    L = st.disc.nodes_s[-1]
+    # k + 1 hinges, at least two elements apart: otherwise the optimum is degenerate
+    # (hinges merging, e.g. at a springing) and its positions are ill-conditioned
+    if s0.size != k + 1 or np.min(np.diff(s0)) < 2.0 * np.max(np.diff(st.disc.nodes_s)):
+        return None
+    free = ~fixed
+    ds = 1e-5 * L
+
+    def fibre(s, z):
+        return np.einsum("nj,j->n", section_force_rows(st, s)[1 + fib, np.arange(s.size)], z)
+
+    def unpack(p):
+        s = s0.copy()
+        s[free] = p[k + 1:] * L
+        return p[:k], p[k], s
+
+    def F(p):
+        x, lam, s = unpack(p)
+        z = np.r_[x, direction * lam, 1.0]
+        slope = (fibre(np.clip(s + ds, 0, L), z) - fibre(np.clip(s - ds, 0, L), z)) / (2 * ds) * L
+        return np.r_[fibre(s, z), slope[free]]
+
+    p0 = np.r_[x0, lam0, s0[free] / L]
+    sol = root(F, p0, method="hybr", options={"xtol": 1e-14})
+    x, lam, s = unpack(sol.x)
+    res = F(sol.x)
+    # judged by the residual (MINPACK may stop at the noise floor and call it slow progress):
+    # fibre forces to round-off, slopes to the noise of the central difference (eps / ds)
+    if (np.max(np.abs(res[:k + 1])) > 1e-12 or np.max(np.abs(res[k + 1:]), initial=0) > 1e-9
+            or s[0] < 0 or s[-1] > L or np.min(np.diff(s)) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
+        return None
+    return x, float(lam), s
 
 
 def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int):

@@ -26,7 +26,7 @@ from ..errors import InputError, SolverError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..hinges import merge_adjacent
-from .continuum import continuum_limit
+from .continuum import ContinuumLimit, continuum_limit
 from .impact import ImpactResult, impact
 from .limit import LimitResult, _check_direction, limit_analysis
 from .thickness import MinimumThickness, thickness_on
@@ -55,6 +55,7 @@ class AnalysisResult:
     A_L: float = float("nan")
     A_L_lower: float = float("nan")  # continuum: admissible thrust line (lower bound)
     thickness: MinimumThickness | None = None
+    continuum: ContinuumLimit | None = None
     verification: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
 
@@ -97,6 +98,7 @@ class AnalysisResult:
             "hinge_joints_after": [h.to_dict() for h in (self.impact.hinges if self.impact else [])],
             "A_L_uniform_mesh": num(self.A_L_mesh),
             "A_L_lower_bound": num(self.A_L_lower),
+            "hinges_exact": None if self.continuum is None else bool(self.continuum.exact_hinges),
             "t_min_over_R": num(self.t_min_over_R),
             "minimum_thickness": self.thickness.to_dict() if self.thickness is not None else None,
             "backend": self.backend,
@@ -152,19 +154,25 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
     if continuum and lim.status != "no_mechanism":
         t0 = time.perf_counter()
         cont = continuum_limit(disc, direction)
-        disc = discretize(curve, nodes_through(nodes, cont.hinge_s))
-        lim = limit_analysis(disc, direction, verify=verify)
-        if lim.status != cont.status:
-            raise SolverError(f"limit analysis: the continuum says {cont.status}, the mesh through its "
-                              f"hinges says {lim.status}")
+        res.continuum = cont
         if cont.status == "ok":
             res.verification["continuum_violation"] = cont.violation
             res.verification["continuum_gap"] = cont.gap
-            res.verification["hinge_refinement_gap"] = abs(lim.A_L - cont.A_L) / cont.A_L
             res.A_L_lower = cont.A_L_lower
+        if cont.status == "cannot_stand" or cont.exact_hinges:
+            # the mechanism (or the collapse certificate) on a mesh with nodes at its hinges
+            disc = discretize(curve, nodes_through(nodes, cont.hinge_s))
+            lim = limit_analysis(disc, direction, verify=verify)
+            if lim.status != cont.status:
+                raise SolverError(f"limit analysis: the continuum says {cont.status}, the mesh through its "
+                                  f"hinges says {lim.status}")
+            if cont.status == "ok":
+                res.verification["hinge_refinement_gap"] = abs(lim.A_L - cont.A_L) / cont.A_L
+        # else: degenerate optimum (hinges known to ~sqrt(tol) only): the mechanism and the
+        # impact stay on the uniform mesh, whose LP optimum is a well-posed vertex
         res.timings["continuum"] = time.perf_counter() - t0
     res.limit = lim
-    res.A_L = lim.A_L if lim.status == "ok" else float("nan")
+    res.A_L = float("nan") if lim.status != "ok" else (res.continuum.A_L if res.continuum else lim.A_L)
     res.verification["limit"] = lim.verification
     if verify:
         check(res.verification, "limit analysis of the continuum")
