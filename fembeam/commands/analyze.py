@@ -57,21 +57,21 @@ def write_pictures(res, args) -> list[str]:
     wanted = [o for o in ("vtk", "png", "figure") if getattr(args, o, None) is not None]
     if not wanted:
         return []
-    if res.limit is None:
-        print(f"fembeam: note: outcome {res.outcome}: no mechanism, nothing written for "
+    if res.outcome not in ("rocking", "arrested"):
+        print(f"fembeam: note: outcome {res.outcome}: no incipient mechanism, nothing written for "
               + ", ".join(f"--{o}" for o in wanted), file=sys.stderr)
         return []
     out = []
     if args.vtk is not None:
-        from ..export import write_vtk
+        from ..output.export import write_vtk
         files = write_vtk(res, args.vtk)
         out.append(f"VTK: {files['multiblock']} -> " + ", ".join(str(p) for k, p in files.items()
                                                                 if k != "multiblock"))
     if args.png is not None:
-        from ..render import render_png
+        from ..output.render import render_png
         out.append(f"rendering: {render_png(res, args.png)}")
     if args.figure is not None:
-        from ..plotting import plot_paper_figure
+        from ..output.plotting import plot_paper_figure
         out.append(f"figure: {plot_paper_figure(res, args.figure)}")
     return out
 
@@ -101,14 +101,23 @@ def summary(res: AnalysisResult) -> str:
              f"  mesh: {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
              f" ({res.mode}), load direction {res.direction:+d}"]
     if res.outcome == "cannot_stand":
-        tmin = "" if res.t_min_over_R is None else (
-            f"; it needs t/R >= {res.t_min_over_R:.4f}" if res.t_min_over_R < 2 else "; no t/R below 2 lets it stand")
-        lines.append(f"  outcome: the arch CANNOT STAND under its own weight (A_L <= 0){tmin}")
+        lines.append("  outcome: the arch CANNOT STAND under its own weight: no thrust line fits inside it")
+        lines.append(f"  collapse mechanism under gravity alone: {_hinges(res.limit.hinges)}")
+        th = res.thickness
+        if th is not None and th.outcome == "ok":
+            what = "the continuous arch" if th.continuum else f"these {res.elements} voussoirs"
+            lines.append(f"  minimum thickness of {what}: t/R >= {th.t_over_R:.6f} "
+                         f"(bracket [{th.lower * th.curve.t_over_r:.6f}, {th.t_over_R:.6f}], {th.solves} margin LPs)")
+        elif th is not None:
+            lines.append("  no thickness below t/R = 2 lets it stand")
         return "\n".join(lines)
     if res.outcome == "no_mechanism":
         lines.append("  outcome: NO MECHANISM: no horizontal acceleration can turn this arch into a mechanism")
         return "\n".join(lines)
-    lines += [f"  A_L = {res.A_L:.6f} g   (uniform-mesh LP: {res.A_L_mesh:.6f} g)",
+    bounds = ""
+    if res.continuum is not None and res.continuum.status == "ok":
+        bounds = f", continuum bounds [{res.A_L_lower:.9f}, {res.A_L:.9f}]"
+    lines += [f"  A_L = {res.A_L:.6f} g   (uniform-mesh LP: {res.A_L_mesh:.6f} g{bounds})",
               f"  hinges before impact: {_hinges(res.hinges_before)}"]
     if res.outcome == "arrested":
         lines.append("  outcome: ARRESTED: no compatible motion does positive work after the impact, r = 0")
@@ -119,8 +128,13 @@ def summary(res: AnalysisResult) -> str:
     lines.append("  verification (relative; thresholds in docs/verification.md):")
     for k, x in v.items():
         lines.append(f"    {k:24s} {x:.2e}")
-    if "hinge_refinement_gap" in res.verification:
-        lines.append(f"    {'hinge_refinement_gap':24s} {res.verification['hinge_refinement_gap']:.2e}")
+    for k in ("duality_gap", "statics_mismatch", "thrust_line_outside"):
+        lines.append(f"    {'limit ' + k:24s} {res.verification['limit'][k]:.2e}")
+    for k in ("continuum_violation", "hinge_refinement_gap"):
+        if k in res.verification:
+            lines.append(f"    {k:24s} {res.verification[k]:.2e}")
+    if res.continuum is not None and not res.continuum.exact_hinges:
+        lines.append("  note: degenerate continuum optimum (hinges merging); mechanism and impact on the uniform mesh")
     t = res.timings
     lines.append(f"  time: total {t.get('total', 0):.3f} s (LP {t.get('limit', 0):.3f} s, QP {t.get('impact', 0):.3f} s, "
                  f"{res.backend} {res.impact.iterations if res.impact else 0} iterations)")

@@ -1,0 +1,128 @@
+"""The static limit LP in the redundants: checked against the kinematic LP over element
+velocities (an independent formulation), the equilibrium of the pieces, the continuum
+bounds and the closed-form four-hinge load factor; certificates of every outcome."""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from fembeam import CircularArch, StraightMember, analyze, discretize, limit_analysis, minimum_thickness, uniform_nodes
+from fembeam.analysis import THRESHOLDS, continuum_limit
+from fembeam.analysis.statics import section_forces, statics
+from fembeam.analysis.verification import failures
+from fembeam.fem import dof_scaling
+
+
+def kinematic_A_L(disc, direction=1):
+    """min f_y.u  s.t.  direction f_x.u = m, B_slide u = 0, B_open u >= 0 (HiGHS)."""
+    D = dof_scaling(disc)
+    fx, fy = disc.load_vectors()
+    m = float(fx @ disc.rigid(V=(1.0, 0.0)))
+    A_eq = sp.vstack([disc.B_slide @ D, sp.csr_matrix(direction * (D @ fx) / m)]).tocsr()
+    b_eq = np.zeros(A_eq.shape[0])
+    b_eq[-1] = 1.0
+    res = linprog(D @ fy / m, A_ub=-(disc.B_open @ D), b_ub=np.zeros(disc.B_open.shape[0]), A_eq=A_eq, b_eq=b_eq,
+                  bounds=(None, None), method="highs")
+    return res
+
+
+@pytest.mark.parametrize("beta, tr, n, direction", [(157.5, 0.15, 200, 1), (157.5, 0.15, 200, -1), (120, 0.1, 37, 1),
+                                                    (200, 0.3, 80, 1), (90, 0.12, 7, -1)])
+def test_static_equals_kinematic(beta, tr, n, direction):
+    disc = discretize(CircularArch.from_ratio(beta, tr), uniform_nodes(CircularArch.from_ratio(beta, tr), n))
+    lim = limit_analysis(disc, direction)
+    kin = kinematic_A_L(disc, direction)
+    assert kin.status == 0 and lim.status == "ok"
+    assert lim.A_L == pytest.approx(kin.fun, rel=1e-9)
+    # the static LP's mechanism does the kinematic LP's work
+    fx, fy = disc.load_vectors()
+    assert float(fy @ lim.u) / (direction * float(fx @ lim.u)) == pytest.approx(kin.fun, rel=1e-9)
+
+
+def test_self_stress_states_span_the_null_space_and_pieces_agree():
+    arch = CircularArch.from_ratio(140, 0.12)
+    disc = discretize(arch, np.sort(np.r_[uniform_nodes(arch, 30), 0.777]))   # an irregular mesh
+    st = statics(disc)
+    Bt = sp.vstack([disc.B_slide, disc.B_open]).T.tocsr()
+    for i in range(3):   # B^T g = 0 for every self-stress state (scaled by the load's size)
+        g = st.G_x[:, :, i]
+        assert np.linalg.norm(Bt @ np.r_[g[0], g[1], g[2]]) < 1e-12 * np.abs(g).max() * st.mass
+    x, lam = np.array([0.1, 0.4, 0.2]), 0.3
+    g = st.forces(x, lam)
+    gs = section_forces(st, disc.joint_s, x, lam)   # equilibrium of the part left of each joint
+    assert np.abs(gs - g).max() < 1e-12 * np.abs(g).max()
+
+
+def test_housner_block_is_statically_determinate():
+    disc = discretize(StraightMember(2.0, 0.6), np.array([0.0, 2.0]))
+    lim = limit_analysis(disc)
+    assert statics(disc).k == 0 and lim.A_L == pytest.approx(0.3, rel=1e-12)
+
+
+def test_cannot_stand_certificate_is_a_collapse_mechanism_under_gravity():
+    arch = CircularArch.from_ratio(180, 0.09)
+    disc = discretize(arch, uniform_nodes(arch, 7))
+    lim = limit_analysis(disc)
+    assert lim.status == "cannot_stand" and lim.margin < 0
+    fx, fy = disc.load_vectors()
+    eps = disc.B_open @ lim.u
+    assert eps.min() > -1e-12 * eps.max() and np.abs(disc.B_slide @ lim.u).max() < 1e-12 * eps.max()
+    assert float(fy @ lim.u) < 0             # the weight goes down along it
+    assert kinematic_A_L(disc).status == 3   # independently: the kinematic LP is unbounded below... or
+    assert len(lim.hinges) >= 4
+
+
+def test_no_mechanism_certificate_is_an_admissible_ray():
+    arch = CircularArch.from_ratio(60, 0.5)
+    disc = discretize(arch, uniform_nodes(arch, 20))
+    lim = limit_analysis(disc)
+    assert lim.status == "no_mechanism" and lim.verification["ray_residual"] < 1e-9
+    assert kinematic_A_L(disc).status == 2   # independently: no mechanism moves in the load direction
+
+
+def test_continuum_is_mesh_independent_bracketed_and_below_every_mesh():
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    vals = []
+    for n in (20, 50, 200, 800):
+        disc = discretize(arch, uniform_nodes(arch, n))
+        c = continuum_limit(disc)
+        mesh = limit_analysis(disc).A_L
+        assert c.A_L_lower <= c.A_L <= mesh and c.exact_hinges and c.violation < 1e-12
+        vals.append(c.A_L)
+    assert np.ptp(vals) < 1e-11 and vals[0] == pytest.approx(0.3533839, abs=5e-8)   # the paper: 0.3533839
+
+
+def test_continuum_hinges_give_the_closed_form_load_factor():
+    """Four hinges at the continuum optimum: the exact four-hinge load factor (inertia
+    integrals of the pieces, Appendix A) equals the LP's A_L."""
+    from fembeam.mechanisms import Mechanism, load_factor   # noqa: F401  (the one mechanism type)
+
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    c = continuum_limit(discretize(arch, uniform_nodes(arch, 100)))
+    res = analyze(arch, elements=100)
+    mech = Mechanism.from_hinges(arch, res.hinges_before)
+    assert load_factor(arch, mech) == pytest.approx(c.A_L, rel=1e-10)
+
+
+@pytest.mark.parametrize("voussoirs, expected", [(7, 0.0962), (None, 0.1075)])
+def test_minimum_thickness_of_the_arch_analysed(voussoirs, expected):
+    arch = CircularArch.from_ratio(180.0, 0.3)
+    th = minimum_thickness(arch, voussoirs=voussoirs, elements=None if voussoirs else 60, tol=1e-7)
+    assert th.t_over_R == pytest.approx(expected, abs=2e-4) and th.solves <= 60
+    for f, outcome in ((1 + 1e-5, "rocking"), (1 - 1e-5, "cannot_stand")):
+        kw = {"voussoirs": voussoirs} if voussoirs else {"elements": 60}
+        res = analyze(CircularArch.from_ratio(180.0, th.t_over_R * f), tmin_tol=1e-3, **kw)
+        assert (res.outcome == "cannot_stand") == (outcome == "cannot_stand")
+        if res.outcome == "cannot_stand":
+            assert res.t_min_over_R > th.t_over_R * f   # consistent with the verdict
+
+
+def test_minimum_thickness_iterations_are_bounded():
+    th = minimum_thickness(CircularArch.from_ratio(180.0, 0.3), voussoirs=9, tol=1e-12)
+    assert th.solves <= 60 and th.scale - th.lower <= 1e-12 * th.scale
+
+
+def test_a_failed_figure_fails_the_result():
+    assert failures({"duality_gap": 1e-3, "max_shear_ratio": 10.0}) == {"duality_gap": 1e-3}
+    assert failures({"equilibrium_residual": float("nan")})   # not a number: failed
+    assert set(THRESHOLDS) >= {"statics_mismatch", "impulse_mismatch", "continuum_violation"}
