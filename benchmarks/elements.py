@@ -29,9 +29,9 @@ from fembeam import analyze
 from fembeam.errors import SolverError
 from fembeam.fem import discretize, uniform_nodes
 from fembeam.fem_p1 import discretize_p1, midpoints_through
-from fembeam.fourhinge import FourHinge, optimise_load_factor
 from fembeam.geometry import CircularArch
-from fembeam.hinges import merge_adjacent
+from fembeam.mechanisms import Mechanism, merge_adjacent
+from fembeam.mechanisms.energy import optimise_load_factor
 from fembeam.analysis.impact import impact
 from fembeam.analysis.limit import limit_analysis
 
@@ -92,7 +92,7 @@ def run_p1_ref(curve, N):
     hs = merge_adjacent(first["disc"], first["lim"].hinges)
     if len(hs) != 4:
         return dict(first, note=f"{len(hs)} hinges: not refined")
-    best, _ = optimise_load_factor(curve, FourHinge(tuple(h.s for h in hs), tuple(h.side for h in hs)))
+    best, _ = optimise_load_factor(Mechanism.from_hinges(curve, hs))
     t1 = time.perf_counter()
     out = _pipeline(curve, midpoints_through(uniform_nodes(curve, N), best.s), discretize_p1)
     out["refine"] = t1 - t0 - first["qp"]

@@ -34,7 +34,7 @@ from fembeam import analyze
 from fembeam.analysis import THRESHOLDS
 from fembeam.errors import SolverError
 from fembeam.geometry import CircularArch
-from fembeam.hinges import find_hinges
+from fembeam.mechanisms.hinge import find_hinges
 from fembeam.analysis.impact import ImpactResult, _verify, impact
 from fembeam.fem import dof_scaling
 

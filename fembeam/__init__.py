@@ -7,13 +7,13 @@ elements on a scikit-fem mesh) -> :func:`limit_analysis` (A_L, mechanism) ->
 from .analysis import AnalysisResult, analyze, minimum_thickness
 from .errors import CannotStandError, FembeamError, InputError, SolverError
 from .fem import Discretization, discretize, nodes_through, uniform_nodes
-from .fourhinge import FourHinge, Pieces
+from .mechanisms import Hinge, Mechanism
 from .geometry import CircularArch, MidCurve, StraightMember
 from .analysis import ImpactResult, impact
 from .analysis import LimitResult, limit_analysis
 
 __all__ = ["AnalysisResult", "analyze", "minimum_thickness", "CannotStandError", "FembeamError",
            "InputError", "SolverError", "Discretization", "discretize", "nodes_through", "uniform_nodes",
-           "FourHinge", "Pieces", "CircularArch", "MidCurve", "StraightMember", "ImpactResult", "impact",
+           "Hinge", "Mechanism", "CircularArch", "MidCurve", "StraightMember", "ImpactResult", "impact",
            "LimitResult", "limit_analysis"]
 __version__ = "0.1.0"

@@ -3,18 +3,18 @@ import numpy as np
 import pytest
 
 from fembeam import CircularArch, analyze
-from fembeam.classical import classical_impact
-from fembeam.fourhinge import FourHinge
-from fembeam.impulse_line import four_hinge_impulse_line
-from fembeam.restricted import best_four_hinge_discrete
+from fembeam.mechanisms import Mechanism
+from fembeam.mechanisms.classical import classical_impact
+from fembeam.mechanisms.impulse_line import four_hinge_impulse_line
+from fembeam.mechanisms.restricted import best_four_hinge_discrete
 
 
 def oppenheim(beta):
     c = CircularArch.from_ratio(beta, 0.15, radius=10.0)
     res = analyze(c, voussoirs=7)
-    fb = FourHinge.from_hinges(res.hinges_before)
-    pre = fb.pieces(c, -fb.compatible_sign(c))
-    best = best_four_hinge_discrete(c, res.impact.disc.joint_s, pre)
+    fb = Mechanism.from_hinges(c, res.hinges_before)
+    pre = fb.closing()
+    best = best_four_hinge_discrete(res.impact.disc.joint_s, pre)
     return c, res, fb, pre, best
 
 
@@ -36,13 +36,13 @@ def test_oppenheim_150(opp150):
     assert abs(best.r - 0.532) < 1e-3
     assert best.after == fb.opposite()           # same joints, other edge (the points C-bar)
     # at 150 deg the mirrored hinges are the opposite ones: the classical model applies
-    assert np.allclose(fb.opposite().s, fb.mirrored(c).s) and fb.opposite().sides == fb.mirrored(c).sides
-    cl = classical_impact(c, fb, res.impact.disc.joint_s)
+    assert np.allclose(fb.opposite().s, fb.mirrored().s) and fb.opposite().sides == fb.mirrored().sides
+    cl = classical_impact(fb, res.impact.disc.joint_s)
     assert abs(cl.r - best.r) < 1e-12 and abs(cl.r_energy - best.r) < 1e-12
     # the general QP does 4.0e-5 better by opening a fifth hinge at 85.71 deg (extrados),
     # exactly where the four-hinge line leaves the thickness (by 1.9 % of t)
     assert 3e-5 < res.r - best.r < 5e-5
-    line = four_hinge_impulse_line(c, pre, best.after, res.impact.disc.joint_s)
+    line = four_hinge_impulse_line(pre, best.after, res.impact.disc.joint_s)
     adm = line.admissibility()
     bad = [f for f in adm["failures"] if f["check"] == "inside_thickness"]
     assert [round(f["angle_deg"], 2) for f in bad] == [85.71]
@@ -64,7 +64,7 @@ def test_oppenheim_157(opp157):
     assert len(h) == 5
     intra = [x.joints[0] for x in h if x.side == "intrados"]
     assert any(b - a == 1 for a, b in zip(intra, intra[1:]))
-    line = four_hinge_impulse_line(c, pre, best.after, res.impact.disc.joint_s)
+    line = four_hinge_impulse_line(pre, best.after, res.impact.disc.joint_s)
     adm = line.admissibility()
     assert adm["passes_through_hinges"] and adm["compressive"] and not adm["inside_thickness"]
     bad = [f for f in adm["failures"] if f["check"] == "inside_thickness"]
@@ -77,7 +77,7 @@ def test_oppenheim_157(opp157):
 def test_classical_model_not_kinematically_admissible(opp157):
     """Fig. 11a: the classical line resists the opening of the new hinges C'13, C'23."""
     c, res, fb, _, _ = opp157
-    cl = classical_impact(c, fb, res.impact.disc.joint_s)
+    cl = classical_impact(fb, res.impact.disc.joint_s)
     adm = cl.line.admissibility()
     assert not adm["passes_through_hinges"]
     missed = sorted(round(f["angle_deg"], 1) for f in adm["failures"] if f["check"] == "through_hinge")
@@ -91,7 +91,7 @@ def test_classical_model_not_kinematically_admissible(opp157):
 
 def test_discrete_tends_to_continuous():
     """A_L(N) decreases monotonically to the continuous value; r(N) approaches the
-    continuous r within the snapping wobble of u's hinges (THEORY §8)."""
+    continuous r within the wobble of u's hinges snapping to the joints."""
     c = CircularArch.from_ratio(157.5, 0.15)
     cont = analyze(c)
     Ns = [7, 15, 31, 63, 127, 255]

@@ -1,4 +1,4 @@
-"""VTK export (fembeam.export): read the files back with meshio and check the fields
+"""VTK export (fembeam.output.export): read the files back with meshio and check the fields
 against the rigid-element fields, the impulses and the hinges of the solution."""
 import json
 
@@ -8,8 +8,9 @@ import pytest
 
 from fembeam import CircularArch, analyze
 from fembeam.cli import main
-from fembeam.export import SIDE_CODE, write_fields, write_vtk
 from fembeam.fem import discretize, uniform_nodes
+from fembeam.mechanisms import side_of
+from fembeam.output.export import write_fields, write_vtk
 
 
 @pytest.fixture(scope="module")
@@ -109,7 +110,7 @@ def test_impulse_line_hinges_and_joint_data(oppenheim, tmp_path):
         assert dist[k] < 1e-8 * R
         assert line.point_data["eccentricity"][k] == pytest.approx(side * t / 2, abs=1e-8)
         assert np.hypot(*X[:2]) == pytest.approx(R - side * t / 2, abs=1e-12)   # intrados inside
-    assert [SIDE_CODE[h.side] for h in res.hinges_after] == list(hinges.point_data["side"][after])
+    assert [side_of(h.side).code for h in res.hinges_after] == list(hinges.point_data["side"][after])
     # the line stays within the thickness: R - t/2 <= |X| <= R + t/2
     r = np.hypot(line.points[:, 0], line.points[:, 1])
     assert np.all(np.abs(r - R) <= t / 2 + 1e-9)

@@ -6,15 +6,15 @@ import pytest
 
 from fembeam import CircularArch, analyze, discretize, impact, limit_analysis, nodes_through
 from fembeam.cli import main
-from fembeam.fourhinge import FourHinge, post_impact, restitution
-from fembeam.impulse_line import four_hinge_impulse_line
-from fembeam.restricted import (best_four_hinge_continuous, best_four_hinge_discrete,
-                                qp_with_hinges_only_at)
+from fembeam.mechanisms import Mechanism, post_impact, restitution
+from fembeam.mechanisms.impulse_line import four_hinge_impulse_line
+from fembeam.mechanisms.restricted import (best_four_hinge_continuous, best_four_hinge_discrete,
+                                           qp_with_hinges_only_at)
 
 
 def pre_impact(curve, res):
-    fb = FourHinge.from_hinges(res.hinges_before)
-    return fb, fb.pieces(curve, -fb.compatible_sign(curve))
+    fb = Mechanism.from_hinges(curve, res.hinges_before)
+    return fb, fb.closing()
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +28,7 @@ def cont():
 @pytest.fixture(scope="module")
 def cont_best(cont):
     c, res, fb, pre = cont
-    return best_four_hinge_continuous(c, pre)
+    return best_four_hinge_continuous(pre)
 
 
 def test_alpha_from_impulse_balance_equals_virtual_work(cont):
@@ -39,13 +39,13 @@ def test_alpha_from_impulse_balance_equals_virtual_work(cont):
     while checked < 10:
         ang = np.sort(rng.uniform(0, 157.5, 4))
         sides = rng.choice(["intrados", "extrados"], 4)
-        after = FourHinge.from_angles(c, ang, sides)
-        if after.compatible_sign(c) == 0:
+        after = Mechanism.from_angles(c, ang, sides)
+        if after.compatible_sign() == 0:
             continue
-        line = four_hinge_impulse_line(c, pre, after, np.linspace(0, c.length, 50))
+        line = four_hinge_impulse_line(pre, after, np.linspace(0, c.length, 50))
         assert line.extra["alpha_gap"] < 1e-9
         assert line.admissibility()["max_miss_at_hinges"] < 1e-9
-        assert abs(post_impact(c, pre, after).r - restitution(c, pre, after)) < 1e-14
+        assert abs(post_impact(pre, after).r - restitution(pre, after)) < 1e-14
         checked += 1
 
 
@@ -54,9 +54,9 @@ def test_exhaustive_kernel_matches_closed_form():
     c = CircularArch.from_ratio(157.5, 0.15)
     res = analyze(c, voussoirs=9)
     _, pre = pre_impact(c, res)
-    rr = best_four_hinge_discrete(c, res.impact.disc.joint_s, pre, keep=8)
+    rr = best_four_hinge_discrete(res.impact.disc.joint_s, pre, keep=8)
     for r, mech in [(rr.r, rr.after)] + rr.ranking:
-        assert abs(r - post_impact(c, pre, mech).r) < 1e-12
+        assert abs(r - post_impact(pre, mech).r) < 1e-12
 
 
 def test_impulse_line_equals_qp_when_qp_is_four_hinge():
@@ -66,11 +66,11 @@ def test_impulse_line_equals_qp_when_qp_is_four_hinge():
     res = analyze(c, voussoirs=7)
     assert len(res.hinges_after) == 4
     _, pre = pre_impact(c, res)
-    rr = best_four_hinge_discrete(c, res.impact.disc.joint_s, pre)
+    rr = best_four_hinge_discrete(res.impact.disc.joint_s, pre)
     assert abs(rr.r - res.r) < 1e-8
     assert [h.side for h in res.hinges_after] == list(rr.after.sides)
     disc = res.impact.disc
-    line = four_hinge_impulse_line(c, pre, rr.after, disc.joint_s)
+    line = four_hinge_impulse_line(pre, rr.after, disc.joint_s)
     e_qp = res.impact.eccentricity
     assert np.max(np.abs(line.eccentricity - e_qp) / disc.joint_thickness) < 1e-6
     k = res.impact.I_t / line.I_t        # the QP's d0 has its own scale
@@ -86,14 +86,14 @@ def test_continuous_r4hinge_vs_qp(cont, cont_best):
     c, res, _, pre = cont
     assert abs(cont_best.r - 0.606) < 1e-3
     assert 0.0 <= res.r - cont_best.r < 1e-3
-    a = cont_best.after.angles_deg(c)
+    a = cont_best.after.angles_deg()
     assert a[0] == 0.0 and a[3] == 157.5
     assert list(cont_best.after.sides) == ["extrados", "intrados", "extrados", "intrados"]
     # stationary: moving an inner hinge by 0.1 deg lowers r
     for i, d in ((1, 0.1), (1, -0.1), (2, 0.1), (2, -0.1)):
         b = a.copy()
         b[i] += d
-        assert post_impact(c, pre, FourHinge.from_angles(c, b, cont_best.after.sides)).r < cont_best.r
+        assert post_impact(pre, Mechanism.from_angles(c, b, cont_best.after.sides)).r < cont_best.r
 
 
 def test_qp_locked_to_four_joints_reproduces_closed_form(cont, cont_best):
@@ -107,7 +107,7 @@ def test_qp_locked_to_four_joints_reproduces_closed_form(cont, cont_best):
     r4, _ = qp_with_hinges_only_at(d2, -lim.u, j)
     assert abs(r4 - cont_best.r) < 1e-8
     near = [i for i, a in enumerate(d2.joint_angle_deg)
-            if np.min(np.abs(a - cont_best.after.angles_deg(c))) <= 4.0]
+            if np.min(np.abs(a - cont_best.after.angles_deg())) <= 4.0]
     r_zone, _ = qp_with_hinges_only_at(d2, -lim.u, near)
     assert r_zone > cont_best.r + 2e-4
     assert abs(r_zone - impact(d2, -lim.u).r) < 1e-7   # the unrestricted QP on the same mesh
@@ -118,11 +118,11 @@ def test_four_hinge_line_leaves_thickness_beside_hinge(cont, cont_best):
     """The optimal four-hinge line touches the intrados at C'13 from outside: it exits by
     a few thousandths of t on both sides (why the QP spreads the hinge)."""
     c, _, _, pre = cont
-    line = four_hinge_impulse_line(c, pre, cont_best.after, np.linspace(0, c.length, 721))
+    line = four_hinge_impulse_line(pre, cont_best.after, np.linspace(0, c.length, 721))
     adm = line.admissibility()
     assert adm["passes_through_hinges"] and adm["compressive"]
     assert 1e-3 < adm["max_outside"] < 1e-2
-    s13 = cont_best.after.angles_deg(c)[1]
+    s13 = cont_best.after.angles_deg()[1]
     zones = [f for f in adm["failures"] if f["check"] == "inside_thickness"]
     assert any(f["to_deg"] < s13 < f["to_deg"] + 1 for f in zones)
     assert any(f["from_deg"] - 1 < s13 < f["from_deg"] for f in zones)
@@ -131,11 +131,10 @@ def test_four_hinge_line_leaves_thickness_beside_hinge(cont, cont_best):
 def test_radius_is_a_scale(cont):
     c, _, fb, pre = cont
     big = CircularArch.from_ratio(157.5, 0.15, radius=10.0, density=2000.0)
-    after = FourHinge.from_angles(c, [0, 49.96, 111.43, 157.5], ["extrados", "intrados", "extrados", "intrados"])
-    fb10 = FourHinge(tuple(10 * np.array(fb.s)), fb.sides)
-    pre10 = fb10.pieces(big, -fb10.compatible_sign(big))
-    after10 = FourHinge(tuple(10 * np.array(after.s)), after.sides)
-    assert abs(post_impact(big, pre10, after10).r - post_impact(c, pre, after).r) < 1e-12
+    after = Mechanism.from_angles(c, [0, 49.96, 111.43, 157.5], ["extrados", "intrados", "extrados", "intrados"])
+    pre10 = Mechanism(big, tuple(10 * np.array(fb.s)), fb.sides).closing()
+    after10 = Mechanism(big, tuple(10 * np.array(after.s)), after.sides)
+    assert abs(post_impact(pre10, after10).r - post_impact(pre, after).r) < 1e-12
 
 
 def test_cli_impact_json(capsys):

@@ -1,4 +1,4 @@
-"""Paper-style figure (fembeam.plotting): what is drawn where, and a non-blank file."""
+"""Paper-style figure (fembeam.output.plotting): what is drawn where, and a non-blank file."""
 import matplotlib
 
 matplotlib.use("Agg")
@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from fembeam.plotting import draw_paper_figure, plot_paper_figure  # noqa: E402
+from fembeam.output.plotting import draw_paper_figure, plot_paper_figure  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -1,10 +1,10 @@
-"""Off-screen pyvista rendering (fembeam.render): really renders (EGL/llvmpipe in CI),
+"""Off-screen pyvista rendering (fembeam.output.render): really renders (EGL/llvmpipe in CI),
 and the picture shows the arch, the red impulse line and the hinges where they are."""
 import numpy as np
 import pytest
 from PIL import Image
 
-from fembeam.render import render_png
+from fembeam.output.render import render_png
 
 SIZE = (800, 450)
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fem import Discretization, dof_scaling
-from ..hinges import Hinge, find_hinges
+from ..mechanisms.hinge import Hinge, find_hinges
 from .qp import solve_qp
 from .statics import statics
 from .verification import check

@@ -35,7 +35,7 @@ import numpy as np
 
 from ..errors import CannotStandError, InputError, SolverError
 from ..fem import Discretization
-from ..hinges import Hinge, find_hinges
+from ..mechanisms.hinge import Hinge, find_hinges
 from .lp import FEAS_TOL, maximise
 from .statics import Statics, section_forces, statics
 from .verification import check

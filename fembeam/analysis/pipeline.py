@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import InputError, SolverError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
-from ..hinges import merge_adjacent
+from ..mechanisms.hinge import merge_adjacent
 from .continuum import ContinuumLimit, continuum_limit
 from .impact import ImpactResult, impact
 from .limit import LimitResult, _check_direction, limit_analysis

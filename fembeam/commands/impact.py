@@ -5,29 +5,23 @@ the hinges after are given (``--after 0:e,45:i,112.5:e,157.5:i``: angle in degre
 from the left springing, ``i``/``e`` = the edge the hinge pivots on), or found by the
 restricted problem (16)-(17) (``--restricted``, the default), or taken from the
 classical model (``--classical``).  The general QP's ``r_max`` is always reported
-alongside for comparison.
+alongside for comparison.  The analysis is
+:func:`fembeam.mechanisms.four_hinge_analysis.four_hinge_impact`; this module parses,
+prints and writes.
 """
 from __future__ import annotations
 
 import argparse
 import json
-import time
 
-import numpy as np
-
-from ..analysis import analyze
-from ..classical import classical_impact
 from ..errors import InputError
-from ..fem import discretize, nodes_through, uniform_nodes
-from ..fourhinge import FourHinge
-from ..hinges import Hinge
-from ..impulse_line import four_hinge_impulse_line
-from ..restricted import best_four_hinge_continuous, best_four_hinge_discrete
+from ..mechanisms.discrete_series import discrete_series
+from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, FourHingeImpact, four_hinge_impact
+from ..mechanisms.hinge import ROCKING_SIDES
 from ._args import add_arch, arch_from, int_list
 from .analyze import add_picture_options, check_picture_options
 
-SIDE_CODES = {"i": "intrados", "e": "extrados", "intrados": "intrados", "extrados": "extrados"}
-DEFAULT_SECTIONS = 720   # continuous arch: impulse line checked at 720 + 1 sections (+ the hinges)
+SIDE_CODES = {**{k[0]: k for k in ROCKING_SIDES}, **{k: k for k in ROCKING_SIDES}}
 
 
 def hinge_spec(text: str) -> tuple[list[float], list[str]]:
@@ -84,144 +78,31 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _zones(hinges: list[Hinge]) -> list[dict]:
-    """Runs of consecutive open joints pivoting on the same side (a QP 'hinge zone')."""
-    out: list[dict] = []
-    for h in hinges:
-        z = out[-1] if out else None
-        if z and z["side"] == h.side and h.joints[0] == z["_last"] + 1:
-            z["to_deg"], z["joints"], z["_last"] = round(h.angle_deg, 4), z["joints"] + 1, h.joints[0]
-        else:
-            out.append({"side": h.side, "from_deg": round(h.angle_deg, 4), "to_deg": round(h.angle_deg, 4),
-                        "joints": 1, "_last": h.joints[0]})
-    for z in out:
-        z.pop("_last")
-    return out
+def compute(args) -> FourHingeImpact:
+    model = "classical" if args.classical else ("prescribed" if args.after is not None else "restricted")
+    return four_hinge_impact(arch_from(args), voussoirs=args.voussoirs, elements=args.elements,
+                             direction=args.direction, before=args.before, after=args.after, model=model,
+                             sections=args.sections, grid=args.grid)
 
 
-def compute(args) -> dict:
-    clock = time.perf_counter()
-    curve = arch_from(args)
-    discrete = args.voussoirs is not None
-    if args.sections < 4:
-        raise InputError(f"--sections must be at least 4, got {args.sections}")
-    res = analyze(curve, elements=args.elements, voussoirs=args.voussoirs, direction=args.direction)
-    out = {"command": "impact", "mode": res.mode, "geometry": res.geometry, "outcome": res.outcome,
-           "A_L": res.A_L if np.isfinite(res.A_L) else None}
-    if res.outcome not in ("rocking", "arrested"):
-        out.update(r=None, hinges_before=[], hinges_after=[], admissibility=None, r_max=None)
-        return out
-    if args.before is not None:
-        before = FourHinge.from_angles(curve, *args.before)
-    else:
-        hb = res.hinges_before
-        if len(hb) != 4 or any(h.side == "separated" for h in hb):
-            raise InputError(f"the incipient mechanism has {len(hb)} hinges, not four: give --before")
-        before = FourHinge.from_hinges(hb)
-    sgn = before.compatible_sign(curve)
-    if sgn == 0:
-        raise InputError("the hinges before the impact do not form a compatible mechanism")
-    pre = before.pieces(curve, -sgn)   # the arch returns along -u
-    L = curve.length
-    sections = uniform_nodes(curve, args.voussoirs) if discrete else np.linspace(0.0, L, args.sections + 1)
-    if discrete:
-        joints = res.impact.disc.joint_s
-        for s in before.s:
-            if np.min(np.abs(joints - s)) > 1e-9 * L:
-                raise InputError(f"hinge before at {float(curve.angle_deg(s)):g} deg is not at a voussoir joint")
-
-    extra: dict = {}
-    if args.classical:
-        model = "classical"
-        cl = classical_impact(curve, before, sections, alpha=-sgn)
-        after, line, r = cl.after, cl.line, cl.r
-        line_at = lambda sec: classical_impact(curve, before, sec, alpha=-sgn).line  # noqa: E731
-        extra = {"alpha_ratio": cl.alpha_ratio, "r_energy_same_hinges": cl.r_energy,
-                 "opens_mirrored_hinges": cl.line.extra["opens_mirrored_hinges"],
-                 "impulses_through": before.opposite().to_list(curve)}
-    else:
-        if args.after is not None:
-            model = "prescribed"
-            after = FourHinge.from_angles(curve, *args.after)
-            if discrete:
-                for s in after.s:
-                    if np.min(np.abs(sections - s)) > 1e-9 * L:
-                        raise InputError(f"hinge after at {float(curve.angle_deg(s)):g} deg is not at a voussoir "
-                                         f"joint (joints every {float(curve.angle_deg(L)) / args.voussoirs:g} deg)")
-                after = FourHinge(tuple(sections[np.abs(sections[:, None] - np.array(after.s)).argmin(0)]),
-                                  after.sides)
-        else:
-            model = "restricted"
-            if discrete:
-                rr = best_four_hinge_discrete(curve, sections, pre)
-            else:
-                qh = res.hinges_after
-                starts = [FourHinge.from_hinges(qh)] if len(qh) == 4 and all(
-                    h.side in ("intrados", "extrados") for h in qh) else []
-                rr = best_four_hinge_continuous(curve, pre, grid=args.grid, starts=starts)
-            if rr.after is None:
-                raise InputError("no compatible four-hinge mechanism does positive work: r_4hinge = 0")
-            after = rr.after
-            extra = {"candidates": rr.candidates, "compatible_candidates": rr.compatible, "search": rr.method,
-                     "runner_up": [{"r": r_, "hinges": h.to_list(curve)} for r_, h in rr.ranking[:3]]}
-        line = four_hinge_impulse_line(curve, pre, after, sections)
-        line_at = lambda sec: four_hinge_impulse_line(curve, pre, after, sec)  # noqa: E731
-        r = line.extra["r"]
-        extra.update(alpha_ratio=line.extra["alpha_ratio_15"], alpha_ratio_8_11=line.alpha_ratio,
-                     alpha_gap=line.extra["alpha_gap"], compatible=line.extra["compatible"],
-                     Gamma=line.extra["Gamma"], Lambda=line.extra["Lambda"], Lambda_after=line.extra["Lambda_after"])
-
-    out.update({
-        "model": model,
-        "r": float(r),
-        "hinges_before": before.to_list(curve),
-        "hinges_after": after.to_list(curve),
-        "admissibility": line.admissibility(),
-        "r_max": res.r,
-        "r_max_minus_r": res.r - float(r),
-        "hinges_after_qp": [h.to_dict() for h in res.hinges_after],
-        "qp_hinge_zones": _zones(res.impact.hinges) if res.impact is not None else [],
-        "qp_elements": res.elements,
-        **extra,
-    })
-    if args.fields:
-        out["impulse_line"] = line.to_dict()
-    out["time_s"] = round(time.perf_counter() - clock, 3)
-    out["_pictures"] = (curve, pre, before, after, line_at, args.voussoirs or args.elements or 200)
-    return out
-
-
-def write_pictures(out: dict, args) -> list[str]:
-    """``--vtk/--png/--figure`` for the four-hinge impact: rigid elements whose joints are
-    the voussoir joints (or a uniform mesh through both sets of hinges), the pre-impact
-    field, the post-impact four-hinge field ``alpha' x after`` and its impulse line."""
+def write_pictures(result: FourHingeImpact, args) -> list[str]:
+    """``--vtk/--png/--figure`` for the four-hinge impact."""
     wanted = [o for o in ("vtk", "png", "figure") if getattr(args, o, None) is not None]
-    if not wanted or "_pictures" not in out:
+    if not wanted or result.r is None:
         return []
-    curve, pre, before, after, line_at, n = out["_pictures"]
-    nodes = nodes_through(uniform_nodes(curve, n), np.concatenate([before.s, after.s]))
-    disc = discretize(curve, nodes)
-    line = line_at(disc.joint_s)
-    idx = np.abs(line.s[None, :] - disc.joint_s[:, None]).argmin(1)
-    impulse = {"angle_deg": disc.joint_angle_deg, "eccentricity": line.eccentricity[idx],
-               "I_t": line.I_t[idx], "I_n": line.I_n[idx], "moment": line.M[idx]}
-    post = after.pieces(curve, line.alpha_ratio)
-    hb = before.hinges(curve, float(pre.motion[1, 2]))
-    ha = after.hinges(curve, line.alpha_ratio)
-    title = f"{out['model']} four-hinge impact: r = {out['r']:.4f}"
+    disc, d0, d, hb, ha, impulse = result.picture_fields()
     written = []
     if args.vtk is not None:
-        from ..export import write_fields
-        files = write_fields(args.vtk, disc, pre.dofs(disc), post.dofs(disc), hb, ha, impulse)
+        from ..output.export import write_fields
+        files = write_fields(args.vtk, disc, d0, d, hb, ha, impulse)
         written.append(f"VTK: {files['multiblock']}")
     if args.png is not None:
-        from ..export import meshes_of
-        from ..render import render_fields
-        meshes = meshes_of(disc, pre.dofs(disc), post.dofs(disc), hb, ha, impulse)
-        written.append(f"rendering: {render_fields(meshes, args.png, title)}")
+        from ..output.export import meshes_of
+        from ..output.render import render_fields
+        written.append(f"rendering: {render_fields(meshes_of(disc, d0, d, hb, ha, impulse), args.png, result.title)}")
     if args.figure is not None:
-        from ..plotting import save_paper_figure
-        written.append(f"figure: {save_paper_figure(args.figure, disc, hb, ha, impulse['eccentricity'], None, title)}")
+        from ..output.plotting import save_paper_figure
+        written.append(f"figure: {save_paper_figure(args.figure, disc, hb, ha, impulse['eccentricity'], None, result.title)}")
     return written
 
 
@@ -229,9 +110,9 @@ def run(args) -> int:
     if args.series is not None:
         return run_series(args)
     check_picture_options(args)
-    out = compute(args)
-    written = write_pictures(out, args)
-    out.pop("_pictures", None)
+    result = compute(args)
+    written = write_pictures(result, args)
+    out = result.to_dict(fields=args.fields)
     if args.json:
         print(json.dumps(out))
         return 0
@@ -242,8 +123,6 @@ def run(args) -> int:
 
 
 def run_series(args) -> int:
-    from ..discrete_series import discrete_series
-
     if any(n < 1 for n in args.series):
         raise InputError("--series needs positive voussoir counts")
     curve = arch_from(args)

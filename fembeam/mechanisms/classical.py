@@ -5,7 +5,7 @@ are the mirror image, about the vertical symmetry axis, of those closing at the
 impact; (ii) the resultant impulses at the sections of the closing hinges ``C`` pass
 through the points ``C-bar`` opposite them across the thickness.  (ii) is four
 conditions on the impulse line, which fix ``alpha'`` and the impulses
-(:func:`fembeam.impulse_line.impulse_line_through`), hence ``r = Lambda'/Lambda
+(:func:`fembeam.mechanisms.impulse_line.impulse_line_through`), hence ``r = Lambda'/Lambda
 (alpha'/alpha)^2``.  The line need not pass through the new hinges: where it does not,
 compressive impulses act inside those sections and resist their opening (not
 kinematically admissible; the paper's green crosses).  When the mirrored hinges are
@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fourhinge import FourHinge, Pieces, pivot_y, post_impact
-from .geometry import MidCurve
+from .energy import post_impact
 from .impulse_line import ImpulseLine, impulse_line_through, sections_union
+from .mechanism import Mechanism
 
 __all__ = ["ClassicalResult", "classical_impact"]
 
@@ -29,30 +29,29 @@ __all__ = ["ClassicalResult", "classical_impact"]
 class ClassicalResult:
     """``after`` (mirrored hinges), ``alpha_ratio = alpha'/alpha``, ``r`` and the line."""
 
-    after: FourHinge
+    after: Mechanism
     alpha_ratio: float
     r: float
     line: ImpulseLine
     r_energy: float     # the energy model's r (15)-(17) for the same mirrored hinges
 
 
-def classical_impact(curve: MidCurve, before: FourHinge, sections, alpha: float | None = None) -> ClassicalResult:
+def classical_impact(before: Mechanism, sections, alpha: float | None = None) -> ClassicalResult:
     """Classical model for an arch arriving along ``-before`` (``alpha``: the pre-impact
-    parameter, default the closing sense ``-compatible_sign``)."""
+    rate, default the closing sense ``-compatible_sign``)."""
     if alpha is None:
-        alpha = -before.compatible_sign(curve)
-    pre: Pieces = before.pieces(curve, alpha)
-    after = before.mirrored(curve)
+        alpha = -before.compatible_sign()
+    pre = before.with_alpha(alpha)
+    after = before.mirrored().with_alpha(1.0)
     bar = before.opposite()
     hs = np.asarray(bar.s, float)
-    y = pivot_y(curve, hs, bar.sides)
-    sec = sections_union(curve, hs, after.s, sections)
-    line = impulse_line_through(curve, pre, after, hs, y, sec)
-    fig = post_impact(curve, pre, after)
+    sec = sections_union(before.curve, hs, after.s, sections)
+    line = impulse_line_through(pre, after, hs, bar.pivot_y(), sec)
+    fig = post_impact(pre, after)
     r = fig.Lambda_after * line.alpha_ratio**2 / fig.Lambda
     # the model assumes motion along the mirrored mechanism: report whether alpha'
     # has the sign that opens its hinges
-    sgn = after.compatible_sign(curve)
+    sgn = after.compatible_sign()
     line.extra = {"opens_mirrored_hinges": bool(sgn != 0 and line.alpha_ratio * sgn > 0),
                   "Lambda": fig.Lambda, "Lambda_after": fig.Lambda_after}
     return ClassicalResult(after, line.alpha_ratio, float(r), line, fig.r)

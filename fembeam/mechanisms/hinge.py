@@ -1,24 +1,83 @@
-"""Hinges of a rigid-element field: which joints open, and on which edge they pivot.
+"""Hinges: the edge a joint pivots on, and the hinges of a rigid-element field.
 
 Naming: a hinge is located at the edge about which the joint rotates, i.e. where the
 thrust (impulse) line touches the section.  A joint whose **extrados** opens pivots on
 the **intrados**: side ``"intrados"``; and vice versa.  A joint whose both edges open
-has separated (side ``"separated"``).  Openings below ``rel_tol`` times the largest
-opening rate are treated as closed (default 1e-5: interior-point solutions leave
-inactive openings at ~1e-9 of the active ones).
+has separated (side ``"separated"``).
+
+:data:`SIDES` is the one table of what a side means: the pivot offset ``y/t`` along
+the inward normal ``n`` (intrados ``+1/2``, extrados ``-1/2``), the sign of the
+rotation jump ``[omega]`` (right minus left, counter-clockwise) that opens the hinge,
+and the opposite side.  Every other module asks it.
+
+:func:`find_hinges` reads the hinges of a DOF vector: openings below ``rel_tol`` times
+the largest opening rate are treated as closed (default 1e-5: interior-point solutions
+leave inactive openings at ~1e-9 of the active ones).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Iterable
 
 import numpy as np
 
-from .fem import Discretization
+from ..errors import InputError
+from ..fem import Discretization
 
-__all__ = ["Hinge", "find_hinges", "merge_adjacent", "HINGE_REL_TOL", "PIVOT_Y"]
+__all__ = ["Side", "SIDES", "ROCKING_SIDES", "side_of", "pivot_fractions", "opening_signs", "Hinge",
+           "find_hinges", "merge_adjacent", "HINGE_REL_TOL"]
 
 HINGE_REL_TOL = 1e-5
-PIVOT_Y = {"intrados": 0.5, "extrados": -0.5, "separated": 0.0}  # y / t of the pivot point
+
+
+@dataclass(frozen=True)
+class Side:
+    """An edge a hinge may pivot on.
+
+    ``pivot``: offset ``y/t`` of the pivot point from the mid-curve along ``n``;
+    ``opening``: sign of the rotation jump ``[omega]`` (rad/s, right minus left) that
+    opens the hinge (0: no rotation is implied, the joint has separated);
+    ``opposite_name``: the side across the thickness.
+    """
+
+    name: str
+    pivot: float
+    opening: float
+    opposite_name: str
+
+    @property
+    def opposite(self) -> "Side":
+        return SIDES[self.opposite_name]
+
+    @property
+    def code(self) -> int:
+        """+1 intrados, -1 extrados, 0 separated (the sign of ``y`` of the pivot)."""
+        return int(np.sign(self.pivot))
+
+
+# A joint pivoting on the intrados (y = +t/2) opens at the extrados: eps_- = -t [omega] > 0.
+SIDES: dict[str, Side] = {k.name: k for k in (Side("intrados", 0.5, -1.0, "extrados"),
+                                               Side("extrados", -0.5, 1.0, "intrados"),
+                                               Side("separated", 0.0, 0.0, "separated"))}
+ROCKING_SIDES = ("intrados", "extrados")   # the sides of a hinge of a mechanism
+
+
+def side_of(name: str) -> Side:
+    """The :class:`Side` called ``name``; InputError for an unknown name."""
+    try:
+        return SIDES[name]
+    except (KeyError, TypeError):
+        raise InputError(f"unknown hinge side {name!r}: expected one of {', '.join(SIDES)}") from None
+
+
+def pivot_fractions(sides: Iterable[str]) -> np.ndarray:
+    """``y/t`` of the pivot points of ``sides``."""
+    return np.array([side_of(k).pivot for k in sides], float)
+
+
+def opening_signs(sides: Iterable[str]) -> np.ndarray:
+    """Signs of ``[omega]`` that open hinges on ``sides``."""
+    return np.array([side_of(k).opening for k in sides], float)
 
 
 @dataclass(frozen=True)
@@ -45,11 +104,10 @@ def find_hinges(disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_
     scale = max(np.max(np.abs(eps)), 1e-300)
     oi, oe = ei > rel_tol * scale, ee > rel_tol * scale
     rot = (ei - ee) / disc.joint_thickness  # [omega] = (eps_+ - eps_-) / t
-    out = []
-    for j in np.flatnonzero(oi | oe):
-        side = "separated" if (oi[j] and oe[j]) else ("intrados" if oe[j] else "extrados")
-        out.append(Hinge(float(disc.joint_s[j]), float(disc.joint_angle_deg[j]), side, float(rot[j]), (int(j),)))
-    return out
+    j = np.flatnonzero(oi | oe)
+    side = np.where(oi[j] & oe[j], "separated", np.where(oe[j], "intrados", "extrados"))
+    return [Hinge(float(disc.joint_s[k]), float(disc.joint_angle_deg[k]), str(sd), float(rot[k]), (int(k),))
+            for k, sd in zip(j, side)]
 
 
 def merge_adjacent(disc: Discretization, hinges: list[Hinge]) -> list[Hinge]:

@@ -1,17 +1,17 @@
 """The impulse line of a four-hinge impact (Sects. 2-4, eqs. (3)-(4), (8)-(11)).
 
-For a pre-impact field ``before`` (any :class:`~fembeam.fourhinge.Pieces`) and a
-post-impact mechanism of prescribed shape (``alpha' x`` the unit field of a
-:class:`~fembeam.fourhinge.FourHinge`), the momentum balances (3) of the arch
+For a pre-impact field ``before`` and a post-impact mechanism of prescribed shape
+``after`` (``alpha' x`` its unit field; both are
+:class:`~fembeam.mechanisms.mechanism.Mechanism`), the momentum balances (3) of the arch
 portions leave four scalar unknowns: ``alpha'`` and the internal linear and angular
 impulse at one section.  Requiring the line to pass through four points (one per
 section ``s_a < s_b < s_c < s_d``) fixes them; with the points at the new hinges
 this is the paper's system (8)-(11) (impulses ``I_C'1``, ``I_C'2`` applied at
 ``C'1``, ``C'2``; zero moment about ``C'13`` and ``C'23``), and ``alpha'`` must then
 equal ``Gamma / Lambda'`` of (15) (checked).  With the points opposite the closing
-hinges it is the classical model (:mod:`fembeam.classical`).
+hinges it is the classical model (:mod:`fembeam.mechanisms.classical`).
 
-Conventions (as :class:`~fembeam.impact.ImpactResult`): ``I(s)`` is the impulse
+Conventions (as :class:`~fembeam.analysis.impact.ImpactResult`): ``I(s)`` is the impulse
 exerted on the part left of ``s`` by the part on its right, so (3) reads
 ``I(s) = I(s_a) + int_{s_a}^{s} (dp' - dp)`` and compression is ``I_t < 0``;
 ``M`` is the moment of the impulses about the mid-curve point ``X(s)`` and the
@@ -25,9 +25,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import SolverError
-from .fourhinge import FourHinge, Pieces, momenta, pivot_y, post_impact
-from .geometry import MidCurve
+from ..errors import SolverError
+from ..geometry import MidCurve
+from .energy import momenta, post_impact
+from .mechanism import Mechanism
 
 __all__ = ["ImpulseLine", "impulse_line_through", "four_hinge_impulse_line", "sections_union",
            "ADMISSIBILITY_TOL"]
@@ -62,7 +63,7 @@ class ImpulseLine:
     M: np.ndarray
     alpha_ratio: float                     # alpha'/alpha of the solved system
     through: np.ndarray                    # (2, 4): sections s and offsets y (m) imposed
-    after: FourHinge
+    after: Mechanism
     extra: dict = field(default_factory=dict)
 
     @property
@@ -108,7 +109,7 @@ class ImpulseLine:
         fails = []
         # kinematic: through the four new hinges
         hs = np.asarray(self.after.s, float)
-        yh = pivot_y(curve, hs, self.after.sides)
+        yh = self.after.pivot_y()
         eh = self.at(hs)
         miss = np.abs(eh - yh) / curve.thickness_at(hs)
         miss = np.where(np.isfinite(miss), miss, np.inf)
@@ -151,19 +152,21 @@ class ImpulseLine:
                 "eccentricity": [None if not np.isfinite(x) else float(x) for x in e]}
 
 
-def impulse_line_through(curve: MidCurve, before: Pieces, after: FourHinge, points_s, points_y,
+def impulse_line_through(before: Mechanism, after: Mechanism, points_s, points_y,
                          sections) -> ImpulseLine:
-    """Impulse line for the post-impact field ``alpha' x after.pieces()`` passing through
-    the points at sections ``points_s`` (4, increasing, m) offset ``points_y`` (m, along
-    ``n``); evaluated at ``sections`` (m).  Solves for ``alpha'`` and ``I(points_s[0])``."""
+    """Impulse line for the post-impact field ``alpha' x after`` (unit rate) passing
+    through the points at sections ``points_s`` (4, increasing, m) offset ``points_y``
+    (m, along ``n``); evaluated at ``sections`` (m).  Solves for ``alpha'`` and
+    ``I(points_s[0])``."""
+    curve = after.curve
     ps = np.asarray(points_s, float)
     pts = curve.point(ps, points_y)
-    unit = after.pieces(curve, 1.0)
+    unit = after.with_alpha(1.0)
     sec = np.asarray(sections, float)
     br = sections_union(curve, ps, sec, [0.0, curve.length], before.breaks, unit.breaks)
     zero = np.zeros((3, 1))
-    cb = np.concatenate([zero, np.cumsum(momenta(curve, before, br), 1)], 1)   # int_0^s of (p, L_O)
-    ca = np.concatenate([zero, np.cumsum(momenta(curve, unit, br), 1)], 1)
+    cb = np.concatenate([zero, np.cumsum(momenta(before, br), 1)], 1)   # int_0^s of (p, L_O)
+    ca = np.concatenate([zero, np.cumsum(momenta(unit, br), 1)], 1)
 
     def cum(c, s):   # value at the break nearest to each s (s are among the breaks up to 1e-9 L)
         i = np.clip(np.searchsorted(br, s), 1, br.size - 1)
@@ -194,15 +197,14 @@ def impulse_line_through(curve: MidCurve, before: Pieces, after: FourHinge, poin
     return ImpulseLine(curve, sec, I, M, float(alpha), np.array([ps, np.asarray(points_y, float)]), after)
 
 
-def four_hinge_impulse_line(curve: MidCurve, before: Pieces, after: FourHinge, sections) -> ImpulseLine:
+def four_hinge_impulse_line(before: Mechanism, after: Mechanism, sections) -> ImpulseLine:
     """The equilibrated, kinematically admissible impulse line of the four-hinge
     mechanism ``after`` (through its hinges, eqs. (8)-(11)); ``extra`` carries the
     closed-form figures of (15), (17) and the gap between the two ``alpha'``."""
     hs = np.asarray(after.s, float)
-    y = pivot_y(curve, hs, after.sides)
-    sec = sections_union(curve, hs, sections)
-    line = impulse_line_through(curve, before, after, hs, y, sec)
-    fig = post_impact(curve, before, after)
+    sec = sections_union(after.curve, hs, sections)
+    line = impulse_line_through(before, after, hs, after.pivot_y(), sec)
+    fig = post_impact(before, after)
     line.extra = {"Gamma": fig.Gamma, "Lambda": fig.Lambda, "Lambda_after": fig.Lambda_after,
                   "alpha_ratio_15": fig.alpha_ratio, "r": fig.r, "compatible": fig.compatible,
                   "alpha_gap": abs(line.alpha_ratio - fig.alpha_ratio) / max(abs(fig.alpha_ratio), 1e-300)}

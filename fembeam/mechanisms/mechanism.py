@@ -1,155 +1,187 @@
-"""Four-hinge mechanisms with hinges anywhere on the mid-curve (Sect. 4, Appendix A).
+"""One mechanism type: rigid pieces between hinges (Sect. 4, Appendix A).
 
-A mechanism is described by its hinges ``C1, C13, C23, C2`` (arc lengths ``s`` and
-the edge each pivots on); the rigid segments I = [s1, s13] (rotating about C1 with
-``Omega_I = 1``), III = [s13, s23] (about C3, the intersection of lines C1-C13 and
-C2-C23) and II = [s23, s2] (about C2); the parts outside [s1, s2] rest on the
-abutments.  The angular-velocity coefficients are (A.1) written with dot products
-(valid for any orientation of the lines).
+A :class:`Mechanism` of a member is given by its hinges (arc lengths ``s``, m,
+increasing, and the side each pivots on, see :data:`~fembeam.mechanisms.hinge.SIDES`)
+and moves with one free parameter ``alpha`` (rad/s, the angular velocity of the
+first moving piece). Two kinds exist:
 
-The inertia integrals are exact for any :class:`~fembeam.geometry.MidCurve`
-(Gauss quadrature of :meth:`MidCurve.inertia_densities`), so the quantities here are
-the continuous-arch values: ``lambda`` (load factor of a mechanism), ``Lambda``,
-``Gamma`` and ``r = Gamma^2 / (Lambda Lambda')`` of (7), (14) and (17).
+* **four hinges** ``C1, C13, C23, C2`` between two abutments (both ends of the member
+  are joints): piece I = [s1, s13] rotates about C1 with ``Omega_I = alpha``, piece
+  III = [s13, s23] about C3, the intersection of lines C1-C13 and C2-C23, and piece
+  II = [s23, s2] about C2; the parts outside [s1, s2] rest on the abutments. The
+  ratios ``Omega_III / Omega_I`` and ``Omega_II / Omega_I`` are (A.1) written with
+  dot products (valid for any orientation of the lines);
+* **one hinge** when one end of the member is free (Housner's block): the piece
+  between the hinge and the free end rotates about the hinge with ``Omega = alpha``.
+
+The velocity of a piece is the rigid field ``V + Omega k x X`` (``V``: velocity of
+the material point at the origin, m/s; ``Omega`` counter-clockwise, rad/s).  The
+jump of ``Omega`` (right minus left) across a hinge opens it when its sign is the
+side's ``opening`` sign.  :meth:`Mechanism.configuration` moves the pieces by a
+finite rotation ``theta`` of the free parameter (exact four-bar linkage).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import minimize
 
-from .errors import InputError, SolverError
-from .geometry import MidCurve
+from ..errors import InputError, SolverError
+from ..fem import Discretization, rigid_dofs
+from ..geometry import MidCurve
+from .hinge import HINGE_REL_TOL, ROCKING_SIDES, Hinge, find_hinges, merge_adjacent, opening_signs, \
+    pivot_fractions, side_of
 
-__all__ = ["Pieces", "FourHinge", "ImpactFigures", "product", "momenta", "load_factor", "restitution",
-           "post_impact", "optimise_load_factor", "OPPOSITE"]
-
-SIDE_Y = {"intrados": 0.5, "extrados": -0.5}       # y / t of the pivot (a subset of hinges.PIVOT_Y)
-SIDE_SIGN = {"intrados": -1.0, "extrados": 1.0}    # sign of [omega] that opens the hinge
-OPPOSITE = {"intrados": "extrados", "extrados": "intrados"}
+__all__ = ["Mechanism", "Configuration"]
 
 
-def pivot_y(curve: MidCurve, s, sides) -> np.ndarray:
-    """Offsets ``y`` (m, along n) of the pivot edges ``sides`` of the sections at ``s``."""
-    return np.array([SIDE_Y[k] for k in sides]) * curve.thickness_at(np.asarray(s, float))
+def _rot(theta: float) -> np.ndarray:
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, -s], [s, c]])
+
+
+def _cross(a: np.ndarray, b: np.ndarray):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> float:
+    """Counter-clockwise angle (rad, in (-pi, pi]) from vector ``a`` to vector ``b``."""
+    return float(np.arctan2(_cross(a, b), np.dot(a, b)))
 
 
 @dataclass(frozen=True)
-class Pieces:
-    """Piecewise-rigid field: on ``[breaks[i], breaks[i+1]]`` the velocity is
-    ``V_i + Omega_i k x X`` with ``motion[i] = (V_x, V_y, Omega)`` (m/s, rad/s)."""
+class Mechanism:
+    """Rigid pieces of ``curve`` between hinges at ``s`` (m) pivoting on ``sides``,
+    moving with free-parameter rate ``alpha`` (rad/s, ``Omega`` of the first moving piece).
 
-    breaks: np.ndarray
-    motion: np.ndarray
-
-    @classmethod
-    def rigid(cls, curve: MidCurve, V=(0.0, 0.0), omega: float = 0.0) -> "Pieces":
-        return cls(np.array([0.0, curve.length]), np.array([[V[0], V[1], omega]]))
-
-    def dofs(self, disc) -> np.ndarray:
-        """Element DOFs of this field on the rigid-element mesh ``disc``: each element
-        takes the motion of the piece containing its midpoint (exact when the breaks are
-        nodes of the mesh)."""
-        from .fem import rigid_dofs
-
-        k = np.clip(np.searchsorted(self.breaks, disc.frames["s"]) - 1, 0, len(self.motion) - 1)
-        Vx, Vy, W = self.motion[k].T
-        return rigid_dofs(disc, (Vx, Vy), W)
-
-
-def product(curve: MidCurve, a: Pieces, b: Pieces) -> float:
-    """Momentum pairing ``int rho vel_a . vel_b dA`` (so ``2K = product(a, a)``)."""
-    br = np.union1d(a.breaks, b.breaks)
-    mid = 0.5 * (br[:-1] + br[1:])
-    ma = a.motion[np.clip(np.searchsorted(a.breaks, mid) - 1, 0, len(a.motion) - 1)]
-    mb = b.motion[np.clip(np.searchsorted(b.breaks, mid) - 1, 0, len(b.motion) - 1)]
-    m, S, J = curve.segment_inertia(br[:-1], br[1:])
-    kS = np.array([-S[1], S[0]])
-    return float(np.sum(m * (ma[:, 0] * mb[:, 0] + ma[:, 1] * mb[:, 1])
-                        + ma[:, 2] * (mb[:, 0] * kS[0] + mb[:, 1] * kS[1])
-                        + mb[:, 2] * (ma[:, 0] * kS[0] + ma[:, 1] * kS[1])
-                        + ma[:, 2] * mb[:, 2] * J))
-
-
-def momenta(curve: MidCurve, field: Pieces, breaks: np.ndarray) -> np.ndarray:
-    """Linear and angular momenta of ``field`` on the intervals of ``breaks`` (m).
-
-    Returns ``(3, len(breaks) - 1)``: ``p_x, p_y`` (N s per unit depth) and the angular
-    momentum ``L_O`` about the origin (N m s), counter-clockwise; for a rigid piece
-    ``(V, Omega)``: ``p = m V + Omega k x S`` and ``L_O = S x V + Omega J``.
+    Four hinges when both ends of ``curve`` are joints, one hinge when one end is free.
     """
-    br = np.asarray(breaks, float)
-    mid = 0.5 * (br[:-1] + br[1:])
-    mo = field.motion[np.clip(np.searchsorted(field.breaks, mid) - 1, 0, len(field.motion) - 1)]
-    m, S, J = curve.segment_inertia(br[:-1], br[1:])
-    Vx, Vy, Om = mo.T
-    return np.array([m * Vx - Om * S[1], m * Vy + Om * S[0], S[0] * Vy - S[1] * Vx + Om * J])
 
-
-@dataclass(frozen=True)
-class FourHinge:
-    """Hinges ``s = (s1, s13, s23, s2)`` (m, increasing) pivoting on ``sides``."""
-
-    s: tuple[float, float, float, float]
-    sides: tuple[str, str, str, str]
+    curve: MidCurve
+    s: tuple[float, ...]
+    sides: tuple[str, ...]
+    alpha: float = 1.0
 
     def __post_init__(self):
-        if len(self.s) != 4 or len(self.sides) != 4:
-            raise InputError("a four-hinge mechanism needs exactly four hinges")
-        if any(k not in SIDE_Y for k in self.sides):
+        object.__setattr__(self, "s", tuple(float(x) for x in self.s))
+        object.__setattr__(self, "sides", tuple(str(k) for k in self.sides))
+        n = self.n_hinges_expected(self.curve)
+        if len(self.s) != n or len(self.sides) != n:
+            raise InputError(f"a mechanism of a member with ends {self.curve.ends} needs exactly {n} hinge"
+                             f"{'s' if n > 1 else ''}, got {len(self.s)}")
+        if any(k not in ROCKING_SIDES for k in self.sides):
             raise InputError(f"hinge sides must be 'intrados' or 'extrados', got {self.sides}")
-        if np.any(np.diff(np.asarray(self.s, float)) < 0):
-            raise InputError(f"the four hinges must be in increasing order along the arch, got s = {self.s}")
+        s = np.asarray(self.s)
+        if np.any(np.diff(s) < 0):
+            raise InputError(f"the hinges must be in increasing order along the member, got s = {self.s}")
+        if np.any(s < 0) or np.any(s > self.curve.length):
+            raise InputError(f"hinges must lie on the member, s in [0, {self.curve.length:g}] m, got {self.s}")
+
+    # ------------------------------------------------------------------ construction
+    @staticmethod
+    def n_hinges_expected(curve: MidCurve) -> int:
+        """4 between two abutments, 1 with a free end."""
+        ends = tuple(curve.ends)
+        if ends == ("joint", "joint"):
+            return 4
+        if sorted(ends) == ["free", "joint"]:
+            return 1
+        raise InputError(f"no one-parameter mechanism for a member with ends {ends}")
 
     @classmethod
-    def from_hinges(cls, hinges) -> "FourHinge":
-        """From four :class:`~fembeam.hinges.Hinge` (e.g. the LP's incipient mechanism)."""
-        if len(hinges) != 4:
-            raise InputError(f"expected a four-hinge mechanism, got {len(hinges)} hinges")
-        return cls(tuple(float(h.s) for h in hinges), tuple(h.side for h in hinges))
+    def from_hinges(cls, curve: MidCurve, hinges, alpha: float = 1.0) -> "Mechanism":
+        """From :class:`~fembeam.mechanisms.hinge.Hinge` objects (e.g. a limit analysis's)."""
+        hinges = list(hinges)
+        n = cls.n_hinges_expected(curve)
+        if len(hinges) != n:
+            raise InputError(f"expected a {n}-hinge mechanism, got {len(hinges)} hinges")
+        return cls(curve, tuple(float(h.s) for h in hinges), tuple(h.side for h in hinges), alpha)
 
     @classmethod
-    def from_angles(cls, curve: MidCurve, angles_deg, sides) -> "FourHinge":
+    def from_angles(cls, curve: MidCurve, angles_deg, sides, alpha: float = 1.0) -> "Mechanism":
         """Hinges at ``angles_deg`` (the curve's reporting coordinate, deg from the left
         springing for arches; linear in ``s``)."""
         scale = curve.length / float(curve.angle_deg(curve.length))
         a = np.asarray(angles_deg, float)
         if np.any(a < -1e-9) or np.any(a * scale > curve.length * (1 + 1e-12)):
             raise InputError(f"hinge angles must lie in [0, {float(curve.angle_deg(curve.length)):g}] deg")
-        return cls(tuple(np.clip(a * scale, 0.0, curve.length)), tuple(sides))
+        return cls(curve, tuple(np.clip(a * scale, 0.0, curve.length)), tuple(sides), alpha)
 
-    def angles_deg(self, curve: MidCurve) -> np.ndarray:
-        return np.asarray(curve.angle_deg(np.asarray(self.s, float)), float)
+    @classmethod
+    def from_dofs(cls, disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_TOL) -> "Mechanism":
+        """The mechanism of the element DOFs ``d``: its open joints
+        (:func:`~fembeam.mechanisms.hinge.find_hinges`, neighbours on one side merged)
+        and the rate ``alpha`` fitting their rotations (least squares)."""
+        hs = merge_adjacent(disc, find_hinges(disc, d, rel_tol))
+        if any(h.side not in ROCKING_SIDES for h in hs):
+            raise InputError("a joint of the field has separated: not a mechanism of rotating pieces")
+        unit = cls.from_hinges(disc.curve, hs)
+        jumps = unit.jumps()
+        rot = np.array([h.rotation for h in hs])
+        return unit.with_alpha(float(jumps @ rot / (jumps @ jumps)))
 
-    def opposite(self) -> "FourHinge":
+    def with_alpha(self, alpha: float) -> "Mechanism":
+        """The same hinges moving with free-parameter rate ``alpha`` (rad/s)."""
+        return replace(self, alpha=float(alpha))
+
+    def closing(self) -> "Mechanism":
+        """The same hinges moving in the sense that closes them (rate ``-compatible_sign``,
+        0 if incompatible): the field of an arch returning along ``-u`` to an impact."""
+        return self.with_alpha(-self.compatible_sign())
+
+    def opposite(self) -> "Mechanism":
         """Same sections, pivots on the other edge (the points C-bar of Sect. 3)."""
-        return FourHinge(self.s, tuple(OPPOSITE[k] for k in self.sides))
+        return replace(self, sides=tuple(side_of(k).opposite_name for k in self.sides))
 
-    def mirrored(self, curve: MidCurve) -> "FourHinge":
-        """Mirror image about the symmetry axis (s -> L - s; a side stays a side)."""
-        return FourHinge(tuple(curve.length - np.asarray(self.s[::-1], float)), self.sides[::-1])
+    def mirrored(self) -> "Mechanism":
+        """Mirror image about the vertical axis of the member: ``s -> L - s`` with the
+        same sides for a symmetric arch; the other face at the same ``s`` for a member
+        with a free end (a vertical block)."""
+        if self.n_hinges == 1:
+            return self.opposite()
+        L = self.curve.length
+        return replace(self, s=tuple(L - np.asarray(self.s[::-1], float)), sides=self.sides[::-1])
 
-    def to_list(self, curve: MidCurve) -> list[dict]:
-        return [{"angle_deg": round(float(a), 6), "side": k} for a, k in zip(self.angles_deg(curve), self.sides)]
+    # ------------------------------------------------------------------ geometry
+    @property
+    def n_hinges(self) -> int:
+        return len(self.s)
 
-    def hinges(self, curve: MidCurve, alpha: float = 1.0) -> list:
-        """The four hinges as :class:`~fembeam.hinges.Hinge` (rotation = jump of the
-        angular velocity, right minus left, for ``Omega_I = alpha``)."""
-        from .hinges import Hinge
+    @property
+    def breaks(self) -> np.ndarray:
+        """Ends of the pieces (m): ``[0, *s, L]``."""
+        return np.array([0.0, *self.s, self.curve.length])
 
-        om = alpha * self.omegas(curve)[0]
-        jumps = [om[0], om[1] - om[0], om[2] - om[1], -om[2]]
-        return [Hinge(float(s), float(curve.angle_deg(s)), k, float(j), ())
-                for s, k, j in zip(self.s, self.sides, jumps)]
+    @property
+    def moving(self) -> np.ndarray:
+        """Booleans: which pieces (between consecutive ``breaks``) move."""
+        if self.n_hinges == 4:
+            return np.array([False, True, True, True, False])
+        return np.array([False, True]) if self.curve.ends[1] == "free" else np.array([True, False])
 
-    def points(self, curve: MidCurve) -> np.ndarray:
+    def angles_deg(self) -> np.ndarray:
+        return np.asarray(self.curve.angle_deg(np.asarray(self.s, float)), float)
+
+    def pivot_y(self) -> np.ndarray:
+        """Offsets ``y`` (m, along ``n``) of the pivot points of the hinges."""
         s = np.asarray(self.s, float)
-        return curve.point(s, pivot_y(curve, s, self.sides))
+        return pivot_fractions(self.sides) * self.curve.thickness_at(s)
 
-    def omegas(self, curve: MidCurve):
-        """Angular velocities (I, III, II) for Omega_I = 1 and centres (C1, C3, C2)."""
-        C1, C13, C23, C2 = self.points(curve).T
+    def points(self) -> np.ndarray:
+        """(2, n_hinges) pivot points ``X(s) + y n(s)`` (m)."""
+        return self.curve.point(np.asarray(self.s, float), self.pivot_y())
+
+    def to_list(self) -> list[dict]:
+        return [{"angle_deg": round(float(a), 6), "side": k} for a, k in zip(self.angles_deg(), self.sides)]
+
+    # ------------------------------------------------------------------ kinematics
+    def omegas(self) -> tuple[np.ndarray, np.ndarray]:
+        """Angular velocities of the moving pieces for ``alpha = 1`` and their centres
+        (2, k): for four hinges ``(1, Omega_III, Omega_II)`` about ``(C1, C3, C2)``."""
+        P = self.points()
+        if self.n_hinges == 1:
+            return np.array([1.0]), P
+        C1, C13, C23, C2 = P.T
         d1, d2 = C13 - C1, C23 - C2
         det = d1[0] * (-d2[1]) - d1[1] * (-d2[0])
         if abs(det) < 1e-14 * np.dot(d1, d1):
@@ -158,93 +190,130 @@ class FourHinge:
         C3 = C1 + a * d1
         om3 = np.dot(C13 - C1, C13 - C3) / np.dot(C13 - C3, C13 - C3)
         om2 = om3 * np.dot(C23 - C3, C23 - C2) / np.dot(C23 - C2, C23 - C2)
-        return np.array([1.0, om3, om2]), (C1, C3, C2)
+        return np.array([1.0, om3, om2]), np.array([C1, C3, C2]).T
 
-    def compatible_sign(self, curve: MidCurve) -> float:
-        """+1 or -1: the sign of alpha for which every hinge opens; 0 if none does."""
-        om, _ = self.omegas(curve)
-        jumps = np.array([om[0], om[1] - om[0], om[2] - om[1], -om[2]])
-        q = np.array([SIDE_SIGN[k] for k in self.sides]) * jumps
+    def piece_omegas(self) -> np.ndarray:
+        """Angular velocity of every piece (rad/s) for ``alpha = 1`` (0 at rest)."""
+        out = np.zeros(self.moving.size)
+        out[self.moving] = self.omegas()[0]
+        return out
+
+    def jumps(self) -> np.ndarray:
+        """Rotation jumps ``[Omega]`` (right minus left) at the hinges for ``alpha = 1``."""
+        return np.diff(self.piece_omegas())
+
+    def compatible_sign(self) -> float:
+        """+1 or -1: the sign of ``alpha`` for which every hinge opens; 0 if none does."""
+        q = opening_signs(self.sides) * self.jumps()
         return 1.0 if np.all(q >= 0) else (-1.0 if np.all(q <= 0) else 0.0)
 
-    def pieces(self, curve: MidCurve, alpha: float = 1.0) -> Pieces:
-        om, centres = self.omegas(curve)
-        motion = [[0.0, 0.0, 0.0]]
-        for w, C in zip(alpha * om, centres):
-            motion.append([w * C[1], -w * C[0], w])   # rotation w about C
-        motion.append([0.0, 0.0, 0.0])
-        return Pieces(np.array([0.0, *self.s, curve.length]), np.array(motion))
+    def motion(self) -> np.ndarray:
+        """(pieces, 3): ``(V_x, V_y, Omega)`` of each piece (m/s, rad/s) at rate ``alpha``."""
+        om, C = self.omegas()
+        w = self.alpha * om
+        out = np.zeros((self.moving.size, 3))
+        out[self.moving] = np.column_stack([w * C[1], -w * C[0], w])   # rotation w about C
+        return out
 
+    def piece_of(self, s) -> np.ndarray:
+        """Index of the piece containing each section ``s`` (left piece at a hinge)."""
+        return np.clip(np.searchsorted(self.breaks, s) - 1, 0, self.moving.size - 1)
 
-def load_factor(curve: MidCurve, mech: FourHinge, direction: int = 1) -> float:
-    """``lambda = A/g`` that makes ``mech`` an equilibrium mechanism (inf if incompatible)."""
-    sgn = mech.compatible_sign(curve)
-    if sgn == 0:
-        return np.inf
-    p = mech.pieces(curve, sgn)
-    P_h = direction * product(curve, p, Pieces.rigid(curve, V=(1.0, 0.0)))
-    P_g = product(curve, p, Pieces.rigid(curve, V=(0.0, 1.0)))
-    return P_g / P_h if P_h > 0 else np.inf
+    def motion_at(self, s) -> np.ndarray:
+        """(n, 3) motion of the piece containing each ``s``."""
+        return self.motion()[self.piece_of(np.asarray(s, float))]
 
+    def velocity(self, s, y=0.0) -> np.ndarray:
+        """(2, n) velocity (m/s) of the material points ``X(s) + y n(s)``."""
+        s = np.atleast_1d(np.asarray(s, float))
+        X = self.curve.point(s, y)
+        Vx, Vy, W = self.motion_at(s).T
+        return np.array([Vx - W * X[1], Vy + W * X[0]])
 
-def restitution(curve: MidCurve, before: Pieces, after: FourHinge) -> float:
-    """``r = Gamma^2 / (Lambda Lambda')`` (17) for ``after`` following ``before``; 0 if
-    ``after`` cannot open with the sign of Gamma (no compatible motion)."""
-    sgn = after.compatible_sign(curve)
-    pa = after.pieces(curve)
-    gamma = product(curve, before, pa)
-    if sgn == 0 or gamma * sgn <= 0:
-        return 0.0
-    return gamma**2 / (product(curve, before, before) * product(curve, pa, pa))
+    def dofs(self, disc: Discretization) -> np.ndarray:
+        """Element DOFs of the field on ``disc``: each element takes the motion of the
+        piece containing its midpoint (exact when the hinges are nodes of the mesh)."""
+        Vx, Vy, W = self.motion_at(disc.frames["s"]).T
+        return rigid_dofs(disc, (Vx, Vy), W)
+
+    def hinges(self) -> list[Hinge]:
+        """The hinges as :class:`~fembeam.mechanisms.hinge.Hinge` (rotation = jump of the
+        angular velocity at rate ``alpha``, right minus left)."""
+        return [Hinge(float(s), float(self.curve.angle_deg(s)), k, float(j), ())
+                for s, k, j in zip(self.s, self.sides, self.alpha * self.jumps())]
+
+    def configuration(self, theta: float) -> "Configuration":
+        """The pieces after a finite rotation ``theta`` (rad, counter-clockwise) of the
+        free parameter: the first moving piece rotates by ``theta`` about its hinge.
+
+        Four hinges: the exact four-bar linkage C1-C13-C23-C2; C13 turns about C1, C23
+        stays on its circle about C2 at the fixed length ``|C23 - C13|``, on the branch
+        continuous from ``theta = 0``; ``locked`` when the loop cannot close.
+        """
+        n = self.moving.size
+        rotation, anchor, moved = np.zeros(n), np.zeros((2, n)), np.zeros((2, n))
+        P = self.points()
+        k = np.flatnonzero(self.moving)
+        if self.n_hinges == 1:
+            rotation[k] = theta
+            anchor[:, k] = moved[:, k] = P
+            return Configuration(self, float(theta), False, rotation, anchor, moved)
+        C1, C13, C23, C2 = P.T
+        l2, l3 = np.linalg.norm(C23 - C2), np.linalg.norm(C23 - C13)
+        B = C1 + _rot(theta) @ (C13 - C1)                         # C13 after the rotation
+        sigma = 1.0 if _cross(C13 - C2, C23 - C2) >= 0 else -1.0  # branch at theta = 0
+        dv = B - C2
+        d = np.linalg.norm(dv)
+        e = dv / d
+        a = (l2**2 - l3**2 + d**2) / (2 * d)
+        h2 = l2**2 - a**2
+        if h2 < -1e-12 * l2**2:
+            nan = np.full(n, np.nan)
+            return Configuration(self, float(theta), True, nan, np.full((2, n), np.nan), np.full((2, n), np.nan))
+        D = C2 + a * e + sigma * np.sqrt(max(h2, 0.0)) * np.array([-e[1], e[0]])   # C23 after
+        rotation[k] = theta, _angle(C23 - C13, D - B), _angle(C23 - C2, D - C2)
+        anchor[:, k] = np.array([C1, C13, C2]).T
+        moved[:, k] = np.array([C1, B, C2]).T
+        return Configuration(self, float(theta), False, rotation, anchor, moved)
 
 
 @dataclass(frozen=True)
-class ImpactFigures:
-    """Eqs. (7), (14), (15), (17) for a four-hinge ``after`` following ``before``.
+class Configuration:
+    """A mechanism's pieces after a finite motion: piece ``i`` is turned by
+    ``rotation[i]`` (rad, counter-clockwise) and moved so that its material point
+    ``anchor[:, i]`` is at ``moved[:, i]`` (m). ``locked``: the motion is impossible
+    (the four-bar loop cannot close); then every array is NaN."""
 
-    ``Lambda = 2K`` of ``before`` (its own alpha = 1), ``Lambda_after`` of ``after`` with
-    ``Omega_I = 1``, ``Gamma`` their momentum pairing, ``alpha_ratio = alpha'/alpha =
-    Gamma / Lambda'`` (15) and ``r = Gamma^2 / (Lambda Lambda')`` (17);
-    ``compatible`` is False when ``alpha'`` has not the sign that opens every hinge
-    of ``after`` (then no motion along ``after`` follows and ``r`` is reported 0).
-    """
+    mechanism: Mechanism
+    theta: float
+    locked: bool
+    rotation: np.ndarray
+    anchor: np.ndarray
+    moved: np.ndarray
 
-    Gamma: float
-    Lambda: float
-    Lambda_after: float
-    alpha_ratio: float
-    r: float
-    compatible: bool
+    def displace(self, s, y=0.0, piece=None) -> np.ndarray:
+        """(2, n) positions of the material points ``X(s) + y n(s)`` (m); ``piece``
+        forces the piece (default: the one containing ``s``, the left one at a hinge)."""
+        s = np.atleast_1d(np.asarray(s, float))
+        k = self.mechanism.piece_of(s) if piece is None else np.full(s.shape, int(piece))
+        X = self.mechanism.curve.point(s, y)
+        c, sn = np.cos(self.rotation[k]), np.sin(self.rotation[k])
+        r = X - self.anchor[:, k]
+        return self.moved[:, k] + np.array([c * r[0] - sn * r[1], sn * r[0] + c * r[1]])
 
+    def hinge_points(self) -> np.ndarray:
+        """(2, n_hinges) pivot points after the motion (shared by both pieces)."""
+        m = self.mechanism
+        return np.column_stack([self.displace(s, y, piece=i)[:, 0]
+                                for i, (s, y) in enumerate(zip(m.s, m.pivot_y()))]) \
+            if m.n_hinges else np.zeros((2, 0))
 
-def post_impact(curve: MidCurve, before: Pieces, after: FourHinge) -> ImpactFigures:
-    """Closed-form four-hinge impact (Sect. 4.2): alpha' and r for prescribed hinges."""
-    sgn = after.compatible_sign(curve)
-    pa = after.pieces(curve)
-    gamma = product(curve, before, pa)
-    lam, lam_a = product(curve, before, before), product(curve, pa, pa)
-    ok = bool(sgn != 0 and gamma * sgn > 0)
-    return ImpactFigures(gamma, lam, lam_a, gamma / lam_a, gamma**2 / (lam * lam_a) if ok else 0.0, ok)
+    def hinge_rotations(self) -> np.ndarray:
+        """Relative rotations (rad, right minus left) at the hinges."""
+        return np.diff(self.rotation)
 
-
-def optimise_load_factor(curve: MidCurve, start: FourHinge, direction: int = 1) -> tuple[FourHinge, float]:
-    """Minimise ``lambda`` over the four hinge positions (sides fixed), from ``start``.
-
-    ``lambda`` is smooth in the hinge positions and stationary at the optimum, so a
-    bounded quasi-Newton search converges to the continuous-arch mechanism."""
-    L = curve.length
-    sides = start.sides
-
-    def f(x):
-        s = np.sort(np.clip(x, 0.0, 1.0)) * L
-        lam = load_factor(curve, FourHinge(tuple(s), sides), direction)
-        return lam if np.isfinite(lam) else 1e6  # incompatible: out of the feasible set
-
-    x0 = np.asarray(start.s) / L
-    f0 = f(x0)
-    if f0 >= 1e6:
-        raise SolverError("the starting four-hinge mechanism is not compatible")
-    res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * 4,
-                   options={"ftol": 1e-15, "gtol": 1e-11, "eps": 1e-9, "maxiter": 500})
-    best = res.x if res.fun <= f0 else x0
-    return FourHinge(tuple(np.sort(best) * L), sides), float(min(res.fun, f0))
+    @property
+    def opens(self) -> bool:
+        """Every hinge is turned in its opening sense (or not at all)."""
+        q = opening_signs(self.mechanism.sides) * self.hinge_rotations()
+        return bool(not self.locked and np.all(q >= 0))

@@ -7,7 +7,7 @@ after the impact.
   ``Lambda' = sum_k a_k^T Q[k] a_k`` and ``Gamma = sum_k a_k . (Q b)[k]`` over the three
   moving pieces ``k`` (``Q`` = 3x3 inertia matrix of a piece, ``a_k`` its motion
   ``(V_x, V_y, Omega)``, ``b`` the pre-impact field).
-* Continuous arch: maximise ``r`` of (17) (exact integrals, :func:`fourhinge.post_impact`)
+* Continuous arch: maximise ``r`` of (17) (exact integrals, :func:`~fembeam.mechanisms.energy.post_impact`)
   over the four hinge positions with the sides fixed, by a bounded quasi-Newton search
   started from the exhaustive optimum on a fine joint grid.
 """
@@ -19,22 +19,21 @@ from itertools import combinations, product as iproduct
 import numpy as np
 from scipy.optimize import minimize
 
-from .errors import InputError
-from .fourhinge import SIDE_SIGN, SIDE_Y, FourHinge, Pieces, post_impact
-from .geometry import MidCurve
+from ..errors import InputError
+from ..geometry import MidCurve
+from .energy import post_impact
+from .hinge import ROCKING_SIDES, opening_signs, pivot_fractions
+from .mechanism import Mechanism
 
-__all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "qp_with_hinges_only_at",
-           "SIDES"]
-
-SIDES = ("intrados", "extrados")
+__all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "qp_with_hinges_only_at"]
 
 
 @dataclass
 class RestrictedResult:
     """Best four-hinge mechanism ``after`` with its ``r`` (17); ``ranking``: the next
-    best candidates as ``(r, FourHinge)``; ``candidates``/``compatible``: counts."""
+    best candidates as ``(r, Mechanism)``; ``candidates``/``compatible``: counts."""
 
-    after: FourHinge
+    after: Mechanism | None
     r: float
     ranking: list = field(default_factory=list)
     candidates: int = 0
@@ -87,17 +86,18 @@ def _kernel(P: np.ndarray, sides_sign: np.ndarray, idx: np.ndarray, cQ: np.ndarr
         return np.where(ok, gam**2 / (lam * lam_a), 0.0)
 
 
-def best_four_hinge_discrete(curve: MidCurve, joint_s, before: Pieces, keep: int = 5,
+def best_four_hinge_discrete(joint_s, before: Mechanism, keep: int = 5,
                              chunk: int = 400_000) -> RestrictedResult:
     """Exhaustive restricted problem on the joints ``joint_s`` (m, increasing, the
     springings included) for the pre-impact field ``before`` (rigid on each voussoir)."""
+    curve = before.curve
     js = np.asarray(joint_s, float)
     J = js.size
     if J < 4:
         raise InputError("a four-hinge mechanism needs at least four joints")
     Q = _inertia_matrices(curve, js)
     mid = 0.5 * (js[:-1] + js[1:])
-    b = before.motion[np.clip(np.searchsorted(before.breaks, mid) - 1, 0, len(before.motion) - 1)]
+    b = before.motion_at(mid)
     G = np.einsum("vij,vj->vi", Q, b)
     lam = float(np.einsum("vi,vi->", b, G))
     cQ = np.concatenate([np.zeros((1, 3, 3)), np.cumsum(Q, 0)])
@@ -106,9 +106,9 @@ def best_four_hinge_discrete(curve: MidCurve, joint_s, before: Pieces, keep: int
     combos = np.array(list(combinations(range(J), 4)), dtype=np.int64)
     best: list[tuple[float, tuple[int, ...], tuple[str, ...]]] = []
     n_compat = 0
-    for sides in iproduct(SIDES, repeat=4):
-        sign = np.array([SIDE_SIGN[k] for k in sides])
-        y = np.array([SIDE_Y[k] for k in sides])
+    for sides in iproduct(ROCKING_SIDES, repeat=4):
+        sign = opening_signs(sides)
+        y = pivot_fractions(sides)
         for c0 in range(0, len(combos), chunk):
             idx = combos[c0:c0 + chunk]
             P = (X[:, idx] + y[None, :] * t[idx] * n[:, idx]).transpose(1, 2, 0)   # (n, 4, 2)
@@ -119,17 +119,18 @@ def best_four_hinge_discrete(curve: MidCurve, joint_s, before: Pieces, keep: int
             best = sorted(best, key=lambda z: -z[0])[:keep]
     if not best:
         return RestrictedResult(None, 0.0, [], 16 * len(combos), 0, "exhaustive")
-    rank = [(r, FourHinge(tuple(js[list(i)]), s)) for r, i, s in best]
+    rank = [(r, Mechanism(curve, tuple(js[list(i)]), s)) for r, i, s in best]
     return RestrictedResult(rank[0][1], rank[0][0], rank[1:], 16 * len(combos), n_compat, "exhaustive")
 
 
-def best_four_hinge_continuous(curve: MidCurve, before: Pieces, grid: int = 31,
-                               starts: list[FourHinge] | None = None) -> RestrictedResult:
+def best_four_hinge_continuous(before: Mechanism, grid: int = 31,
+                               starts: list[Mechanism] | None = None) -> RestrictedResult:
     """Restricted problem on a continuous arch: exhaustive search on ``grid`` uniform
     voussoirs for the sides and a start, then maximise the exact ``r`` over the four
     hinge positions (L-BFGS-B, sides fixed) from it and from ``starts``."""
+    curve = before.curve
     L = curve.length
-    coarse = best_four_hinge_discrete(curve, np.linspace(0.0, L, grid + 1), before, keep=2)
+    coarse = best_four_hinge_discrete(np.linspace(0.0, L, grid + 1), before, keep=2)
     cands = [m for m in [coarse.after] + [h for _, h in coarse.ranking] + list(starts or []) if m is not None]
     results = []
     for start in cands:
@@ -137,27 +138,27 @@ def best_four_hinge_continuous(curve: MidCurve, before: Pieces, grid: int = 31,
 
         def f(x, sides=sides):
             s = np.sort(np.clip(x, 0.0, 1.0)) * L
-            return -post_impact(curve, before, FourHinge(tuple(s), sides)).r
+            return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
 
         x0 = np.asarray(start.s) / L
         res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * 4,
                        options={"ftol": 1e-15, "gtol": 1e-12, "eps": 1e-9, "maxiter": 1000})
         x = res.x if res.fun <= f(x0) else x0
-        results.append((-f(x), FourHinge(tuple(np.sort(np.clip(x, 0, 1)) * L), sides)))
+        results.append((-f(x), Mechanism(curve, tuple(np.sort(np.clip(x, 0, 1)) * L), sides)))
     results.sort(key=lambda z: -z[0])
     return RestrictedResult(results[0][1], results[0][0], results[1:], coarse.candidates, coarse.compatible,
                             f"exhaustive on {grid} voussoirs, then L-BFGS-B on the exact r")
 
 
 def qp_with_hinges_only_at(disc, d0: np.ndarray, open_joints, backend: str = "clarabel") -> tuple[float, np.ndarray]:
-    """The impact QP of :mod:`fembeam.impact` with every joint except ``open_joints``
+    """The impact QP of :mod:`fembeam.analysis.impact` with every joint except ``open_joints``
     locked (both fibre openings = 0): ``(r, d')``.  With four joints it is the
     restricted problem on those sections, solved by the FE machinery: a cross-check
     of the closed form, and the tool that shows what extra open joints buy."""
     import scipy.sparse as sp
 
-    from .fem import dof_scaling
-    from .analysis.qp import solve_qp
+    from ..analysis.qp import solve_qp
+    from ..fem import dof_scaling
 
     J = disc.n_joints
     free = np.zeros(J, bool)

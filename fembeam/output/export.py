@@ -12,11 +12,14 @@ One call writes five unstructured grids and a ParaView multiblock index::
     out_hinges.vtu    hinges before/after as vertex cells on the edge they pivot on
     out.vtm           multiblock index of the five (ParaView / pyvista open it at once)
 
-Conventions (THEORY §1): ``y`` is the offset along the inward normal ``n``, intrados at
+Conventions (docs/theory.md, Sect. 1): ``y`` is the offset along the inward normal ``n``, intrados at
 ``y = +t/2``; eccentricities are ``y`` of the line (m); velocities in m/s for the
 normalised mechanism (unit mean horizontal speed of ``u = -d0``); impulses in N s per
 unit depth for that velocity scale (paper sign: ``I_t < 0`` is compression); thrust
-forces per unit g.  Points are stored as ``(npoints, 3)`` with ``z = 0``.
+forces per unit g.  Points are stored as ``(npoints, 3)`` with ``z = 0``.  A field may
+be given as element DOFs or as a :class:`~fembeam.mechanisms.mechanism.Mechanism`
+(evaluated on the mesh), hinges as :class:`~fembeam.mechanisms.hinge.Hinge` objects or
+as a Mechanism (its hinges).
 """
 from __future__ import annotations
 
@@ -25,14 +28,24 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from .fem import Discretization
-from .hinges import Hinge
+from ..fem import Discretization
+from ..mechanisms.hinge import Hinge, pivot_fractions, side_of
+from ..mechanisms.mechanism import Mechanism
 
-__all__ = ["SIDE_CODE", "rigid_velocity", "body_mesh", "joints_mesh", "line_mesh", "hinges_mesh",
+__all__ = ["as_dofs", "as_hinges", "rigid_velocity", "body_mesh", "joints_mesh", "line_mesh", "hinges_mesh",
            "impulse_line", "thrust_line", "write_fields", "write_vtk", "meshes_of", "output_paths"]
 
-SIDE_CODE = {"intrados": 1, "extrados": -1, "separated": 0}  # sign of y of the pivot edge
 PARTS = ("body", "joints", "impulse", "thrust", "hinges")
+
+
+def as_dofs(disc: Discretization, field) -> np.ndarray:
+    """Element DOFs of ``field``: DOFs as they are, or a Mechanism evaluated on ``disc``."""
+    return field.dofs(disc) if isinstance(field, Mechanism) else np.asarray(field, float)
+
+
+def as_hinges(hinges) -> list[Hinge]:
+    """Hinges as they are, or the hinges of a Mechanism (rotations at its rate)."""
+    return hinges.hinges() if isinstance(hinges, Mechanism) else list(hinges)
 
 
 def rigid_velocity(disc: Discretization, d: np.ndarray, elem: np.ndarray, X: np.ndarray) -> np.ndarray:
@@ -158,10 +171,11 @@ def hinges_mesh(disc: Discretization, before: Sequence[Hinge], after: Sequence[H
     -1 extrados, 0 separated), ``angle_deg``, ``s`` (m), ``rotation`` (rad/s)."""
     import meshio
 
-    hs = list(before) + list(after)
+    before, after = as_hinges(before), as_hinges(after)
+    hs = before + after
     s = np.array([h.s for h in hs], float)
-    side = np.array([SIDE_CODE[h.side] for h in hs], np.int32)
-    X = _section_points(disc, s, 0.5 * side) if hs else np.zeros((2, 0))
+    side = np.array([side_of(h.side).code for h in hs], np.int32)
+    X = _section_points(disc, s, pivot_fractions(h.side for h in hs)) if hs else np.zeros((2, 0))
     pd = {"after": np.array([0] * len(before) + [1] * len(after), np.int32), "side": side,
           "angle_deg": np.array([h.angle_deg for h in hs], float), "s": s,
           "rotation": np.array([h.rotation for h in hs], float)}
@@ -169,7 +183,7 @@ def hinges_mesh(disc: Discretization, before: Sequence[Hinge], after: Sequence[H
 
 
 def impulse_line(imp) -> dict:
-    """Impulse-line arrays of an :class:`~fembeam.impact.ImpactResult` (per joint):
+    """Impulse-line arrays of an :class:`~fembeam.analysis.impact.ImpactResult` (per joint):
     ``eccentricity`` (m), ``I_t``, ``I_n`` (N s), ``moment`` (N m s), ``mu_intrados``,
     ``mu_extrados`` (fibre impulses >= 0, compression)."""
     return {"angle_deg": imp.disc.joint_angle_deg, "eccentricity": imp.eccentricity,
@@ -178,17 +192,17 @@ def impulse_line(imp) -> dict:
 
 
 def thrust_line(lim) -> dict:
-    """Thrust-line arrays of a :class:`~fembeam.limit.LimitResult`: ``eccentricity`` (m),
+    """Thrust-line arrays of a :class:`~fembeam.analysis.limit.LimitResult`: ``eccentricity`` (m),
     ``N`` (total normal force >= 0 compression, per g), ``S`` (shear, per g)."""
     return {"angle_deg": lim.disc.joint_angle_deg, "eccentricity": lim.eccentricity,
             "N": lim.N[0] + lim.N[1], "S": lim.S}
 
 
-def meshes_of(disc: Discretization, d0: np.ndarray, d: np.ndarray, hinges_before: Sequence[Hinge] = (),
-              hinges_after: Sequence[Hinge] = (), impulse: Mapping | None = None,
+def meshes_of(disc: Discretization, d0, d, hinges_before: Sequence[Hinge] | Mechanism = (),
+              hinges_after: Sequence[Hinge] | Mechanism = (), impulse: Mapping | None = None,
               thrust: Mapping | None = None, layers: int = 2) -> dict:
     """The meshio meshes written by :func:`write_fields`, keyed by part name."""
-    fields = {"before": np.asarray(d0, float), "after": np.asarray(d, float)}
+    fields = {"before": as_dofs(disc, d0), "after": as_dofs(disc, d)}
     jdata = {}
     if impulse is not None:
         jdata.update({f"{k}_impulse" if k == "eccentricity" else k: v
@@ -217,8 +231,8 @@ def output_paths(path: str | Path) -> dict[str, Path]:
     return out
 
 
-def write_fields(path: str | Path, disc: Discretization, d0: np.ndarray, d: np.ndarray,
-                 hinges_before: Sequence[Hinge] = (), hinges_after: Sequence[Hinge] = (),
+def write_fields(path: str | Path, disc: Discretization, d0, d,
+                 hinges_before: Sequence[Hinge] | Mechanism = (), hinges_after: Sequence[Hinge] | Mechanism = (),
                  impulse: Mapping | None = None, thrust: Mapping | None = None,
                  layers: int = 2) -> dict[str, Path]:
     """Write the parts of :func:`meshes_of` next to ``path`` and a ``.vtm`` index; returns
@@ -248,7 +262,7 @@ def fields_of(result, what: str = "export") -> tuple:
     """Arguments of :func:`write_fields` / :func:`meshes_of` (after ``path``) for an
     :class:`~fembeam.analysis.AnalysisResult`; the impact fields are zero/absent when there
     was no impact. Raises InputError when the analysis found no mechanism."""
-    from .errors import InputError
+    from ..errors import InputError
 
     lim, imp = result.limit, result.impact
     if lim is None:

@@ -1,6 +1,6 @@
 """Figure: the optimal four-hinge impulse line versus the QP's hinge zones.
 
-``python -m fembeam.plot_four_hinge OUT.png [EMBRACE T_OVER_R]`` draws, around the two
+``python -m fembeam.output.plot_four_hinge OUT.png [EMBRACE T_OVER_R]`` draws, around the two
 inner post-impact hinges of a continuous arch, (top) the eccentricity e/t of the
 optimal four-hinge impulse line and of the QP's impulse line, (bottom) the QP's
 relative rotation per unit angle at the open joints for several meshes: a converged
@@ -12,11 +12,12 @@ import sys
 
 import numpy as np
 
-from .analysis import analyze
-from .fourhinge import FourHinge
-from .geometry import CircularArch
-from .impulse_line import four_hinge_impulse_line
-from .restricted import best_four_hinge_continuous
+from ..analysis import analyze
+from ..geometry import CircularArch
+from ..mechanisms.hinge import side_of
+from ..mechanisms.impulse_line import four_hinge_impulse_line
+from ..mechanisms.mechanism import Mechanism
+from ..mechanisms.restricted import best_four_hinge_continuous
 
 __all__ = ["plot_hinge_zone"]
 
@@ -30,16 +31,15 @@ def plot_hinge_zone(out: str, embrace: float = 157.5, t_over_r: float = 0.15, me
     c = CircularArch.from_ratio(embrace, t_over_r)
     res = {n: analyze(c, elements=n) for n in meshes}
     fine = res[meshes[-1]]
-    fb = FourHinge.from_hinges(fine.hinges_before)
-    pre = fb.pieces(c, -fb.compatible_sign(c))
-    best = best_four_hinge_continuous(c, pre)
-    line = four_hinge_impulse_line(c, pre, best.after, np.linspace(0, c.length, 4001))
-    ang4 = best.after.angles_deg(c)
+    pre = Mechanism.from_hinges(c, fine.hinges_before).closing()
+    best = best_four_hinge_continuous(pre)
+    line = four_hinge_impulse_line(pre, best.after, np.linspace(0, c.length, 4001))
+    ang4 = best.after.angles_deg()
     fig, ax = plt.subplots(2, 2, figsize=(10, 6), sharex="col")
     for col, (a0, side) in enumerate(zip(ang4[1:3], best.after.sides[1:3])):
         lo, hi = a0 - 10, a0 + 10
         m = (line.angle_deg >= lo) & (line.angle_deg <= hi)
-        sgn = 1.0 if side == "intrados" else -1.0
+        sgn = float(side_of(side).code)
         axe = ax[0, col]
         axe.axhline(0.5, color="k", lw=0.8)
         axe.plot(line.angle_deg[m], sgn * line.eccentricity[m] / line.thickness[m], "C3",

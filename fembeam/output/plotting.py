@@ -12,17 +12,20 @@ from typing import Sequence
 
 import numpy as np
 
-from .fem import Discretization
-from .hinges import PIVOT_Y, Hinge
+from ..fem import Discretization
+from ..mechanisms.hinge import Hinge, pivot_fractions
+from ..mechanisms.mechanism import Mechanism
+from .export import as_hinges
 
 __all__ = ["plot_paper_figure", "draw_paper_figure", "hinge_points", "line_points"]
 
 
-def hinge_points(disc: Discretization, hinges: Sequence[Hinge]) -> np.ndarray:
+def hinge_points(disc: Discretization, hinges: Sequence[Hinge] | Mechanism) -> np.ndarray:
     """(2, n) points of ``hinges`` on their pivot edge ``X + y n``, ``y = +-t/2`` (m)."""
     c = disc.curve
+    hinges = as_hinges(hinges)
     s = np.array([h.s for h in hinges], float)
-    return c.point(s, np.array([PIVOT_Y[h.side] for h in hinges]) * c.thickness_at(s))
+    return c.point(s, pivot_fractions(h.side for h in hinges) * c.thickness_at(s))
 
 
 def line_points(disc: Discretization, eccentricity: np.ndarray) -> np.ndarray:
@@ -32,11 +35,12 @@ def line_points(disc: Discretization, eccentricity: np.ndarray) -> np.ndarray:
     return c.point(s, eccentricity)
 
 
-def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] = (),
-                      hinges_after: Sequence[Hinge] = (), impulse_e: np.ndarray | None = None,
+def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] | Mechanism = (),
+                      hinges_after: Sequence[Hinge] | Mechanism = (), impulse_e: np.ndarray | None = None,
                       thrust_e: np.ndarray | None = None, title: str = "") -> None:
     """Draw on the matplotlib axes ``ax`` (see the module docstring)."""
     c = disc.curve
+    hinges_before, hinges_after = as_hinges(hinges_before), as_hinges(hinges_after)
     s = np.linspace(0.0, c.length, 721)
     X, n, t = c.position(s), c.normal(s), c.thickness_at(s)
     kw = dict(color="black", lw=1.0)
@@ -67,8 +71,8 @@ def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] =
         ax.set_title(title)
 
 
-def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Sequence[Hinge] = (),
-                      hinges_after: Sequence[Hinge] = (), impulse_e: np.ndarray | None = None,
+def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Sequence[Hinge] | Mechanism = (),
+                      hinges_after: Sequence[Hinge] | Mechanism = (), impulse_e: np.ndarray | None = None,
                       thrust_e: np.ndarray | None = None, title: str = "", dpi: int = 150) -> Path:
     """:func:`draw_paper_figure` on a new figure saved to ``path`` (format from the suffix)."""
     import matplotlib
@@ -90,7 +94,7 @@ def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Seq
 def plot_paper_figure(result, path: str | Path, dpi: int = 150) -> Path:
     """Paper-style figure of an :class:`~fembeam.analysis.AnalysisResult` saved to ``path``
     (format from the suffix: png, pdf, svg ...)."""
-    from .errors import InputError
+    from ..errors import InputError
     from .render import title_of
 
     lim, imp = result.limit, result.impact

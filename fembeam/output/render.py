@@ -1,6 +1,6 @@
 """Off-screen 3D-engine picture of an impact solution with pyvista (VTK).
 
-Draws the meshes of :mod:`fembeam.export`: the arch body coloured by the post-impact
+Draws the meshes of :mod:`fembeam.output.export`: the arch body coloured by the post-impact
 speed, the impulse line (red), the thrust line (dashed black), hinges before the impact (grey)
 and after it (blue), in the x-y plane with a parallel projection (equal aspect).
 
@@ -27,7 +27,7 @@ def _headless_setup() -> None:
     from ctypes.util import find_library
 
     if find_library("EGL") is None and find_library("OSMesa") is None:
-        from .errors import FembeamError
+        from ..errors import FembeamError
         raise FembeamError("off-screen rendering needs libEGL or libOSMesa (Debian: apt-get install "
                            "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6; see docs/visualisation.md)")
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
@@ -92,7 +92,7 @@ def _fit_camera(pl, bounds, size, margin: float = 1.25, room: float = 0.82) -> N
 
 def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 900),
                   scalars: str = "speed_after") -> Path:
-    """Render the meshes of :func:`fembeam.export.meshes_of` to the PNG ``path``."""
+    """Render the meshes of :func:`fembeam.output.export.meshes_of` to the PNG ``path``."""
     _headless_setup()
     import pyvista as pv
 

@@ -148,7 +148,7 @@ def markdown(rep: Report, command: str) -> str:
         L += [f"## {SECTION_TITLES['paper']}", "",
               "Oppenheim's arch: 7 voussoirs, t/R = 0.15 (Sect. 6.1); continuous arch, 157.5 deg, t/R = 0.15 "
               "(Sect. 6.2). r_max is the general QP, r_4hinge the restricted problem (16)-(17) "
-              "(`fembeam.restricted`), the classical model is `fembeam.classical`.", ""] + checks_of("paper")
+              "(`fembeam.mechanisms.restricted`), the classical model is `fembeam.mechanisms.classical`.", ""] + checks_of("paper")
 
         def hs(lst):
             return " ".join(f"{h['angle_deg']:.2f}{h['side'][0]}" for h in lst)

@@ -95,36 +95,36 @@ def section_exact(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
 # ---------------------------------------------------------------------------- 2. paper
 def _oppenheim(beta: float) -> dict:
-    from ..classical import classical_impact
-    from ..fourhinge import FourHinge
     from ..geometry import CircularArch
-    from ..impulse_line import four_hinge_impulse_line
-    from ..restricted import best_four_hinge_discrete
+    from ..mechanisms import Mechanism
+    from ..mechanisms.classical import classical_impact
+    from ..mechanisms.impulse_line import four_hinge_impulse_line
+    from ..mechanisms.restricted import best_four_hinge_discrete
 
     c = CircularArch.from_ratio(beta, 0.15, radius=10.0)
     res = analyze(c, voussoirs=7)
-    fb = FourHinge.from_hinges(res.hinges_before)
-    pre = fb.pieces(c, -fb.compatible_sign(c))
+    fb = Mechanism.from_hinges(c, res.hinges_before)
+    pre = fb.closing()
     joints = res.impact.disc.joint_s
-    best = best_four_hinge_discrete(c, joints, pre)
-    line = four_hinge_impulse_line(c, pre, best.after, joints).admissibility()
-    cl = classical_impact(c, fb, joints)
+    best = best_four_hinge_discrete(joints, pre)
+    line = four_hinge_impulse_line(pre, best.after, joints).admissibility()
+    cl = classical_impact(fb, joints)
     return {"curve": c, "res": res, "before": fb, "best": best, "line": line, "classical": cl,
             "out": {"A_L": res.A_L, "r_max": res.r, "qp_hinges_after": [h.to_dict() for h in res.hinges_after],
-                    "hinges_before": fb.to_list(c), "r_4hinge": best.r, "hinges_after_4hinge": best.after.to_list(c),
-                    "four_hinge_line": line, "r_classical": cl.r, "classical_hinges_after": cl.after.to_list(c),
+                    "hinges_before": fb.to_list(), "r_4hinge": best.r, "hinges_after_4hinge": best.after.to_list(),
+                    "four_hinge_line": line, "r_classical": cl.r, "classical_hinges_after": cl.after.to_list(),
                     "classical_line": cl.line.admissibility(), "classical_r_energy": cl.r_energy}}
 
 
 def _same(curve, a, b) -> bool:
-    return a.sides == b.sides and np.allclose(a.angles_deg(curve), b.angles_deg(curve), atol=1e-9)
+    return a.sides == b.sides and np.allclose(a.angles_deg(), b.angles_deg(), atol=1e-9)
 
 
 def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
-    from ..fourhinge import FourHinge
     from ..geometry import CircularArch
-    from ..impulse_line import four_hinge_impulse_line
-    from ..restricted import best_four_hinge_continuous
+    from ..mechanisms import Mechanism
+    from ..mechanisms.impulse_line import four_hinge_impulse_line
+    from ..mechanisms.restricted import best_four_hinge_continuous
 
     S, checks, data = "paper", [], {}
     say("paper: Oppenheim's arch, 150 deg")
@@ -138,8 +138,8 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
                         f"{o['best'].candidates} candidates, {o['best'].compatible} compatible"),
                _against(S, "Oppenheim 150: classical model r", o["classical"].r, "oppenheim150.r"),
                _holds(S, "Oppenheim 150: best new hinges = points C-bar opposite u's = mirror of u's",
-                      _same(c, o["best"].after, fb.opposite()) and _same(c, fb.opposite(), fb.mirrored(c)),
-                      " ".join(f"{h['angle_deg']:.2f}{h['side'][0]}" for h in o["best"].after.to_list(c)),
+                      _same(c, o["best"].after, fb.opposite()) and _same(c, fb.opposite(), fb.mirrored()),
+                      " ".join(f"{h['angle_deg']:.2f}{h['side'][0]}" for h in o["best"].after.to_list()),
                       "opposite = mirrored", "paper Sect. 6.1, Fig. 10 caption")]
 
     say("paper: Oppenheim's arch, 157.5 deg")
@@ -148,10 +148,10 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
     c, fb, res = o["curve"], o["before"], o["res"]
     line = o["line"]
     out_at = [f["angle_deg"] for f in line["failures"] if f["check"] == "inside_thickness"]
-    c13 = float(fb.angles_deg(c)[1])
+    c13 = float(fb.angles_deg()[1])
     cl_line = o["classical"].line.admissibility()
     missed = sorted(f["angle_deg"] for f in cl_line["failures"] if f["check"] == "through_hinge")
-    new_inner = sorted(float(a) for a in o["classical"].after.angles_deg(c)[1:3])
+    new_inner = sorted(float(a) for a in o["classical"].after.angles_deg()[1:3])
     checks += [_against(S, "Oppenheim 157.5: A_L", res.A_L, "oppenheim157.A_L"),
                _against(S, "Oppenheim 157.5: best four-hinge r (restricted problem)", o["best"].r,
                         "oppenheim157.r_4hinge"),
@@ -173,16 +173,15 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
     say("paper: continuous arch, 157.5 deg")
     c = CircularArch.from_ratio(157.5, 0.15)
     res = analyze(c)
-    fb = FourHinge.from_hinges(res.hinges_before)
-    pre = fb.pieces(c, -fb.compatible_sign(c))
+    pre = Mechanism.from_hinges(c, res.hinges_before).closing()
     qh = res.hinges_after
-    starts = [FourHinge.from_hinges(qh)] if len(qh) == 4 else []
-    best = best_four_hinge_continuous(c, pre, starts=starts)
-    adm = four_hinge_impulse_line(c, pre, best.after, np.linspace(0.0, c.length, 721)).admissibility()
+    starts = [Mechanism.from_hinges(c, qh)] if len(qh) == 4 else []
+    best = best_four_hinge_continuous(pre, starts=starts)
+    adm = four_hinge_impulse_line(pre, best.after, np.linspace(0.0, c.length, 721)).admissibility()
     data["continuous_157.5"] = {"elements": res.elements, "A_L": res.A_L, "r_max": res.r,
                                 "hinges_before": [h.to_dict() for h in res.hinges_before],
                                 "hinges_after_qp": [h.to_dict() for h in qh], "r_4hinge": best.r,
-                                "hinges_after_4hinge": best.after.to_list(c),
+                                "hinges_after_4hinge": best.after.to_list(),
                                 "four_hinge_line": {k: v for k, v in adm.items() if k != "failures"},
                                 "qp_impulse_line_outside": res.verification["impact"]["impulse_line_outside"]}
     checks += [_against(S, f"continuous 157.5: A_L ({res.elements} el., hinges refined)", res.A_L, "continuous157.A_L"),

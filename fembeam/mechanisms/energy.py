@@ -1,0 +1,122 @@
+"""Momenta, kinetic energy and the closed-form four-hinge impact (Sect. 4.2, (7), (14)-(17)).
+
+The inertia integrals are exact for any :class:`~fembeam.geometry.MidCurve` (Gauss
+quadrature of :meth:`MidCurve.inertia_densities` over each piece), so the figures
+here are the continuous-arch values: ``lambda`` (load factor of a mechanism),
+``Lambda``, ``Gamma`` and ``r = Gamma^2 / (Lambda Lambda')``.  Every field is a
+:class:`~fembeam.mechanisms.mechanism.Mechanism` moving at its rate ``alpha``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import minimize
+
+from ..errors import InputError, SolverError
+from .mechanism import Mechanism
+
+__all__ = ["product", "momenta", "load_factor", "restitution", "ImpactFigures", "post_impact",
+           "optimise_load_factor"]
+
+
+def _same_curve(a: Mechanism, b: Mechanism):
+    if a.curve is not b.curve and a.curve != b.curve:
+        raise InputError("the two mechanisms belong to different members")
+    return a.curve
+
+
+def product(a: Mechanism, b: Mechanism) -> float:
+    """Momentum pairing ``int rho vel_a . vel_b dA`` (so ``2K = product(a, a)``)."""
+    curve = _same_curve(a, b)
+    br = np.union1d(a.breaks, b.breaks)
+    mid = 0.5 * (br[:-1] + br[1:])
+    ma, mb = a.motion_at(mid), b.motion_at(mid)
+    m, S, J = curve.segment_inertia(br[:-1], br[1:])
+    kS = np.array([-S[1], S[0]])
+    return float(np.sum(m * (ma[:, 0] * mb[:, 0] + ma[:, 1] * mb[:, 1])
+                        + ma[:, 2] * (mb[:, 0] * kS[0] + mb[:, 1] * kS[1])
+                        + mb[:, 2] * (ma[:, 0] * kS[0] + ma[:, 1] * kS[1])
+                        + ma[:, 2] * mb[:, 2] * J))
+
+
+def momenta(field: Mechanism, breaks: np.ndarray) -> np.ndarray:
+    """Linear and angular momenta of ``field`` on the intervals of ``breaks`` (m).
+
+    Returns ``(3, len(breaks) - 1)``: ``p_x, p_y`` (N s per unit depth) and the angular
+    momentum ``L_O`` about the origin (N m s), counter-clockwise; for a rigid piece
+    ``(V, Omega)``: ``p = m V + Omega k x S`` and ``L_O = S x V + Omega J``.
+    """
+    br = np.asarray(breaks, float)
+    mo = field.motion_at(0.5 * (br[:-1] + br[1:]))
+    m, S, J = field.curve.segment_inertia(br[:-1], br[1:])
+    Vx, Vy, Om = mo.T
+    return np.array([m * Vx - Om * S[1], m * Vy + Om * S[0], S[0] * Vy - S[1] * Vx + Om * J])
+
+
+def load_factor(mech: Mechanism, direction: int = 1) -> float:
+    """``lambda = A/g`` that makes ``mech`` an equilibrium mechanism under a horizontal
+    ground acceleration (inertia along ``direction`` x); inf if incompatible."""
+    sgn = mech.compatible_sign()
+    if sgn == 0:
+        return np.inf
+    p = momenta(mech.with_alpha(sgn), np.union1d(mech.breaks, []))
+    P_h, P_g = direction * float(np.sum(p[0])), float(np.sum(p[1]))
+    return P_g / P_h if P_h > 0 else np.inf
+
+
+def restitution(before: Mechanism, after: Mechanism) -> float:
+    """``r = Gamma^2 / (Lambda Lambda')`` (17) for ``after`` following the field
+    ``before``; 0 if ``after`` cannot open with the sign of Gamma (no compatible motion)."""
+    return post_impact(before, after).r
+
+
+@dataclass(frozen=True)
+class ImpactFigures:
+    """Eqs. (7), (14), (15), (17) for a mechanism ``after`` following the field ``before``.
+
+    ``Lambda = 2K`` of ``before`` (at its rate), ``Lambda_after`` of ``after`` at
+    ``alpha = 1``, ``Gamma`` their momentum pairing, ``alpha_ratio = alpha'/alpha =
+    Gamma / Lambda'`` (15) and ``r = Gamma^2 / (Lambda Lambda')`` (17); ``compatible``
+    is False when ``alpha'`` has not the sign that opens every hinge of ``after``
+    (then no motion along ``after`` follows and ``r`` is reported 0).
+    """
+
+    Gamma: float
+    Lambda: float
+    Lambda_after: float
+    alpha_ratio: float
+    r: float
+    compatible: bool
+
+
+def post_impact(before: Mechanism, after: Mechanism) -> ImpactFigures:
+    """Closed-form impact (Sect. 4.2): alpha' and r for prescribed hinges ``after``."""
+    sgn = after.compatible_sign()
+    pa = after.with_alpha(1.0)
+    gamma = product(before, pa)
+    lam, lam_a = product(before, before), product(pa, pa)
+    ok = bool(sgn != 0 and gamma * sgn > 0)
+    return ImpactFigures(gamma, lam, lam_a, gamma / lam_a, gamma**2 / (lam * lam_a) if ok else 0.0, ok)
+
+
+def optimise_load_factor(start: Mechanism, direction: int = 1) -> tuple[Mechanism, float]:
+    """Minimise ``lambda`` over the four hinge positions (sides fixed), from ``start``.
+
+    ``lambda`` is smooth in the hinge positions and stationary at the optimum, so a
+    bounded quasi-Newton search converges to the continuous-arch mechanism."""
+    L = start.curve.length
+
+    def f(x):
+        s = np.sort(np.clip(x, 0.0, 1.0)) * L
+        lam = load_factor(Mechanism(start.curve, tuple(s), start.sides), direction)
+        return lam if np.isfinite(lam) else 1e6  # incompatible: out of the feasible set
+
+    x0 = np.asarray(start.s) / L
+    f0 = f(x0)
+    if f0 >= 1e6:
+        raise SolverError("the starting mechanism is not compatible")
+    res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * start.n_hinges,
+                   options={"ftol": 1e-15, "gtol": 1e-11, "eps": 1e-9, "maxiter": 500})
+    best = res.x if res.fun <= f0 else x0
+    return Mechanism(start.curve, tuple(np.sort(best) * L), start.sides), float(min(res.fun, f0))

@@ -1,0 +1,215 @@
+"""Four-hinge impact analysis of an arch (Sects. 3-5, Appendix A), start to finish.
+
+:func:`four_hinge_impact` runs the general analysis (limit LP and impact QP, for
+``r_max`` and the incipient mechanism), takes the hinges before the impact (default:
+the incipient mechanism), chooses the hinges after it (``model``: ``"prescribed"``,
+``"restricted"``: best compatible four-hinge mechanism of (16)-(17), or
+``"classical"``: mirrored hinges, impulses through the points opposite the closing
+hinges) and computes ``r``, ``alpha'`` and the impulse line with its admissibility.
+:meth:`FourHingeImpact.picture_fields` gives the rigid-element fields for the VTK
+export and the pictures of :mod:`fembeam.output`.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ..analysis import AnalysisResult, analyze
+from ..errors import InputError
+from ..fem import discretize, nodes_through, uniform_nodes
+from ..geometry import MidCurve
+from .classical import classical_impact
+from .hinge import ROCKING_SIDES, Hinge
+from .impulse_line import ImpulseLine, four_hinge_impulse_line
+from .mechanism import Mechanism
+from .restricted import best_four_hinge_continuous, best_four_hinge_discrete
+
+__all__ = ["FourHingeImpact", "four_hinge_impact", "hinge_zones", "MODELS", "DEFAULT_SECTIONS"]
+
+MODELS = ("restricted", "prescribed", "classical")
+DEFAULT_SECTIONS = 720   # continuous arch: impulse line checked at 720 + 1 sections (+ the hinges)
+
+
+def hinge_zones(hinges: list[Hinge]) -> list[dict]:
+    """Runs of consecutive open joints pivoting on the same side (a QP "hinge zone"):
+    ``side``, ``from_deg``, ``to_deg`` and the number of ``joints``."""
+    out: list[dict] = []
+    for h in hinges:
+        z = out[-1] if out else None
+        if z and z["side"] == h.side and h.joints[0] == z["_last"] + 1:
+            z["to_deg"], z["joints"], z["_last"] = round(h.angle_deg, 4), z["joints"] + 1, h.joints[0]
+        else:
+            out.append({"side": h.side, "from_deg": round(h.angle_deg, 4), "to_deg": round(h.angle_deg, 4),
+                        "joints": 1, "_last": h.joints[0]})
+    for z in out:
+        z.pop("_last")
+    return out
+
+
+@dataclass
+class FourHingeImpact:
+    """Result of :func:`four_hinge_impact`.
+
+    ``analysis``: the general analysis (``r_max`` = ``analysis.r``); ``before``: the
+    hinges closing at the impact, ``pre`` the field arriving (``before`` in its
+    closing sense); ``after`` the mechanism after the impact (unit rate) and ``line``
+    its impulse line; ``r`` the restitution coefficient of ``model``; ``extra`` the
+    model's own figures (JSON keys); ``line_at(sections)`` the line at other sections.
+    ``r`` is None when the arch does not rock (``analysis.outcome``).
+    """
+
+    curve: MidCurve
+    analysis: AnalysisResult
+    model: str = ""
+    r: float | None = None
+    before: Mechanism | None = None
+    pre: Mechanism | None = None
+    after: Mechanism | None = None
+    line: ImpulseLine | None = None
+    extra: dict = field(default_factory=dict)
+    line_at: Callable[[np.ndarray], ImpulseLine] | None = None
+    picture_elements: int = 200
+    time_s: float = 0.0
+
+    def to_dict(self, fields: bool = False) -> dict:
+        """The JSON of ``fembeam impact`` (``fields``: the impulse line at every section)."""
+        res = self.analysis
+        out = {"command": "impact", "mode": res.mode, "geometry": res.geometry, "outcome": res.outcome,
+               "A_L": res.A_L if np.isfinite(res.A_L) else None}
+        if self.r is None:
+            out.update(r=None, hinges_before=[], hinges_after=[], admissibility=None, r_max=None)
+            return out
+        out.update({
+            "model": self.model,
+            "r": float(self.r),
+            "hinges_before": self.before.to_list(),
+            "hinges_after": self.after.to_list(),
+            "admissibility": self.line.admissibility(),
+            "r_max": res.r,
+            "r_max_minus_r": res.r - float(self.r),
+            "hinges_after_qp": [h.to_dict() for h in res.hinges_after],
+            "qp_hinge_zones": hinge_zones(res.impact.hinges) if res.impact is not None else [],
+            "qp_elements": res.elements,
+            **self.extra,
+        })
+        if fields:
+            out["impulse_line"] = self.line.to_dict()
+        out["time_s"] = round(self.time_s, 3)
+        return out
+
+    def picture_fields(self) -> tuple:
+        """``(disc, d0, d, hinges_before, hinges_after, impulse)`` for
+        :func:`fembeam.output.export.write_fields` and the pictures: rigid elements whose
+        joints are the voussoir joints (or a uniform mesh through both sets of hinges),
+        the pre-impact field, the post-impact field ``alpha' x after`` and its impulse
+        line at the joints (per-joint arrays)."""
+        if self.r is None:
+            raise InputError(f"nothing to draw: outcome {self.analysis.outcome}")
+        curve, before, after = self.curve, self.before, self.after
+        nodes = nodes_through(uniform_nodes(curve, self.picture_elements), np.concatenate([before.s, after.s]))
+        disc = discretize(curve, nodes)
+        line = self.line_at(disc.joint_s)
+        idx = np.abs(line.s[None, :] - disc.joint_s[:, None]).argmin(1)
+        impulse = {"angle_deg": disc.joint_angle_deg, "eccentricity": line.eccentricity[idx],
+                   "I_t": line.I_t[idx], "I_n": line.I_n[idx], "moment": line.M[idx]}
+        post = after.with_alpha(line.alpha_ratio)
+        return disc, self.pre.dofs(disc), post.dofs(disc), self.pre.hinges(), post.hinges(), impulse
+
+    @property
+    def title(self) -> str:
+        return f"{self.model} four-hinge impact: r = {self.r:.4f}"
+
+
+def _as_mechanism(curve: MidCurve, spec) -> Mechanism:
+    """A :class:`Mechanism`, or ``(angles_deg, sides)``."""
+    return spec if isinstance(spec, Mechanism) else Mechanism.from_angles(curve, *spec)
+
+
+def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
+                      direction: int = 1, before=None, after=None, model: str | None = None,
+                      sections: int = DEFAULT_SECTIONS, grid: int = 31) -> FourHingeImpact:
+    """Four-hinge impact of ``curve`` (continuous, or ``voussoirs`` rigid voussoirs).
+
+    ``before``/``after``: :class:`Mechanism` or ``(angles_deg, sides)``; ``before``
+    defaults to the incipient mechanism of the limit analysis. ``model`` defaults to
+    ``"prescribed"`` when ``after`` is given, else ``"restricted"``. On a continuous
+    arch the impulse line is checked at ``sections + 1`` sections plus the hinges, on
+    a discrete one at the joints; ``grid``: voussoirs of the exhaustive start of the
+    continuous restricted search. ``elements`` is the mesh of the general QP.
+    """
+    clock = time.perf_counter()
+    model = model or ("prescribed" if after is not None else "restricted")
+    if model not in MODELS:
+        raise InputError(f"unknown four-hinge model {model!r}: expected one of {', '.join(MODELS)}")
+    if (model == "prescribed") != (after is not None):
+        raise InputError("the hinges after the impact are given exactly for the prescribed model")
+    discrete = voussoirs is not None
+    if sections < 4:
+        raise InputError(f"the impulse line needs at least 4 sections, got {sections}")
+    res = analyze(curve, elements=elements, voussoirs=voussoirs, direction=direction)
+    out = FourHingeImpact(curve, res, picture_elements=voussoirs or elements or 200)
+    if res.outcome not in ("rocking", "arrested"):
+        return out
+    if before is not None:
+        before = _as_mechanism(curve, before)
+    else:
+        hb = res.hinges_before
+        if len(hb) != 4 or any(h.side not in ROCKING_SIDES for h in hb):
+            raise InputError(f"the incipient mechanism has {len(hb)} hinges, not four: give --before")
+        before = Mechanism.from_hinges(curve, hb)
+    sgn = before.compatible_sign()
+    if sgn == 0:
+        raise InputError("the hinges before the impact do not form a compatible mechanism")
+    pre = before.closing()   # the arch returns along -u
+    L = curve.length
+    sec = uniform_nodes(curve, voussoirs) if discrete else np.linspace(0.0, L, sections + 1)
+    if discrete:
+        joints = res.impact.disc.joint_s
+        for s in before.s:
+            if np.min(np.abs(joints - s)) > 1e-9 * L:
+                raise InputError(f"hinge before at {float(curve.angle_deg(s)):g} deg is not at a voussoir joint")
+
+    extra: dict = {}
+    if model == "classical":
+        cl = classical_impact(before, sec, alpha=-sgn)
+        after, line, r = cl.after, cl.line, cl.r
+        line_at = lambda s_: classical_impact(before, s_, alpha=-sgn).line  # noqa: E731
+        extra = {"alpha_ratio": cl.alpha_ratio, "r_energy_same_hinges": cl.r_energy,
+                 "opens_mirrored_hinges": cl.line.extra["opens_mirrored_hinges"],
+                 "impulses_through": before.opposite().to_list()}
+    else:
+        if model == "prescribed":
+            after = _as_mechanism(curve, after)
+            if discrete:
+                for s in after.s:
+                    if np.min(np.abs(sec - s)) > 1e-9 * L:
+                        raise InputError(f"hinge after at {float(curve.angle_deg(s)):g} deg is not at a voussoir "
+                                         f"joint (joints every {float(curve.angle_deg(L)) / voussoirs:g} deg)")
+                after = Mechanism(curve, tuple(sec[np.abs(sec[:, None] - np.array(after.s)).argmin(0)]),
+                                  after.sides)
+        else:
+            if discrete:
+                rr = best_four_hinge_discrete(sec, pre)
+            else:
+                qh = res.hinges_after
+                starts = [Mechanism.from_hinges(curve, qh)] if len(qh) == 4 and all(
+                    h.side in ROCKING_SIDES for h in qh) else []
+                rr = best_four_hinge_continuous(pre, grid=grid, starts=starts)
+            if rr.after is None:
+                raise InputError("no compatible four-hinge mechanism does positive work: r_4hinge = 0")
+            after = rr.after
+            extra = {"candidates": rr.candidates, "compatible_candidates": rr.compatible, "search": rr.method,
+                     "runner_up": [{"r": r_, "hinges": h.to_list()} for r_, h in rr.ranking[:3]]}
+        line = four_hinge_impulse_line(pre, after, sec)
+        line_at = lambda s_: four_hinge_impulse_line(pre, after, s_)  # noqa: E731
+        r = line.extra["r"]
+        extra.update(alpha_ratio=line.extra["alpha_ratio_15"], alpha_ratio_8_11=line.alpha_ratio,
+                     alpha_gap=line.extra["alpha_gap"], compatible=line.extra["compatible"],
+                     Gamma=line.extra["Gamma"], Lambda=line.extra["Lambda"], Lambda_after=line.extra["Lambda_after"])
+    out.model, out.r, out.before, out.pre, out.after, out.line = model, float(r), before, pre, after, line
+    out.extra, out.line_at = extra, line_at
+    out.time_s = time.perf_counter() - clock
+    return out
