@@ -53,3 +53,19 @@ def test_mirrored_load_gives_the_same_r():
     res_m = analyze(StraightMember(height=2.0, width=0.5), voussoirs=1, direction=-1)
     assert abs(res_p.r - res_m.r) < 1e-9
     assert [h.side for h in res_m.hinges_before] == ["extrados"]
+
+
+def test_qp_fields_are_one_hinge_mechanisms():
+    """The QP's pre- and post-impact fields are the block rocking on one corner
+    (fembeam.mechanisms.Mechanism with one hinge), with Housner's ratio of the rates."""
+    from fembeam.mechanisms import Mechanism
+
+    tan_a = 0.3
+    res = analyze(StraightMember(height=2.0, width=2.0 * tan_a), voussoirs=1)
+    disc = res.impact.disc
+    u = Mechanism.from_dofs(disc, -res.impact.d0)          # the block arrives along -u (closing)
+    pre, post = u.with_alpha(-u.alpha), Mechanism.from_dofs(disc, res.impact.d)
+    assert pre.sides == ("intrados",) and post == Mechanism(pre.curve, (0.0,), ("extrados",), post.alpha)
+    assert np.max(np.abs(pre.dofs(disc) - res.impact.d0)) < 1e-12 * np.max(np.abs(res.impact.d0))
+    assert np.max(np.abs(post.dofs(disc) - res.impact.d)) < 1e-9 * np.max(np.abs(res.impact.d))
+    assert abs(post.alpha / pre.alpha - (1 - 1.5 * np.sin(np.arctan(tan_a)) ** 2)) < 1e-6
