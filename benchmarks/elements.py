@@ -6,7 +6,7 @@ For each geometry and mesh size N, four discretisations of the continuous arch:
               discretize(curve, uniform_nodes(curve, N))
   rigid+ref   the lead's pipeline fembeam.analyze(curve, elements=N): uniform LP, the
               four hinges moved to their optimal continuous positions, nodes put there
-  p1          continuous P1 fields (fembeam.fem_p1) on the uniform mesh
+  p1          continuous P1 fields (fembeam.fem.p1) on the uniform mesh
   p1-cart     P1 interpolating the Cartesian velocity (components="cartesian"), uniform mesh
   p1+ref      P1 with an element midpoint moved onto each optimal hinge position
               (same four-hinge optimisation, started from the P1 LP's hinges)
@@ -28,7 +28,7 @@ import numpy as np
 from fembeam import analyze
 from fembeam.errors import SolverError
 from fembeam.fem import discretize, uniform_nodes
-from fembeam.fem_p1 import discretize_p1, midpoints_through
+from fembeam.fem.p1 import discretize_p1, midpoints_through
 from fembeam.geometry import CircularArch
 from fembeam.mechanisms import Mechanism, merge_adjacent
 from fembeam.mechanisms.energy import optimise_load_factor

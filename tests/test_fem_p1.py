@@ -1,9 +1,9 @@
-"""Continuous P1 curved-beam elements (fembeam.fem_p1): kernel, mass, convergence."""
+"""Continuous P1 curved-beam elements (fembeam.fem.p1): kernel, mass, convergence."""
 import numpy as np
 import pytest
 
 from fembeam.fem import uniform_nodes
-from fembeam.fem_p1 import discretize_p1
+from fembeam.fem.p1 import discretize_p1
 from fembeam.geometry import CircularArch
 from fembeam.analysis.impact import impact
 from fembeam.analysis.limit import limit_analysis

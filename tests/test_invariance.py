@@ -1,10 +1,11 @@
 """Property-based: A_L, r and the hinges do not depend on the units (radius, density) nor on
 the side the pulse comes from (mirror image), over random geometries.
 
-The default profile runs 1000 geometries (about two minutes on two cores, see
-``tests/conftest.py``); ``HYPOTHESIS_PROFILE=large`` runs 10000.
+1000 geometries by default (about five minutes on one core); ``FEMBEAM_INVARIANCE_EXAMPLES``
+sets another count (the larger sample quoted in docs/verification.md was run that way).
 """
 import math
+import os
 
 import numpy as np
 import pytest
@@ -15,11 +16,13 @@ from fembeam import CircularArch, analyze
 REL = 1e-9
 
 
-def _same(a: float, b: float, what: str):
+def _same(a: float, b: float, what: str, floor: float = 1e-13):
+    """Equal to 1e-9 relative, or to ``floor`` absolute (r is a ratio of energies in [0, 1]
+    from a QP solved to 1e-10 of the kinetic energy: below ~1e-12 it is solver noise)."""
     if math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b):
         assert (math.isnan(a) and math.isnan(b)) or a == b, (what, a, b)
     else:
-        assert abs(a - b) <= REL * max(abs(a), abs(b), 1e-300) or abs(a - b) <= 1e-13, (what, a, b)
+        assert abs(a - b) <= REL * max(abs(a), abs(b), 1e-300) or abs(a - b) <= floor, (what, a, b)
 
 
 def _mirror(hinges, beta):
@@ -32,7 +35,7 @@ def _hinges_equal(h1, h2, beta, what):
         assert abs(a1 - a2) <= REL * beta, (what, h1, h2)
 
 
-@settings(max_examples=1000, deadline=None, derandomize=True, database=None,
+@settings(max_examples=int(os.environ.get("FEMBEAM_INVARIANCE_EXAMPLES", 1000)), deadline=None, derandomize=True, database=None,
           suppress_health_check=[HealthCheck.too_slow])
 @given(beta=st.floats(20.0, 300.0), t_over_r=st.floats(0.03, 1.0), n=st.integers(4, 60),
        log_r=st.floats(-3.0, 3.0), log_rho=st.floats(0.0, 4.0))
@@ -40,14 +43,14 @@ def _hinges_equal(h1, h2, beta, what):
 @example(beta=268.5381491363777, t_over_r=0.9878847104445414, n=126, log_r=0.0, log_rho=0.0)
 @example(beta=57.255858085608935, t_over_r=0.12758533543874184, n=132, log_r=3.0, log_rho=0.0)
 def test_units_and_mirror_do_not_change_the_answer(beta, t_over_r, n, log_r, log_rho):
-    base = analyze(CircularArch.from_ratio(beta, t_over_r), elements=n, tmin_tol=1e-3)
+    base = analyze(CircularArch.from_ratio(beta, t_over_r), elements=n, tmin_tol=0.1)
     other = analyze(CircularArch.from_ratio(beta, t_over_r, radius=10.0**log_r, density=10.0**log_rho),
-                    elements=n, direction=-1, tmin_tol=1e-3)
+                    elements=n, direction=-1, tmin_tol=0.1)
     assert base.outcome == other.outcome
     _same(base.A_L, other.A_L, "A_L")
-    _same(base.r, other.r, "r")
-    if base.thickness is not None:   # bisection to 1e-3: equal to its tolerance
-        assert base.t_min_over_R == pytest.approx(other.t_min_over_R, rel=2e-3)
+    _same(base.r, other.r, "r", floor=1e-12)
+    if base.thickness is not None:   # the same bisection decisions: the same bracket
+        _same(base.t_min_over_R, other.t_min_over_R, "t_min")
     hb = [(h.angle_deg, h.side) for h in base.hinges_before]
     _hinges_equal(hb, _mirror(other.hinges_before, beta), beta, "hinges before")
     ha = [(h.angle_deg, h.side) for h in base.hinges_after]

@@ -29,45 +29,12 @@ import scipy.sparse as sp
 from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, ElementVector,
                    FacetBasis, InteriorFacetBasis, MeshLine1, asm)
 
-from .errors import InputError
-from .geometry import MidCurve
+from ..errors import InputError
+from ..geometry import MidCurve
 
-__all__ = ["Discretization", "discretize", "uniform_nodes", "nodes_through", "rigid_dofs", "dof_scaling"]
+__all__ = ["Discretization", "discretize", "rigid_dofs", "dof_scaling", "NDOF"]
 
 NDOF = 3  # (w, v, omega) per element
-
-
-def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
-    """Arc-length coordinates of ``n_elements + 1`` equally spaced nodes."""
-    if not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
-        raise InputError(f"the number of elements must be a positive integer, got {n_elements!r}")
-    return np.linspace(0.0, curve.length, int(n_elements) + 1)
-
-
-def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
-    """Copy of ``nodes_s`` with a node on each of ``points_s``: the nearest interior
-    node not yet used is moved there (the element count stays), or, when the neighbours
-    do not allow it, a node is inserted.  Points within 1e-12 of the length of a node
-    are already there."""
-    out = np.array(nodes_s, float)
-    tol = 1e-12 * (out[-1] - out[0])
-    moved = np.zeros(out.size, bool)
-    moved[[0, -1]] = True
-    pts = np.atleast_1d(np.asarray(points_s, float))
-    # closest first: the result does not depend on the order of the points, and the
-    # mesh of the mirror image is the mirror image of the mesh
-    for p in pts[np.argsort([np.min(np.abs(out - q)) for q in pts], kind="stable")]:
-        d = np.abs(out - p)
-        if np.min(d) <= tol:
-            moved[np.argmin(d)] = True
-            continue
-        i = int(np.argmin(np.where(moved, np.inf, d)))
-        if not moved[i] and out[i - 1] < p < out[i + 1]:
-            out[i], moved[i] = p, True
-        else:
-            j = int(np.searchsorted(out, p))
-            out, moved = np.insert(out, j, p), np.insert(moved, j, True)
-    return out
 
 
 @dataclass(frozen=True)
@@ -88,7 +55,7 @@ class Discretization:
     B_slide: sp.csr_matrix
     joint_s: np.ndarray
     frames: dict = field(repr=False)
-    element: str = "rigid"       # "rigid" (this module) or "p1" (fembeam.fem_p1)
+    element: str = "rigid"       # "rigid" (this module) or "p1" (fembeam.fem.p1)
 
     @property
     def n_elements(self) -> int:

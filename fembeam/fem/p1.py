@@ -29,9 +29,9 @@ import scipy.sparse as sp
 from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, ElementVector,
                    FacetBasis, MeshLine1, asm)
 
-from .errors import InputError
-from .fem import NDOF, Discretization
-from .geometry import MidCurve
+from ..errors import InputError
+from ..geometry import MidCurve
+from .rigid import NDOF, Discretization
 
 __all__ = ["discretize_p1"]
 

@@ -1,0 +1,55 @@
+"""Straight member on a rigid base: Housner's rocking block."""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from .base import MidCurve, finite_positive as _finite_positive
+
+__all__ = ["StraightMember"]
+
+
+@dataclass(frozen=True)
+class StraightMember(MidCurve):
+    """Vertical straight member of height ``height`` and width ``width`` standing on a
+    rigid base (bottom end a joint, top end free): Housner's rocking block.
+
+    The mid-curve runs upwards from the base, so ``t = (0, 1)``, ``n = (1, 0)``:
+    the "intrados" fibre is on the right face, the "extrados" on the left face.
+    """
+
+    height: float = 1.0
+    width: float = 0.2
+    density: float = 1.0
+    ends: tuple[str, str] = ("joint", "free")
+
+    def __post_init__(self):
+        _finite_positive("height", self.height, "positive")
+        _finite_positive("width", self.width, "positive")
+        _finite_positive("density", self.density, "positive")
+
+    @property
+    def length(self) -> float:
+        return self.height
+
+    def position(self, s):
+        s = np.asarray(s, float)
+        return np.array([np.zeros_like(s), s])
+
+    def tangent(self, s):
+        s = np.asarray(s, float)
+        return np.array([np.zeros_like(s), np.ones_like(s)])
+
+    def curvature(self, s):
+        return np.zeros(np.shape(s))
+
+    def thickness_at(self, s):
+        return np.full(np.shape(s), self.width)
+
+    def with_thickness_scaled(self, factor: float) -> "StraightMember":
+        return dataclasses.replace(self, width=self.width * factor)
+
+    def describe(self) -> dict:
+        return {"shape": "block", "height": self.height, "width": self.width, "density": self.density}

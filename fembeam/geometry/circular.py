@@ -1,0 +1,91 @@
+"""Circular arch: the paper's member, symmetric about the vertical axis."""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .base import MidCurve, finite_positive as _finite_positive
+
+__all__ = ["CircularArch"]
+
+
+@dataclass(frozen=True)
+class CircularArch(MidCurve):
+    """Circular arch symmetric about the vertical axis, centre at the origin.
+
+    Parameters
+    ----------
+    radius : mid-curve radius R (m), > 0.
+    thickness : t (m), 0 < t < 2R.
+    embrace_deg : total embrace angle beta (deg), 0 < beta < 360 (180 = semicircle).
+    density : rho (kg/m^3 per unit depth), > 0.
+    """
+
+    radius: float = 1.0
+    thickness: float = 0.15
+    embrace_deg: float = 157.5
+    density: float = 1.0
+
+    def __post_init__(self):
+        R = _finite_positive("radius", self.radius, "a positive number of metres")
+        t = _finite_positive("thickness", self.thickness, "positive")
+        b = _finite_positive("embrace angle", self.embrace_deg, "in (0, 360) degrees")
+        _finite_positive("density", self.density, "positive")
+        if t / R >= 2:
+            raise InputError(f"t/R must be below 2 (intrados radius R - t/2 > 0), got {t / R:g}")
+        if b >= 360:
+            raise InputError(f"embrace angle must be in (0, 360) degrees, got {b:g}")
+
+    @classmethod
+    def from_ratio(cls, embrace_deg: float, t_over_r: float, radius: float = 1.0, density: float = 1.0):
+        t_over_r = _finite_positive("t/R", t_over_r, "in (0, 2)")
+        radius = _finite_positive("radius", radius, "a positive number of metres")
+        return cls(radius=radius, thickness=t_over_r * radius, embrace_deg=embrace_deg, density=density)
+
+    @property
+    def beta(self) -> float:
+        return math.radians(self.embrace_deg)
+
+    @property
+    def t_over_r(self) -> float:
+        return self.thickness / self.radius
+
+    @property
+    def length(self) -> float:
+        return self.radius * self.beta
+
+    def _theta(self, s):
+        # polar angle of the section; the left springing is at pi/2 + beta/2
+        return 0.5 * math.pi + 0.5 * self.beta - np.asarray(s, float) / self.radius
+
+    def position(self, s):
+        th = self._theta(s)
+        return self.radius * np.array([np.cos(th), np.sin(th)])
+
+    def tangent(self, s):
+        th = self._theta(s)
+        return np.array([np.sin(th), -np.cos(th)])
+
+    def curvature(self, s):
+        return np.full(np.shape(s), 1.0 / self.radius)
+
+    def thickness_at(self, s):
+        return np.full(np.shape(s), self.thickness)
+
+    def angle_deg(self, s):
+        return np.degrees(np.asarray(s, float) / self.radius)
+
+    def with_thickness_scaled(self, factor: float) -> "CircularArch":
+        return dataclasses.replace(self, thickness=self.thickness * factor)
+
+    @property
+    def max_thickness_scale(self) -> float:
+        return 2.0 * self.radius / self.thickness
+
+    def describe(self) -> dict:
+        return {"shape": "circular", "radius": self.radius, "thickness": self.thickness,
+                "t_over_R": self.t_over_r, "embrace_deg": self.embrace_deg, "density": self.density}
