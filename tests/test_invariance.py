@@ -8,7 +8,6 @@ import math
 import os
 
 import numpy as np
-import pytest
 from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 from fembeam import CircularArch, analyze
