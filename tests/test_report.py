@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from fembeam import report
+from fembeam.output import report
 from fembeam.cli import main
 
 

@@ -31,4 +31,4 @@ from .sections import build_report
 __all__ = ["Reference", "Check", "Report", "REFERENCES", "TOLERANCES", "SECTIONS", "SECTION_TITLES",
            "ReportSettings", "build_report", "write_report"]
 
-_fmt = output._fmt  # the number format of the stdout table (fembeam.commands.report)
+_fmt = output._fmt  # the number format of the stdout table (fembeam.cli.report)

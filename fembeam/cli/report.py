@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import InputError
-from ..report import SECTIONS, ReportSettings, build_report, write_report
+from ..output.report import SECTIONS, ReportSettings, build_report, write_report
 
 
 def _sections(text: str) -> list[str]:
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _short(x) -> str:
-    from ..report import _fmt
+    from ..output.report import _fmt
     return _fmt(x)
 
 

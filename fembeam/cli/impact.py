@@ -18,7 +18,7 @@ from ..errors import InputError
 from ..mechanisms.discrete_series import discrete_series
 from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, FourHingeImpact, four_hinge_impact
 from ..mechanisms.hinge import ROCKING_SIDES
-from ._args import add_arch, arch_from, int_list
+from .args import add_arch, arch_from, int_list
 from .analyze import add_picture_options, check_picture_options
 
 SIDE_CODES = {**{k[0]: k for k in ROCKING_SIDES}, **{k: k for k in ROCKING_SIDES}}

@@ -1,11 +1,11 @@
-"""``fembeam`` command line: ``fembeam <command> --help`` for each command."""
+"""The parser and the entry point: one sub-command per module of this package."""
 from __future__ import annotations
 
 import argparse
 import os
 import sys
 
-from .errors import FembeamError, InputError
+from ..errors import FembeamError, InputError
 
 
 class _Parser(argparse.ArgumentParser):
@@ -15,7 +15,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .commands import analyze, convergence, sweep, impact, report
+    from . import analyze, convergence, impact, report, sweep
 
     p = _Parser(prog="fembeam", description="Rocking masonry arches: limit analysis, impact, impulse line.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -37,7 +37,3 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `fembeam analyze | head`: stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ..analysis import AnalysisResult, analyze
 from ..errors import InputError
-from ._args import add_arch, add_solver, arch_from
+from .args import add_arch, add_solver, arch_from
 
 
 def register(sub) -> None:

@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 
-from ..analysis import THRESHOLDS
+from ...analysis import THRESHOLDS
 from .checks import _PAPER_TOL, REFERENCES, SECTION_TITLES, SECTIONS, TOLERANCES, Check, Report
 from .sections import KKT_FIGURES
 
@@ -247,13 +247,13 @@ def write_report(rep: Report, out_dir: str, command: str = "fembeam report") -> 
         imgs["paper"] = "paper.png"
         plot_paper([c for c in rep.checks if c.section in ("paper", "exact")], os.path.join(out_dir, "paper.png"))
     if "convergence" in d and "_studies" in d["convergence"]:
-        from ..convergence import plot_convergence
+        from ...convergence import plot_convergence
         st, sv = d["convergence"].pop("_studies")
         plot_convergence(st, os.path.join(out_dir, "convergence.png"))
         plot_convergence(sv, os.path.join(out_dir, "convergence_voussoirs.png"))
         imgs.update(convergence="convergence.png", convergence_voussoirs="convergence_voussoirs.png")
     if "fig13" in d and "_sweep" in d["fig13"]:
-        from ..sweep import plot_sweep
+        from ...sweep import plot_sweep
         plot_sweep(d["fig13"].pop("_sweep"), os.path.join(out_dir, "fig13.png"))
         imgs["fig13"] = "fig13.png"
     for name in imgs.values():

@@ -7,7 +7,7 @@ import json
 from ..convergence import ConvergenceStudy, convergence_study, plot_convergence
 from ..errors import InputError
 from ..analysis.qp import BACKENDS
-from ._args import add_arch, arch_from, finite_float, int_list, write_outputs
+from .args import add_arch, arch_from, finite_float, int_list, write_outputs
 
 DEFAULT_ELEMENTS = [50, 100, 200, 400, 800, 1600]
 

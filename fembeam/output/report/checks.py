@@ -7,7 +7,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..analysis import THRESHOLDS
+from ...analysis import THRESHOLDS
 
 
 @dataclass(frozen=True)
@@ -114,7 +114,7 @@ class Report:
         return not self.failures
 
     def to_dict(self) -> dict:
-        from .. import __version__
+        from ... import __version__
         return {"report": "verification", "fembeam_version": __version__,
                 "mode": "quick" if self.settings.quick else "full", "all_pass": self.passed,
                 "counts": {s: sum(c.status == s for c in self.checks) for s in ("PASS", "FAIL", "INFO")},

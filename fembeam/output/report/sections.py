@@ -8,17 +8,17 @@ import time
 
 import numpy as np
 
-from ..analysis import THRESHOLDS, analyze, minimum_thickness
-from ..geometry import CircularArch
-from ..errors import FembeamError
+from ...analysis import THRESHOLDS, analyze, minimum_thickness
+from ...geometry import CircularArch
+from ...errors import FembeamError
 from .checks import (SECTIONS, TOLERANCES, Check, Report, ReportSettings, _against, _at_least, _at_most, _close,
                      _holds, _info)
 
 
 # ---------------------------------------------------------------------------- 1. exact
 def section_exact(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
-    from ..fem import discretize, uniform_nodes
-    from ..geometry import CircularArch, StraightMember
+    from ...fem import discretize, uniform_nodes
+    from ...geometry import CircularArch, StraightMember
 
     S, checks, data = "exact", [], {}
     # rigid motions: no opening, no sliding at the interior joints of an irregular mesh
@@ -95,11 +95,11 @@ def section_exact(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
 # ---------------------------------------------------------------------------- 2. paper
 def _oppenheim(beta: float) -> dict:
-    from ..geometry import CircularArch
-    from ..mechanisms import Mechanism
-    from ..mechanisms.classical import classical_impact
-    from ..mechanisms.impulse_line import four_hinge_impulse_line
-    from ..mechanisms.restricted import best_four_hinge_discrete
+    from ...geometry import CircularArch
+    from ...mechanisms import Mechanism
+    from ...mechanisms.classical import classical_impact
+    from ...mechanisms.impulse_line import four_hinge_impulse_line
+    from ...mechanisms.restricted import best_four_hinge_discrete
 
     c = CircularArch.from_ratio(beta, 0.15, radius=10.0)
     res = analyze(c, voussoirs=7)
@@ -121,10 +121,10 @@ def _same(curve, a, b) -> bool:
 
 
 def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
-    from ..geometry import CircularArch
-    from ..mechanisms import Mechanism
-    from ..mechanisms.impulse_line import four_hinge_impulse_line
-    from ..mechanisms.restricted import best_four_hinge_continuous
+    from ...geometry import CircularArch
+    from ...mechanisms import Mechanism
+    from ...mechanisms.impulse_line import four_hinge_impulse_line
+    from ...mechanisms.restricted import best_four_hinge_continuous
 
     S, checks, data = "paper", [], {}
     say("paper: Oppenheim's arch, 150 deg")
@@ -211,7 +211,7 @@ KKT_FIGURES = (("limit", "equilibrium_residual", "(B.11) analogue: equilibrium o
 
 
 def _kkt_case(kind: str, a: float, b, n: int):
-    from ..geometry import CircularArch, StraightMember
+    from ...geometry import CircularArch, StraightMember
 
     if kind == "block":
         return f"Housner block tan a = {a:g}", analyze(StraightMember(height=2.0, width=2.0 * a), voussoirs=1, verify=False)
@@ -245,8 +245,8 @@ def section_kkt(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
 # ---------------------------------------------------------------------------- 4. convergence
 def section_convergence(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
-    from ..convergence import convergence_study
-    from ..geometry import CircularArch
+    from ...convergence import convergence_study
+    from ...geometry import CircularArch
 
     S, checks = "convergence", []
     c = CircularArch.from_ratio(157.5, 0.15)
@@ -285,7 +285,7 @@ def section_convergence(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
 # ---------------------------------------------------------------------------- 5. Fig. 13
 def section_fig13(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
-    from ..sweep import sweep
+    from ...sweep import sweep
 
     S, checks = "fig13", []
     say(f"fig13: beta {','.join(f'{b:g}' for b in cfg.fig13_embrace)} x t/R {','.join(f'{t:g}' for t in cfg.fig13_t_over_r)}")

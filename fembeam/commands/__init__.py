@@ -1,1 +1,0 @@
-"""Sub-commands of the ``fembeam`` CLI; each module has ``register(subparsers)``."""
