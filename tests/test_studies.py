@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from fembeam.cli import main
-from fembeam.convergence import fit_order, observed_order, rate_fit, richardson
-from fembeam.sweep import sweep, sweep_case
+from fembeam.studies.convergence import fit_order, observed_order, rate_fit, richardson
+from fembeam.studies.sweep import sweep, sweep_case
 
 
 # --- extrapolation and rate fits on a synthetic sequence of known order -------------------

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..convergence import ConvergenceStudy, convergence_study, plot_convergence
+from ..studies.convergence import ConvergenceStudy, convergence_study, plot_convergence
 from ..errors import InputError
 from ..analysis.qp import BACKENDS
 from .args import add_arch, arch_from, finite_float, int_list, write_outputs

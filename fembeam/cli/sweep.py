@@ -7,7 +7,7 @@ import json
 from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
 from ..analysis.qp import BACKENDS
-from ..sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, plot_sweep, sweep
+from ..studies.sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, plot_sweep, sweep
 from .args import finite_float, float_list, write_outputs
 
 CODES = {"rocking": "", "arrested": "A", "cannot_stand": "C", "no_mechanism": "N", "solver_error": "E"}

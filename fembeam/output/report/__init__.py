@@ -12,8 +12,8 @@ from) plus the raw numbers of every section; :func:`write_report` writes
 3. ``kkt``: the Appendix B optimality figures of the LP and the QP on several geometries
    against :data:`fembeam.analysis.THRESHOLDS`;
 4. ``convergence``: r and A_L_mesh against N with fitted rates
-   (:mod:`fembeam.convergence`), voussoir arches against the continuous arch;
-5. ``fig13``: a small Fig. 13 grid (:mod:`fembeam.sweep`): r falls with t/R, rises with
+   (:mod:`fembeam.studies.convergence`), voussoir arches against the continuous arch;
+5. ``fig13``: a small Fig. 13 grid (:mod:`fembeam.studies.sweep`): r falls with t/R, rises with
    beta, and the minimum-thickness envelope stays below 1.
 
 The only numbers typed in are the published references and the tolerances in

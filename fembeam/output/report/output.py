@@ -187,7 +187,7 @@ def markdown(rep: Report, command: str) -> str:
     if "convergence" in d:
         cst = d["convergence"]["continuous"]
         L += [f"## {SECTION_TITLES['convergence']}", "",
-              "Continuous arch 157.5 deg, t/R = 0.15 (`fembeam.convergence.convergence_study`): errors against the "
+              "Continuous arch 157.5 deg, t/R = 0.15 (`fembeam.studies.convergence.convergence_study`): errors against the "
               f"Richardson limit (assumed order {cst['assumed_order']:g}); rates are least-squares slopes of "
               "log|err| on log h. Voussoir arches against the continuous arch on "
               f"{d['convergence']['voussoirs']['reference']['elements']} elements.", ""] + checks_of("convergence")
@@ -210,7 +210,7 @@ def markdown(rep: Report, command: str) -> str:
     if "fig13" in d:
         f = d["fig13"]
         L += [f"## {SECTION_TITLES['fig13']}", "",
-              f"`fembeam.sweep.sweep` on {len(f['embrace_deg'])} embrace angles x {len(f['t_over_R'])} thicknesses "
+              f"`fembeam.studies.sweep.sweep` on {len(f['embrace_deg'])} embrace angles x {len(f['t_over_R'])} thicknesses "
               f"(continuous arch, {f['settings']['elements']} elements), plus the minimum-thickness envelope "
               f"(t_min on {f['settings']['tmin_elements']} elements, r at t_min (1 + {f['settings']['above']:g})); "
               f"{f['settings']['executor']}, {f['wall_time_s']:.1f} s.", ""] + checks_of("fig13")
@@ -247,13 +247,13 @@ def write_report(rep: Report, out_dir: str, command: str = "fembeam report") -> 
         imgs["paper"] = "paper.png"
         plot_paper([c for c in rep.checks if c.section in ("paper", "exact")], os.path.join(out_dir, "paper.png"))
     if "convergence" in d and "_studies" in d["convergence"]:
-        from ...convergence import plot_convergence
+        from ...studies.convergence import plot_convergence
         st, sv = d["convergence"].pop("_studies")
         plot_convergence(st, os.path.join(out_dir, "convergence.png"))
         plot_convergence(sv, os.path.join(out_dir, "convergence_voussoirs.png"))
         imgs.update(convergence="convergence.png", convergence_voussoirs="convergence_voussoirs.png")
     if "fig13" in d and "_sweep" in d["fig13"]:
-        from ...sweep import plot_sweep
+        from ...studies.sweep import plot_sweep
         plot_sweep(d["fig13"].pop("_sweep"), os.path.join(out_dir, "fig13.png"))
         imgs["fig13"] = "fig13.png"
     for name in imgs.values():

@@ -245,7 +245,7 @@ def section_kkt(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
 # ---------------------------------------------------------------------------- 4. convergence
 def section_convergence(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
-    from ...convergence import convergence_study
+    from ...studies.convergence import convergence_study
     from ...geometry import CircularArch
 
     S, checks = "convergence", []
@@ -285,7 +285,7 @@ def section_convergence(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
 # ---------------------------------------------------------------------------- 5. Fig. 13
 def section_fig13(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
-    from ...sweep import sweep
+    from ...studies.sweep import sweep
 
     S, checks = "fig13", []
     say(f"fig13: beta {','.join(f'{b:g}' for b in cfg.fig13_embrace)} x t/R {','.join(f'{t:g}' for t in cfg.fig13_t_over_r)}")

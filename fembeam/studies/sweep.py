@@ -21,11 +21,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .analysis import DEFAULT_ELEMENTS, analyze, minimum_thickness
-from .errors import FembeamError, SolverError
-from .fem import discretize, uniform_nodes
-from .geometry import CircularArch
-from .analysis import limit_analysis
+from ..analysis import DEFAULT_ELEMENTS, analyze, minimum_thickness
+from ..errors import FembeamError, SolverError
+from ..fem import discretize, uniform_nodes
+from ..geometry import CircularArch
+from ..analysis import limit_analysis
 from .parallel import default_workers, run_tasks
 
 __all__ = ["sweep_case", "envelope_case", "SweepResult", "sweep", "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]

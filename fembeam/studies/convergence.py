@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .analysis import AnalysisResult, analyze
-from .errors import InputError
-from .geometry import MidCurve
+from ..analysis import AnalysisResult, analyze
+from ..errors import InputError
+from ..geometry import MidCurve
 
 __all__ = ["richardson", "observed_order", "fit_order", "rate_fit", "ConvergenceStudy",
            "convergence_study", "ROUNDOFF"]
