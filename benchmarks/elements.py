@@ -4,7 +4,7 @@ For each geometry and mesh size N, four discretisations of the continuous arch:
 
   rigid       rigid elements on the uniform mesh: limit_analysis + impact on
               discretize(curve, uniform_nodes(curve, N))
-  rigid+ref   the lead's pipeline fembeam.analyze(curve, elements=N): uniform LP, the
+  rigid+ref   the pipeline fembeam.analyze(curve, elements=N): uniform LP, the
               four hinges moved to their optimal continuous positions, nodes put there
   p1          continuous P1 fields (fembeam.fem.p1) on the uniform mesh
   p1-cart     P1 interpolating the Cartesian velocity (components="cartesian"), uniform mesh

@@ -1,6 +1,6 @@
-"""Benchmark: Clarabel vs OSQP on the impact QP (projection form, THEORY §4).
+"""Benchmark: Clarabel vs OSQP on the impact QP (projection form, docs/theory.md).
 
-For beta = 157.5 deg, t/R = 0.15 and N = 100 ... 6400 rigid elements (the lead's
+For beta = 157.5 deg, t/R = 0.15 and N = 100 ... 6400 rigid elements (the
 pipeline: ``fembeam.analyze`` gives the hinge-refined mesh and the mechanism ``u``),
 the impact QP with ``d0 = -u`` is solved by
 

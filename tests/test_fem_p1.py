@@ -86,7 +86,7 @@ def test_mass_first_moment_polar_inertia():
 
 
 def test_load_factor_converges_second_order():
-    """A_L for beta = 157.5 deg, t/R = 0.15 tends to the lead's continuous 0.353384."""
+    """A_L for beta = 157.5 deg, t/R = 0.15 tends to the continuous 0.3533839."""
     arch = CircularArch.from_ratio(157.5, 0.15)
     Ns = np.array([50, 100, 200, 400])
     AL = np.array([limit_analysis(discretize_p1(arch, uniform_nodes(arch, N))).A_L for N in Ns])

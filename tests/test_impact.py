@@ -59,7 +59,7 @@ def test_backends_agree_on_primal_and_dual(setup):
 
 
 def test_energy_maximisation_form_gives_the_same_r(setup):
-    """THEORY §4: min e^T M e s.t. compatibility and (M d0)^T e = 1 (the W = 1 form of
+    """The W = 1 form: min e^T M e s.t. compatibility and (M d0)^T e = 1 (the W = 1 form of
     (B.7), with the dense virtual-work row) gives r = 1 / (Q_min 2K) and d' = e / Q_min."""
     import scipy.sparse as sp
 
@@ -75,7 +75,7 @@ def test_energy_maximisation_form_gives_the_same_r(setup):
     Q = sol.x @ M @ sol.x
     assert 1.0 / (Q * (d0 @ p0)) == pytest.approx(proj.r, rel=1e-7)
     assert np.allclose(sol.x / Q, proj.d, atol=1e-6 * np.abs(proj.d).max())
-    # its multipliers, scaled by 1/Q_min, are the same impulses (THEORY §4)
+    # its multipliers, scaled by 1/Q_min, are the same impulses
     assert np.allclose(sol.mu / Q, proj.mu.ravel(), atol=1e-5 * np.abs(proj.mu).max())
 
 

@@ -1,4 +1,4 @@
-"""Impact: the post-impact field and the impulse line (Sect. 5, Appendix B, THEORY §4).
+"""Impact: the post-impact field and the impulse line (Sect. 5, Appendix B; docs/theory.md).
 
 The post-impact field is the projection, in the kinetic metric, of the pre-impact
 field ``d0`` onto the cone of compatible fields (Moreau's inelastic impact law)::

@@ -103,7 +103,7 @@ class AnalysisResult:
             "minimum_thickness": self.thickness.to_dict() if self.thickness is not None else None,
             "backend": self.backend,
             "solver_iterations": self.impact.iterations if self.impact else None,
-            # the impact's figures (issue item 5) at the top level, and by group
+            # the impact's figures at the top level, and by group
             "verification": {**self.verification.get("impact", {}), **self.verification},
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }

@@ -2,7 +2,7 @@
 
 The finite elements only ever ask a member for its mid-curve as functions of the
 arc length ``s`` (m, from the left end): position, unit tangent, curvature and
-thickness, plus the density and what its two ends rest on.  Conventions (THEORY §1):
+thickness, plus the density and what its two ends rest on.  Conventions (docs/theory.md):
 
 * the tangent ``t`` points from the left end to the right end, ``k`` is out of
   plane and the normal ``n = t x k = (t_y, -t_x)`` points to the centre of

@@ -22,7 +22,7 @@ class Reference:
 _PAPER_TOL = ("one unit of the last published digit (the paper rounds to three decimals and "
               "solves its own discretisation)")
 
-# published values: paper = /work/shared/paper.txt; THEORY = the project's theory notes
+# published values: the paper (impact of rocking masonry arches), Milankovitch, Housner
 REFERENCES: dict[str, Reference] = {
     "oppenheim150.A_L": Reference(0.444, 1e-3, "paper Sect. 6.1: A_L = 0.444 g, beta = 150 deg"),
     "oppenheim150.r": Reference(0.532, 1e-3, "paper Sect. 6.1, Fig. 10: r_max = 0.532, beta = 150 deg"),
@@ -31,7 +31,7 @@ REFERENCES: dict[str, Reference] = {
     "oppenheim157.r_max": Reference(0.560, 1e-3, "paper Sect. 6.1, Fig. 11c: r_max = 0.560 (five hinges)"),
     "continuous157.A_L": Reference(0.353, 1e-3, "paper Sect. 6.2: A_L = 0.353 g, beta = 157.5 deg, t/R = 0.15"),
     "continuous157.r": Reference(0.606, 1e-3, "paper Sect. 6.2, Fig. 12: r_max = 0.606"),
-    "milankovitch.t_min": Reference(0.1075, 1e-4, "THEORY §3 (Milankovitch): semicircle t_min/R = 0.1075"),
+    "milankovitch.t_min": Reference(0.1075, 1e-4, "Milankovitch (1907): semicircle t_min/R = 0.1075"),
 }
 
 # tolerances of the checks against exact formulas and of the qualitative checks: (value, reason)
@@ -40,7 +40,7 @@ TOLERANCES: dict[str, tuple[float, str]] = {
     "sector": (1e-12, "relative; 12-point Gauss on each element integrates the sector exactly up to round-off"),
     "housner_r": (1e-8, "absolute; the QP is solved to 1e-10 (fembeam.impact), r is a ratio of two energies"),
     "housner_A_L": (1e-9, "relative; HiGHS LP tolerances"),
-    "rate": (1.5, "fitted rate at least 1.5 where second order is expected (THEORY §8; tests/test_limit.py)"),
+    "rate": (1.5, "fitted rate at least 1.5 where second order is expected (tests/test_limit.py)"),
     "mesh_independent": (1e-10, "relative spread of the hinge-refined A_L over the meshes (four-hinge optimum)"),
     "monotone": (1e-6, "r may move against the trend by at most this (the tests' relative accuracy of r)"),
 }

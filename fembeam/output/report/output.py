@@ -204,7 +204,7 @@ def markdown(rep: Report, command: str) -> str:
                     [[r["n"], f"{r['A_L']:.8f}", _fmt(qa["errors"][i]), f"{r['r']:.6f}", _fmt(qv["errors"][i])]
                      for i, r in enumerate(sv["rows"])])
         L += ["", f"Continuous reference: A_L = {sv['reference']['A_L']:.8f}, r = {sv['reference']['r']:.6f}. "
-              f"A_L rate {qa['rate']:.2f}; r does not converge monotonically (THEORY §8).", "",
+              f"A_L rate {qa['rate']:.2f}; r does not converge monotonically on voussoir meshes (the hinges snap to the joints).", "",
               "![voussoirs](convergence_voussoirs.png)", ""]
 
     if "fig13" in d:
@@ -225,7 +225,7 @@ def markdown(rep: Report, command: str) -> str:
                      + [_fmt(env.get(b, {}).get("t_min_over_R")), _fmt(env.get(b, {}).get("r"))] for b in f["embrace_deg"]])
         L += ["", "![fig13](fig13.png)", ""]
 
-    L += ["## References and tolerances", "", "Published values (the only numbers typed into `fembeam/report/checks.py`, "
+    L += ["## References and tolerances", "", "Published values (the only numbers typed into `fembeam/output/report/checks.py`, "
           "with the tolerances):", ""]
     L += _table(["key", "value", "tolerance", "source"],
                 [[k, f"{r.value:g}", f"{r.tol:g}", r.source] for k, r in REFERENCES.items()])

@@ -73,16 +73,16 @@ def section_exact(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
     worst_r = max(slender, key=lambda r: abs(r["r"] - r["r_exact"]))
     checks.append(_close(S, f"Housner r = (1 - 1.5 sin^2 a)^2, worst of {len(slender)} slender blocks "
                             f"(tan a = {worst_r['tan_a']:g})", worst_r["r"], worst_r["r_exact"], "housner_r",
-                         source="THEORY §7 (Housner): r = (1 - 1.5 sin^2 a)^2",
+                         source="Housner (1963): r = (1 - 1.5 sin^2 a)^2",
                          detail=f"tan a = {min(r['tan_a'] for r in slender):g} .. {max(r['tan_a'] for r in slender):g}"))
     worst_a = max(slender, key=lambda r: abs(r["A_L"] / r["tan_a"] - 1))
     checks.append(_close(S, f"Housner A_L = tan a, worst (tan a = {worst_a['tan_a']:g})", worst_a["A_L"],
-                         worst_a["tan_a"], "housner_A_L", rel=True, source="THEORY §7: incipient rocking at A_L = tan a"))
+                         worst_a["tan_a"], "housner_A_L", rel=True, source="Housner (1963): incipient rocking at A_L = tan a"))
     stocky_list = ", ".join(f"{r['tan_a']:g}" for r in stocky)
     checks.append(_holds(S, f"stocky blocks (tan a = {stocky_list} > sqrt 2) arrested, r = 0",
                          all(r["outcome"] == "arrested" and r["r"] == 0.0 for r in stocky),
                          max(r["r"] for r in stocky), "r = 0 (arrested)",
-                         "THEORY §7 / tests/test_housner.py: 1 - 1.5 sin^2 a < 0, no compatible motion does work"))
+                         "tests/test_housner.py: 1 - 1.5 sin^2 a < 0, no compatible motion does work"))
 
     # Milankovitch
     say("exact: Milankovitch minimum thickness")
@@ -188,7 +188,7 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
                _against(S, f"continuous 157.5: r_max (QP, {res.elements} el.)", res.r, "continuous157.r"),
                _against(S, "continuous 157.5: best four-hinge r (smooth restricted problem)", best.r, "continuous157.r"),
                _at_least(S, "continuous 157.5: r_max - r_4hinge", res.r - best.r, 0.0,
-                         "THEORY §5: the general QP does at least as well as any four-hinge mechanism"),
+                         "the general QP maximises r over all compatible fields, four-hinge ones included"),
                _info(S, "continuous 157.5: four-hinge line max (|e| - t/2)/t", adm["max_outside"],
                      "paper Fig. 12 calls it admissible; the QP's hinge zones fix this (docs/four_hinge.md)",
                      f"QP impulse line outside: {res.verification['impact']['impulse_line_outside']:.1e}")]
@@ -262,7 +262,7 @@ def section_convergence(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
                _at_least(S, f"A_L_mesh (uniform-mesh LP): fitted rate ({levels})", q["A_L_mesh"]["rate"], rate_tol,
                          rate_src, f"fitted p = {q['A_L_mesh']['fitted_order']:.2f}"),
                _holds(S, "A_L_mesh > refined A_L on every mesh (an LP over fewer mechanisms)",
-                      bool(np.all(Am > A)), float(np.min(Am - A)), "> 0", "THEORY §8: A_L is a minimum over mechanisms"),
+                      bool(np.all(Am > A)), float(np.min(Am - A)), "> 0", "A_L is a minimum over mechanisms (kinematic theorem)"),
                _at_most(S, "refined A_L: relative spread over the meshes", float(np.ptp(A) / A[-1]),
                         TOLERANCES["mesh_independent"][0], TOLERANCES["mesh_independent"][1]),
                _against(S, "r: Richardson limit", q["r"]["extrapolated"], "continuous157.r")]
@@ -276,9 +276,9 @@ def section_convergence(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
                          "hinge positions, second order", f"against {cfg.reference_elements} elements"),
                _holds(S, "voussoirs: A_L decreases monotonically to the continuous value",
                       bool(np.all(err > 0) and np.all(np.diff(err) < 0)), float(err[-1]), "errors > 0, decreasing",
-                      "THEORY §6: the discrete arch tends to the continuous one"),
+                      "the discrete arch tends to the continuous one"),
                _info(S, f"voussoirs: |r - r_continuous| at N = {cfg.voussoirs[-1]}", sv.quantities["r"]["errors"][-1],
-                     "THEORY §8: r wobbles ~1e-3 with the voussoir joints (hinges snap to them)")]
+                     "r wobbles ~1e-3 with the voussoir joints (hinges snap to them)")]
     data["voussoirs"] = sv.to_dict()
     return checks, {"_studies": (st, sv), **data}
 
@@ -296,7 +296,7 @@ def section_fig13(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
            if c["outcome"] in ("solver_error", "no_mechanism")]
     checks.append(_holds(S, "every case rocks, is arrested or cannot stand (none lost)", not bad,
                          len(res.cases) - len(bad), f"{len(res.cases)} of {len(res.cases)}",
-                         "issue 4: cases are reported, not dropped", "; ".join(bad)))
+                         "every case is reported, none dropped", "; ".join(bad)))
     rvals = {(c["embrace_deg"], c["t_over_R"]): c["r"] for c in res.cases if c["outcome"] in ("rocking", "arrested")}
     worst_t, worst_b = -np.inf, -np.inf
     for b in res.embrace:
