@@ -248,7 +248,7 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
         ref = analyze(curve, elements=reference_elements, direction=direction, backend=backend,
                       refine_hinges=refine_hinges)
         reference = {"elements": reference_elements, "outcome": ref.outcome, "A_L": _num(ref.A_L),
-                     "A_L_mesh": _num(ref.A_L), "r": _num(ref.r),
+                     "A_L_mesh": _num(ref.A_L_mesh), "r": _num(ref.r),
                      "hinges_before": [h.to_dict() for h in ref.hinges_before],
                      "hinges_after": [h.to_dict() for h in ref.hinges_after]}
         say(f"continuous reference on {reference_elements} elements: A_L = {ref.A_L:.8f}, r = {ref.r:.8f} "
