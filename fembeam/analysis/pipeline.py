@@ -82,6 +82,9 @@ class AnalysisResult:
         return merge_adjacent(self.impact.disc, h) if self.mode == "continuous" else h
 
     def to_dict(self, fields: bool = False) -> dict:
+        """The JSON of ``fembeam analyze`` (no NaN or infinity: null where undefined);
+        ``hinges_exact`` is False when the continuum optimum is degenerate and the
+        mechanism was taken from the uniform mesh (docs/theory.md, section 4)."""
         def num(x):
             return None if x is None or not np.isfinite(x) else float(x)
 
@@ -98,7 +101,8 @@ class AnalysisResult:
             "hinge_joints_after": [h.to_dict() for h in (self.impact.hinges if self.impact else [])],
             "A_L_uniform_mesh": num(self.A_L_mesh),
             "A_L_lower_bound": num(self.A_L_lower),
-            "hinges_exact": None if self.continuum is None else bool(self.continuum.exact_hinges),
+            "hinges_exact": (bool(self.continuum.exact_hinges)
+                             if self.continuum is not None and self.outcome in ("rocking", "arrested") else None),
             "t_min_over_R": num(self.t_min_over_R),
             "minimum_thickness": self.thickness.to_dict() if self.thickness is not None else None,
             "backend": self.backend,
