@@ -122,7 +122,8 @@ class AnalysisResult:
         if fields and self.limit is not None and self.limit.N is not None:
             lim = self.limit
             out["thrust_line"] = {"angle_deg": lim.disc.joint_angle_deg.tolist(),
-                                  "N": (lim.N[0] + lim.N[1]).tolist(), "eccentricity": lim.eccentricity.tolist()}
+                                  "N": (lim.N[0] + lim.N[1]).tolist(),
+                                  "eccentricity": [None if not np.isfinite(e) else float(e) for e in lim.eccentricity]}
         return out
 
 

@@ -82,7 +82,7 @@ def run(args) -> int:
                   direction=args.direction, backend=args.backend, refine_hinges=not args.no_refine)
     written = write_pictures(res, args)
     if args.json:  # stdout carries the JSON object only
-        print(json.dumps(res.to_dict(fields=args.fields)))
+        print(json.dumps(res.to_dict(fields=args.fields), allow_nan=False))
     else:
         print(summary(res))
         for line in written:
