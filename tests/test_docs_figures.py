@@ -42,16 +42,29 @@ def test_sweep_csv(beta, tr):
                if r["kind"] == "case" and float(r["embrace_deg"]) == beta and abs(float(r["t_over_R"]) - tr) < 1e-12)
     fresh = sweep_case(beta, tr)
     assert row["outcome"] == fresh["outcome"]
-    for key in ("A_L", "r", "t_min_over_R"):
+    for key, rel in (("A_L", 1e-9), ("r", 1e-9), ("t_min_over_R", 2e-6)):   # t_min: bisection to 1e-6
         if fresh.get(key) is None:
             assert row[key] == "", key
         else:
-            assert float(row[key]) == pytest.approx(fresh[key], rel=1e-9), key
+            assert float(row[key]) == pytest.approx(fresh[key], rel=rel), key
 
 
 def test_report_json_paper_values():
     rep = json.loads((DOCS / "report" / "verification_report.json").read_text())
-    text = json.dumps(rep)
+    numbers = []
+
+    def walk(x):
+        if isinstance(x, dict):
+            for v in x.values():
+                walk(v)
+        elif isinstance(x, list):
+            for v in x:
+                walk(v)
+        elif isinstance(x, float):
+            numbers.append(x)
+
+    walk(rep)
     res = analyze(CircularArch.from_ratio(157.5, 0.15))
-    # the report's continuous paper case, as printed
-    assert f"{res.r:.6f}" in text and f"{res.A_L:.6f}" in text
+    # the report's continuous paper case (200 elements): A_L and r as a fresh run gives them
+    assert min(abs(v - res.r) for v in numbers) < 1e-9 * res.r
+    assert min(abs(v - res.A_L) for v in numbers) < 1e-9 * res.A_L

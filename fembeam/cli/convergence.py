@@ -96,7 +96,7 @@ def table(study: ConvergenceStudy) -> str:
     for name, q in study.quantities.items():
         lim = q.get("extrapolated", q.get("reference"))
         if q.get("exact"):
-            out.append(f"  {name:22s} {_f(lim, '14.9f')}   mesh-independent (round-off / optimiser tolerance)")
+            out.append(f"  {name:22s} {_f(lim, '14.9f')}   mesh-independent (to round-off / the LP tolerance)")
             continue
         out.append(f"  {name:22s} {_f(lim, '14.9f')} {_f(q['rate'], '10.2f')} {_f(q['fitted_order'], '9.2f')} "
                    f"{_f(q['observed_order_3'], '9.2f')}")
