@@ -183,9 +183,9 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
 
     k = st.k
     L = st.disc.nodes_s[-1]
-    # k + 1 hinges, at least two elements apart: otherwise the optimum is degenerate
-    # (hinges merging, e.g. at a springing) and its positions are ill-conditioned
-    if s0.size != k + 1 or np.min(np.diff(s0)) < 2.0 * np.max(np.diff(st.disc.nodes_s)):
+    # k + 1 distinct hinges (the LP's clusters are known to ~sqrt(tol) only, so the spacing
+    # test that decides degeneracy is made on the solved positions below)
+    if s0.size != k + 1 or np.min(np.diff(s0)) <= 0:
         return None
     free = ~fixed
     ds = 1e-5 * L
@@ -211,7 +211,10 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     # judged by the residual (MINPACK may stop at the noise floor and call it slow progress):
     # fibre forces and slopes ~1e-11 (the noise of the central difference, eps / ds)
     if (np.max(np.abs(res[:k + 1])) > 1e-10 or np.max(np.abs(res[k + 1:]), initial=0) > 1e-8
-            or s[0] < 0 or s[-1] > L or np.min(np.diff(s)) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
+            or s[0] < 0 or s[-1] > L
+            # at least two elements apart: otherwise the optimum is degenerate (hinges merging,
+            # e.g. at a springing) and the positions are ill-conditioned
+            or np.min(np.diff(s)) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
         return None
     return x, float(lam), s
 
