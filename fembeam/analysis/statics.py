@@ -94,7 +94,7 @@ class Statics:
 
 
 def statics(disc: Discretization) -> Statics:
-    """Factorise the equilibrium operator of ``disc`` (O(N): block-bidiagonal LU)."""
+    """Factorise the equilibrium operator of ``disc`` (O(N): banded LU of a block-bidiagonal matrix)."""
     J = disc.n_joints
     n3 = disc.M.shape[0]
     k = 3 * J - n3
@@ -109,10 +109,7 @@ def statics(disc: Discretization) -> Statics:
     fx, fy = disc.load_vectors()
     m = float(fx @ disc.rigid(V=(1.0, 0.0)))
     K = B[k:].T.tocsc()
-    try:
-        lu = spla.splu(K)   # COLAMD + partial pivoting: no fill beyond the band, residual ~1e-11 at 10^5
-    except RuntimeError as err:  # exactly singular: a mechanism with every joint locked
-        raise SolverError(f"the equilibrium operator is singular ({err})") from None
+    lu = _factorise(K)
     rhs = np.column_stack([D @ fy / m, -(D @ fx) / m, -(B[:k].T.toarray())])
     sol = _refined(lu, K, rhs, "N")
     if not np.all(np.isfinite(sol)):
@@ -125,6 +122,43 @@ def statics(disc: Discretization) -> Statics:
     Gl = joints(sol[:, 1]).T
     Gx = np.concatenate([np.eye(k), sol[:, 2:]]).reshape(J, 3, k).transpose(1, 0, 2)
     return Statics(disc, m, G0, Gl, Gx, lu, K, _cumulative_inertia(disc))
+
+
+class _Banded:
+    """LU with partial pivoting of a banded matrix (LAPACK gbtrf/gbtrs), with the
+    ``solve(rhs, trans)`` interface of SuperLU.  A chain numbered element by element is
+    banded (element ``e`` touches joints ``e`` and ``e + 1``: bandwidths 5 and 2), so the
+    factorisation costs O(N) with a small constant."""
+
+    def __init__(self, K: sp.spmatrix):
+        from scipy.linalg import get_lapack_funcs
+
+        C = K.tocoo()
+        self.n = K.shape[0]
+        self.l, self.u = int(np.max(C.row - C.col)), int(np.max(C.col - C.row))
+        ab = np.zeros((2 * self.l + self.u + 1, self.n))
+        ab[self.l + self.u + C.row - C.col, C.col] = C.data
+        self.gbtrf, self.gbtrs = get_lapack_funcs(("gbtrf", "gbtrs"), (ab,))
+        self.lu, self.piv, info = self.gbtrf(ab, self.l, self.u)
+        if info != 0:
+            raise SolverError(f"the equilibrium operator is singular (LAPACK gbtrf info {info})")
+
+    def solve(self, rhs: np.ndarray, trans: str = "N") -> np.ndarray:
+        x, info = self.gbtrs(self.lu, self.l, self.u, rhs, self.piv, trans=0 if trans == "N" else 1)
+        if info != 0:
+            raise SolverError(f"banded solve failed (LAPACK gbtrs info {info})")
+        return x
+
+
+def _factorise(K: sp.spmatrix):
+    """Banded LU when the numbering makes ``K`` banded (any chain of elements), else SuperLU."""
+    C = K.tocoo()
+    if C.nnz and np.max(C.row - C.col) + np.max(C.col - C.row) <= 16:
+        return _Banded(K)
+    try:
+        return spla.splu(K.tocsc())   # COLAMD + partial pivoting
+    except RuntimeError as err:       # exactly singular: a mechanism with every joint locked
+        raise SolverError(f"the equilibrium operator is singular ({err})") from None
 
 
 def _refined(lu, A, rhs, trans):
