@@ -72,9 +72,14 @@ def main() -> None:
         print(f"{n:9d} {t1 - t0:11.3f} {t2 - t1:9.3f} {t3 - t2:12.3f} {lim.lp_rounds:10d} {lim.A_L:12.9f} {peak_mb():9.0f}"
               + kin, flush=True)
     a = np.array(rows)
+    big = a[:, 0] >= 10_000
     for j, name in ((1, "assembly"), (2, "limit_analysis"), (3, "continuum")):
         p = np.polyfit(np.log(a[:, 0]), np.log(a[:, j]), 1)[0]
-        print(f"fitted growth exponent, {name}: {p:.2f} (N = {sizes[0]}..{sizes[-1]})")
+        line = f"fitted growth exponent, {name}: {p:.2f} (N = {sizes[0]}..{sizes[-1]})"
+        if big.sum() >= 2:   # without the sizes where fixed costs dominate
+            q = np.polyfit(np.log(a[big, 0]), np.log(a[big, j]), 1)[0]
+            line += f", {q:.2f} (N >= 10^4)"
+        print(line)
     if args.analyze:
         t0 = time.perf_counter()
         res = analyze(arch, elements=args.analyze)
