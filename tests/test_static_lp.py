@@ -126,3 +126,35 @@ def test_a_failed_figure_fails_the_result():
     assert failures({"duality_gap": 1e-3, "max_shear_ratio": 10.0}) == {"duality_gap": 1e-3}
     assert failures({"equilibrium_residual": float("nan")})   # not a number: failed
     assert set(THRESHOLDS) >= {"statics_mismatch", "impulse_mismatch", "continuum_violation"}
+
+
+def test_free_self_stress_and_huge_thrust_are_not_mistaken_for_no_mechanism():
+    """A one-voussoir semicircle leaves the shear redundant free (horizontal springing faces):
+    the simplex may park it at its bound, which must not read as an unbounded load factor."""
+    for tr in (0.1, 0.3):
+        disc = discretize(CircularArch.from_ratio(180, tr), np.array([0.0, np.pi]))
+        lim = limit_analysis(disc)
+        kin = kinematic_A_L(disc)
+        assert lim.status == "ok" and lim.A_L == pytest.approx(kin.fun, rel=1e-9)
+
+
+def test_members_that_stand_at_any_thickness_say_so():
+    th = minimum_thickness(CircularArch.from_ratio(180.0, 0.3), voussoirs=3)
+    assert th.outcome == "stands_at_any_thickness" and th.scale == 0.0
+
+
+def test_continuum_needs_rigid_elements_and_a_direction():
+    from fembeam.errors import InputError
+    from fembeam.fem import discretize_p1
+
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    with pytest.raises(InputError, match="rigid elements"):
+        continuum_limit(discretize_p1(arch, uniform_nodes(arch, 20)))
+    with pytest.raises(InputError, match="direction"):
+        continuum_limit(discretize(arch, uniform_nodes(arch, 20)), direction=2)
+
+
+def test_block_on_a_mesh_of_elements():
+    res = analyze(StraightMember(2.0, 0.6), elements=8)
+    a = np.arctan(0.3)
+    assert res.A_L == pytest.approx(0.3, rel=1e-12) and res.r == pytest.approx((1 - 1.5 * np.sin(a) ** 2) ** 2, abs=1e-8)

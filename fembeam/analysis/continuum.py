@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from .statics import Statics, section_force_rows, statics
 
 __all__ = ["weakest_sections", "ContinuumLimit", "continuum_limit"]
@@ -115,7 +116,12 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
     the convex combination ``theta z* + (1 - theta) z_c`` of the optimum and of the
     most central state under gravity ``z_c`` (margin ``m_c > 0``) is admissible for
     ``theta = m_c / (m_c + violation)``, so ``A_L >= theta A_L*``."""
-    from .limit import STAND_TOL, joint_rows, main_lp
+    from .limit import STAND_TOL, _check_direction, _unboxed, joint_rows, main_lp
+
+    if getattr(disc, "element", None) != "rigid":
+        raise InputError("the continuum analysis needs rigid elements (fembeam.discretize): its sections "
+                         "between joints are cut from rigid pieces")
+    direction = _check_direction(direction)
 
     st = statics(disc)
     k, J = st.k, disc.n_joints
@@ -126,8 +132,8 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
                               _support(disc, cuts, stand.y, J), cuts, float("nan"), rounds)
     for _ in range(max_rounds):
         rounds += 1
-        main = main_lp(_rows(st, direction, R, cuts, fib), k)
-        if main.at_bound.any():
+        main = _unboxed(main_lp, _rows(st, direction, R, cuts, fib), k)
+        if main.at_bound[k]:
             return ContinuumLimit("no_mechanism", float("inf"), float("inf"), margin, np.empty(0), cuts, 0.0, rounds)
         s_new, f_new, v = weakest_sections(st, np.r_[main.z[:k], direction * main.z[k], 1.0])
         violation = max(0.0, -float(np.min(v, initial=0.0)))
@@ -185,7 +191,7 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     L = st.disc.nodes_s[-1]
     # k + 1 distinct hinges (the LP's clusters are known to ~sqrt(tol) only, so the spacing
     # test that decides degeneracy is made on the solved positions below)
-    if s0.size != k + 1 or np.min(np.diff(s0)) <= 0:
+    if s0.size != k + 1 or np.min(np.diff(s0), initial=np.inf) <= 0:
         return None
     free = ~fixed
     ds = 1e-5 * L
@@ -214,7 +220,7 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
             or s[0] < 0 or s[-1] > L
             # at least two elements apart: otherwise the optimum is degenerate (hinges merging,
             # e.g. at a springing) and the positions are ill-conditioned
-            or np.min(np.diff(s)) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
+            or np.min(np.diff(s), initial=np.inf) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
         return None
     return x, float(lam), s
 
@@ -222,11 +228,11 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
 def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int):
     """Largest margin under gravity on the continuum: the LP's value bounds it from above,
     the smallest fibre force of the LP's state along the whole member from below."""
-    from .limit import STAND_TOL, stand_lp
+    from .limit import STAND_TOL, _unboxed, stand_lp
 
     k = st.k
     for rounds in range(1, max_rounds + 1):
-        stand = stand_lp(_rows(st, direction, R, cuts, fib), k)
+        stand = _unboxed(stand_lp, _rows(st, direction, R, cuts, fib), k)
         z_c = np.r_[stand.z[:k], 0.0, 1.0]
         s_new, f_new, v = weakest_sections(st, z_c, stand.value)
         margin = min(stand.value, float(np.min(v, initial=np.inf)))

@@ -135,7 +135,7 @@ def _verify(res: ImpactResult, two_k: float) -> dict:
         "max_tensile_impulse": float(max(0.0, -np.min(mu)) / mu_max),
         "impulse_work": float(abs(work) / two_k),
         "incompatibility": float(max(0.0, -np.min(eps), np.max(np.abs(disc.B_slide @ d)))
-                                 / max(np.max(np.abs(eps)), np.sqrt(two_k / np.sum(M.diagonal())))),
+                                 / max(np.max(np.abs(eps)), np.sqrt(two_k / st.mass))),
         "virtual_work_gap": float(abs(p0 @ d - d @ M @ d) / two_k),
         "max_shear_ratio": float(np.max(shear, initial=0.0)),
     }

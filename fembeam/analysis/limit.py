@@ -40,7 +40,7 @@ from .lp import FEAS_TOL, maximise
 from .statics import Statics, section_forces, statics
 from .verification import check
 
-__all__ = ["LimitResult", "limit_analysis", "joint_rows", "STAND_TOL", "BOX"]
+__all__ = ["LimitResult", "limit_analysis", "joint_rows", "stand_lp", "main_lp", "ray_lp", "STAND_TOL", "BOX"]
 
 BOX = 1e6          # bound on lambda (g): beyond it, look for a no-mechanism certificate
 XBOX = 1e3         # bound on the redundants (units of the weight)
@@ -81,17 +81,34 @@ def joint_rows(st: Statics, direction: int) -> np.ndarray:
                            for i in (1, 2)])
 
 
-def stand_lp(R: np.ndarray, k: int):
+def stand_lp(R: np.ndarray, k: int, xbox: float = XBOX):
     """Largest margin under gravity alone: ``max tau s.t. rows(x, 0) >= tau``."""
     A = np.column_stack([R[:, :k], -np.ones(R.shape[0])])
-    return maximise(np.r_[np.zeros(k), 1.0], A, R[:, k + 1], [(-XBOX, XBOX)] * k + [(None, 1.0)],
+    return maximise(np.r_[np.zeros(k), 1.0], A, R[:, k + 1], [(-xbox, xbox)] * k + [(None, 1.0)],
                     seq=R.shape[0] // 2)
 
 
-def main_lp(R: np.ndarray, k: int, start=None):
+def main_lp(R: np.ndarray, k: int, xbox: float = XBOX):
     """``max lambda s.t. rows(x, lambda) >= 0``."""
-    return maximise(np.r_[np.zeros(k), 1.0], R[:, :k + 1], R[:, k + 1], [(-XBOX, XBOX)] * k + [(None, BOX)],
-                    seq=R.shape[0] // 2, start=start)
+    return maximise(np.r_[np.zeros(k), 1.0], R[:, :k + 1], R[:, k + 1], [(-xbox, xbox)] * k + [(None, BOX)],
+                    seq=R.shape[0] // 2)
+
+
+def ray_lp(R: np.ndarray, k: int, xbox: float = XBOX):
+    """``max tau s.t. rows_x dx + rows_lambda >= tau``: ``tau >= 0`` is an admissible ray."""
+    A = np.column_stack([R[:, :k], -np.ones(R.shape[0])])
+    return maximise(np.r_[np.zeros(k), 1.0], A, R[:, k], [(-xbox, xbox)] * k + [(None, 1.0)], seq=R.shape[0] // 2)
+
+
+def _unboxed(lp, R: np.ndarray, k: int):
+    """Solve ``lp`` with the redundants boxed, enlarging the box while it binds (a thrust of
+    more than 1e3 weights: very flat or very thin members); the box never binds at the end,
+    so the duals are those of the unboxed problem."""
+    for xbox in (XBOX, 1e6 * XBOX, 1e12 * XBOX):
+        sol = lp(R, k, xbox)
+        if not sol.at_bound[:k].any():
+            return sol
+    raise SolverError(f"limit LP: the redundants exceed {1e12 * XBOX:g} weights (no finite thrust state)")
 
 
 def _check_direction(direction) -> int:
@@ -113,13 +130,13 @@ def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = Fals
     st = statics(disc)
     k, J = st.k, disc.n_joints
     R = joint_rows(st, direction)
-    stand = stand_lp(R, k)
+    stand = _unboxed(stand_lp, R, k)
     margin = stand.value
     if margin < -STAND_TOL:
         res = _cannot_stand(st, direction, stand)
     else:
-        main = main_lp(R, k)
-        if main.at_bound.any():   # lambda, or the thrust growing with it, at its bound
+        main = _unboxed(main_lp, R, k)
+        if main.at_bound[k]:      # lambda held by its bound: look for the no-mechanism certificate
             res = _no_mechanism(st, direction, stand, R)
         else:
             res = _ok(st, direction, main)
@@ -134,7 +151,24 @@ def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = Fals
     return res
 
 
-def _eps(y: np.ndarray, J: int) -> np.ndarray:
+def _eps(y: np.ndarray, st: Statics) -> np.ndarray:
+    """Opening rates ``(2, J)`` from the row duals ``y``, made exactly compatible: on the
+    support of ``y`` (the hinges) the closure conditions ``G_x^T eps = 0`` are solved to
+    round-off (null space by SVD) instead of to the LP's dual tolerance, which matters for
+    very thin members whose rows are large."""
+    J, k = st.disc.n_joints, st.k
+    y = np.asarray(y, float)
+    S = np.flatnonzero(y > 1e-9 * np.max(y))
+    if k == 0 or S.size <= k:
+        return y.reshape(2, J)
+    Gx = np.concatenate([st.G_x[1], st.G_x[2]])[S]          # (|S|, k)
+    _, sv, Vt = np.linalg.svd(Gx.T)
+    null = Vt[-(S.size - k):] if S.size - k > 0 else Vt[-1:]
+    e = null.T @ (null @ y[S])                              # projection of y[S] on the null space
+    if np.all(e > 0):
+        out = np.zeros_like(y)
+        out[S] = e
+        return out.reshape(2, J)
     return y.reshape(2, J)
 
 
@@ -147,7 +181,9 @@ def _incompatibility(disc, u, eps, closure) -> float:
 def _ok(st: Statics, direction: int, lp) -> LimitResult:
     disc, m, k, J = st.disc, st.mass, st.k, st.disc.n_joints
     x, lam = lp.z[:k], float(lp.z[k])
-    eps = _eps(lp.y, J)
+    if -1e-9 < lam < 0:   # a member at its minimum thickness: A_L = 0 to the LP's tolerance
+        lam = 0.0
+    eps = _eps(lp.y, st)
     u, closure = st.mechanism(eps)
     fx, fy = disc.load_vectors()
     power = direction * float(fx @ u)
@@ -199,7 +235,7 @@ def _shear_ratio(g) -> float:
 def _cannot_stand(st: Statics, direction: int, lp) -> LimitResult:
     """Certificate: the margin LP's duals, a compatible mechanism that gravity drives."""
     disc, m, J = st.disc, st.mass, st.disc.n_joints
-    eps = _eps(lp.y, J)
+    eps = _eps(lp.y, st)
     u, closure = st.mechanism(eps)
     fx, fy = disc.load_vectors()
     lift = float(fy @ u)
@@ -209,7 +245,7 @@ def _cannot_stand(st: Statics, direction: int, lp) -> LimitResult:
     out = LimitResult("cannot_stand", disc, direction, u=u, hinges=find_hinges(disc, u))
     rms = np.sqrt(float(u @ disc.M @ u) / m)
     out.verification = {"incompatibility": _incompatibility(disc, u, eps, closure),
-                        "gravity_power": -m / (m * rms)}   # f_y.u / (m v_rms) < 0: the weight descends
+                        "gravity_power": float(fy @ u) / (m * rms)}   # < 0: the weight descends along u
     return out
 
 
@@ -217,8 +253,7 @@ def _no_mechanism(st: Statics, direction: int, stand, R) -> LimitResult:
     """Certificate: an admissible state at lambda = 0 and an admissible ray of
     (self-stress, horizontal load)."""
     disc, m, k = st.disc, st.mass, st.k
-    A = np.column_stack([R[:, :k], -np.ones(R.shape[0])])
-    ray = maximise(np.r_[np.zeros(k), 1.0], A, R[:, k], [(-XBOX, XBOX)] * k + [(None, 1.0)], seq=R.shape[0] // 2)
+    ray = _unboxed(ray_lp, R, k)
     if ray.value < -FEAS_TOL:
         raise SolverError(f"limit LP: A_L exceeds {BOX:g} g but no admissible ray exists")
     dx = ray.z[:k]

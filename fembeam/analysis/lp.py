@@ -35,7 +35,7 @@ class SmallLP:
     rounds: int
     working_rows: int
     min_row: float          # min over all rows of A z + b (>= -FEAS_TOL)
-    at_bound: np.ndarray    # bool per variable: the optimum touches its box bound
+    at_bound: np.ndarray    # bool per variable: a box bound holds the optimum (binding, non-zero reduced cost)
 
 
 def _runs_argmin(r: np.ndarray, bad: np.ndarray, seq: int) -> np.ndarray:
@@ -81,11 +81,10 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
         raise SolverError(f"constraint generation did not converge in {max_rounds} rounds")
     y = np.zeros(nr)
     y[work] = -np.asarray(res.ineqlin.marginals)
-    lo = np.array([-np.inf if bd[0] is None else bd[0] for bd in _bounds_list(bounds, c.size)])
-    hi = np.array([np.inf if bd[1] is None else bd[1] for bd in _bounds_list(bounds, c.size)])
-    with np.errstate(invalid="ignore"):
-        at_bound = (np.isfinite(lo) & (np.abs(z - lo) <= 1e-9 * np.maximum(1, np.abs(lo)))) | \
-                   (np.isfinite(hi) & (np.abs(z - hi) <= 1e-9 * np.maximum(1, np.abs(hi))))
+    # a bound binds when it is active and its reduced cost is not zero: a free self-stress
+    # parked at its bound by the simplex does not hold the optimum
+    reduced = np.abs(np.asarray(res.lower.marginals)) + np.abs(np.asarray(res.upper.marginals))
+    at_bound = reduced > 1e-9 * max(1.0, float(np.max(np.abs(c))))
     return SmallLP(z, float(c @ z), y, rnd, int(work.size), float(np.min(r)), at_bound)
 
 

@@ -20,18 +20,18 @@ from ..errors import InputError
 from ..fem import discretize, uniform_nodes
 from ..geometry import MidCurve
 from .continuum import continuum_stands
-from .limit import STAND_TOL, joint_rows, stand_lp
+from .limit import STAND_TOL, _unboxed, joint_rows, stand_lp
 from .statics import statics
 
 __all__ = ["MinimumThickness", "minimum_thickness", "thickness_on"]
 
-SMALLEST_SCALE = 1e-9   # below this factor the member "stands at any thickness"
+MAX_DOUBLINGS_SCALE = 2.0 ** 40   # a member that does not stand 10^12 times thicker never does
 
 
 @dataclass(frozen=True)
 class MinimumThickness:
-    """``scale``: smallest thickness factor that stands (``0`` if every factor down to
-    1e-9 stands, ``inf`` if none up to the shape's limit does); ``lower``: a factor that
+    """``scale``: smallest thickness factor that stands (``0`` if every factor down to the
+    shape's thinnest admitted section stands, ``inf`` if none up to its limit does); ``lower``: a factor that
     does not stand (``scale - lower <= tol scale``); ``solves``: margin LPs used."""
 
     curve: MidCurve
@@ -64,7 +64,7 @@ def _stands(curve: MidCurve, nodes: np.ndarray, continuum: bool) -> bool:
     if continuum:
         return continuum_stands(disc)[0]
     st = statics(disc)
-    return stand_lp(joint_rows(st, 1), st.k).value >= -STAND_TOL
+    return _unboxed(stand_lp, joint_rows(st, 1), st.k).value >= -STAND_TOL
 
 
 def minimum_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
@@ -95,16 +95,17 @@ def thickness_on(curve: MidCurve, nodes: np.ndarray, continuum: bool, tol: float
         solves += 1
         return _stands(curve.with_thickness_scaled(k), nodes, continuum)
 
+    floor = curve.min_thickness_scale
     if stands(1.0):
-        lo, hi = 0.5, 1.0
+        lo, hi = max(0.5, floor), 1.0
         while stands(lo):
-            if lo < SMALLEST_SCALE:
+            if lo <= floor:   # stands down to the thinnest section the shape admits
                 return MinimumThickness(curve, 0.0, 0.0, solves, continuum)
-            lo, hi = 0.5 * lo, lo
+            lo, hi = max(0.5 * lo, floor), lo
     else:
         lo, hi = 1.0, min(2.0, cap)
         while not stands(hi):
-            if hi >= cap:
+            if hi >= cap or hi >= MAX_DOUBLINGS_SCALE:
                 return MinimumThickness(curve, math.inf, hi, solves, continuum)
             lo, hi = hi, min(2.0 * hi, cap)
     while hi - lo > tol * hi:

@@ -17,12 +17,11 @@ def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
 
 
 def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
-    """Copy of ``nodes_s`` with a node on each of ``points_s``: the nearest interior
-    node not yet used is moved there (the element count stays), or, when the neighbours
-    do not allow it, a node is inserted.  Points within 1e-12 of the length of a node
-    are already there."""
+    """Copy of ``nodes_s`` with a node on each of ``points_s``: the nearest node is moved
+    there when it is an interior node not yet used (the element count stays), else a node
+    is inserted.  Points within 1e-10 of the length of a node are already there."""
     out = np.array(nodes_s, float)
-    tol = 1e-12 * (out[-1] - out[0])
+    tol = 1e-10 * (out[-1] - out[0])
     moved = np.zeros(out.size, bool)
     moved[[0, -1]] = True
     pts = np.atleast_1d(np.asarray(points_s, float))
@@ -33,7 +32,7 @@ def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
         if np.min(d) <= tol:
             moved[np.argmin(d)] = True
             continue
-        i = int(np.argmin(np.where(moved, np.inf, d)))
+        i = int(np.argmin(d))             # the nearest node: moved only if free to move
         if not moved[i] and out[i - 1] < p < out[i + 1]:
             out[i], moved[i] = p, True
         else:

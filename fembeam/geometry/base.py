@@ -55,6 +55,11 @@ class MidCurve:
         """Largest thickness factor the shape admits (e.g. intrados radius > 0)."""
         return math.inf
 
+    @property
+    def min_thickness_scale(self) -> float:
+        """Smallest thickness factor the shape admits."""
+        return 1e-9
+
     def normal(self, s: np.ndarray) -> np.ndarray:
         t = self.tangent(s)
         return np.array([t[1], -t[0]])

@@ -10,7 +10,9 @@ import numpy as np
 from ..errors import InputError
 from .base import MidCurve, finite_positive as _finite_positive
 
-__all__ = ["CircularArch"]
+__all__ = ["CircularArch", "MIN_T_OVER_R"]
+
+MIN_T_OVER_R = 1e-3
 
 
 @dataclass(frozen=True)
@@ -35,8 +37,9 @@ class CircularArch(MidCurve):
         t = _finite_positive("thickness", self.thickness, "positive")
         b = _finite_positive("embrace angle", self.embrace_deg, "in (0, 360) degrees")
         _finite_positive("density", self.density, "positive")
-        if t / R >= 2:
-            raise InputError(f"t/R must be below 2 (intrados radius R - t/2 > 0), got {t / R:g}")
+        if not MIN_T_OVER_R <= t / R < 2:
+            raise InputError(f"t/R must be in [{MIN_T_OVER_R:g}, 2) (intrados radius R - t/2 > 0; thinner sections "
+                             f"are outside masonry practice and the range the checks are calibrated for), got {t / R:g}")
         if b >= 360:
             raise InputError(f"embrace angle must be in (0, 360) degrees, got {b:g}")
 
@@ -85,6 +88,10 @@ class CircularArch(MidCurve):
     @property
     def max_thickness_scale(self) -> float:
         return 2.0 * self.radius / self.thickness
+
+    @property
+    def min_thickness_scale(self) -> float:
+        return MIN_T_OVER_R * self.radius / self.thickness
 
     def describe(self) -> dict:
         return {"shape": "circular", "radius": self.radius, "thickness": self.thickness,
