@@ -1,0 +1,163 @@
+"""Horizontal ground accelerations ``a_g(t)`` in units of g: pulses and recorded accelerograms.
+
+A :class:`GroundMotion` is a sampled signal (times in s, accelerations in g, zero outside the
+samples) with linear interpolation between samples.  Pulses are sampled finely enough that the
+interpolation error is below 1e-10 of the amplitude for the smooth ones (sine, Ricker); the
+rectangular pulse is exact with a jump at its ends.  Records come from PEER NGA ``.AT2`` files
+or two-column CSV (time, acceleration in g); they can be scaled by a factor or to a peak.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["GroundMotion", "RECORDS"]
+
+RECORDS = {   # records shipped with fembeam (fembeam/data/ground_motions/README.md)
+    "elcentro": "RSN6_IMPVALL.I_I-ELC180.AT2",
+    "lomaprieta": "RSN753_LOMAP_CLS000.AT2",
+    "elcentro_chopra": "elcentro_1940_ns_chopra.csv",
+}
+MAX_POINTS = 10_000_000   # 160 MB of samples: far beyond any record
+
+
+def _positive(name: str, value) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise InputError(f"{name} must be a positive finite number, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class GroundMotion:
+    """Samples ``t`` (s, strictly increasing) and ``a`` (g); ``name`` for reports."""
+
+    t: np.ndarray
+    a: np.ndarray
+    name: str = "ground motion"
+
+    def __post_init__(self):
+        t, a = np.asarray(self.t, float), np.asarray(self.a, float)
+        if t.ndim != 1 or t.shape != a.shape or t.size < 2:
+            raise InputError("a ground motion needs at least two samples of time and acceleration")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(a))):
+            raise InputError(f"{self.name}: times and accelerations must be finite numbers")
+        if np.any(np.diff(t) <= 0):
+            raise InputError(f"{self.name}: times must be strictly increasing")
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "a", a)
+
+    # -- values -----------------------------------------------------------------------------
+    def __call__(self, time) -> np.ndarray:
+        """``a_g`` (g) at ``time`` (s): linear between samples, zero outside them."""
+        return np.interp(time, self.t, self.a, left=0.0, right=0.0)
+
+    @property
+    def duration(self) -> float:
+        return float(self.t[-1] - self.t[0])
+
+    @property
+    def pga(self) -> float:
+        """Peak ground acceleration (g), the largest |a|."""
+        return float(np.max(np.abs(self.a)))
+
+    @property
+    def t_pga(self) -> float:
+        return float(self.t[int(np.argmax(np.abs(self.a)))])
+
+    def scaled(self, factor: float) -> "GroundMotion":
+        f = float(factor)
+        if not math.isfinite(f):
+            raise InputError(f"the scale factor must be a finite number, got {factor!r}")
+        return GroundMotion(self.t, f * self.a, f"{self.name} x {f:g}")
+
+    def to_pga(self, target: float) -> "GroundMotion":
+        """Scaled so that its peak ground acceleration is ``target`` (g)."""
+        target = _positive("the target peak acceleration", target)
+        if self.pga == 0:
+            raise InputError(f"{self.name} is zero everywhere: it cannot be scaled to a peak")
+        return GroundMotion(self.t, self.a * (target / self.pga), f"{self.name} to PGA {target:g} g")
+
+    # -- pulses -----------------------------------------------------------------------------
+    @classmethod
+    def rectangular(cls, amplitude: float, duration: float) -> "GroundMotion":
+        """``a_g = amplitude`` on ``[0, duration)``, zero after (a jump at both ends)."""
+        amplitude, duration = float(amplitude), _positive("the pulse duration", duration)
+        eps = 1e-12 * duration
+        t = np.array([0.0, duration - eps, duration])
+        return cls(t, np.array([amplitude, amplitude, 0.0]), f"rectangular pulse {amplitude:g} g, {duration:g} s")
+
+    @classmethod
+    def sine(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
+        """One period of ``amplitude sin(2 pi t / period)``."""
+        period = _positive("the pulse period", period)
+        t = np.linspace(0.0, period, samples)
+        return cls(t, float(amplitude) * np.sin(2 * np.pi * t / period), f"one-sine pulse {amplitude:g} g, {period:g} s")
+
+    @classmethod
+    def ricker(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
+        """Ricker wavelet ``amplitude (1 - 2 u^2) exp(-u^2)``, ``u = pi (t - t0) / period``,
+        centred at ``t0 = 1.5 period`` and cut at ``3 period`` (|a| < 1e-8 amplitude there)."""
+        period = _positive("the wavelet period", period)
+        t = np.linspace(0.0, 3.0 * period, samples)
+        u2 = (np.pi * (t - 1.5 * period) / period) ** 2
+        return cls(t, float(amplitude) * (1 - 2 * u2) * np.exp(-u2), f"Ricker wavelet {amplitude:g} g, {period:g} s")
+
+    # -- records ----------------------------------------------------------------------------
+    @classmethod
+    def record(cls, path_or_name: str | Path) -> "GroundMotion":
+        """A PEER ``.AT2`` file or a two-column CSV (time s, acceleration g); the names of
+        :data:`RECORDS` load the records shipped with fembeam."""
+        key = str(path_or_name)
+        if key in RECORDS:
+            path = resources.files("fembeam") / "data" / "ground_motions" / RECORDS[key]
+        else:
+            path = Path(key)
+            if not path.is_file():
+                raise InputError(f"no ground-motion file {key!r} (or one of the shipped records: "
+                                 f"{', '.join(RECORDS)})")
+        text = path.read_text(errors="replace")
+        name = Path(str(path)).name
+        if name.lower().endswith(".at2"):
+            return cls._from_at2(text, name)
+        return cls._from_csv(text, name)
+
+    @classmethod
+    def _from_at2(cls, text: str, name: str) -> "GroundMotion":
+        lines = text.splitlines()
+        m = re.search(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([0-9.eE+-]+)", "\n".join(lines[:6]))
+        if m is None:
+            raise InputError(f"{name}: not a PEER AT2 file (no 'NPTS= n, DT= dt' in its header)")
+        npts, dt = int(m.group(1)), float(m.group(2))
+        if not (2 <= npts <= MAX_POINTS) or not (math.isfinite(dt) and dt > 0):
+            raise InputError(f"{name}: NPTS must be in [2, {MAX_POINTS}] and DT positive, got {npts}, {dt}")
+        head = next(i for i, line in enumerate(lines) if m.group(0).split()[0] in line) + 1
+        try:
+            values = np.array(" ".join(lines[head:]).split(), dtype=float)
+        except ValueError:
+            raise InputError(f"{name}: the values after the header are not all numbers") from None
+        if values.size < npts:
+            raise InputError(f"{name}: the header announces {npts} values, the file has {values.size}")
+        return cls(dt * np.arange(npts), values[:npts], name)
+
+    @classmethod
+    def _from_csv(cls, text: str, name: str) -> "GroundMotion":
+        rows = [r for r in (line.strip() for line in text.splitlines()) if r and not r.startswith("#")]
+        try:
+            data = np.array([[float(x) for x in r.split(",")[:2]] for r in rows
+                             if r[0].isdigit() or r[0] in "+-."], dtype=float)
+        except ValueError:
+            raise InputError(f"{name}: every data line must be 'time,acceleration' (s, g)") from None
+        if data.ndim != 2 or data.shape[1] != 2:
+            raise InputError(f"{name}: expected two columns 'time,acceleration' (s, g)")
+        return cls(data[:, 0], data[:, 1], name)
