@@ -146,11 +146,11 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
     exact = False
     polished = _polish(st, direction, *_clusters(disc, cuts, fib, main.y, J), main.z[:k], lam)
     if polished is not None:
-        x_p, lam_p, s_p = polished
+        x_p, lam_p, s_p, scale = polished
         s_new, f_new, v = weakest_sections(st, np.r_[x_p, direction * lam_p, 1.0])
         joints = joint_rows(st, direction) @ np.r_[x_p, lam_p, 1.0]
         v_p = max(0.0, -float(np.min(v, initial=0.0)), -float(np.min(joints)))
-        if v_p <= tol and lam_p <= lam * (1 + 1e-9):
+        if v_p <= tol * scale and lam_p <= lam * (1 + 1e-9):
             lam, violation, hinge_s, exact = lam_p, v_p, s_p, True
     lower = lam * margin / (margin + violation) if margin > 0 else 0.0
     return ContinuumLimit("ok", lam, min(lam, lower), margin, hinge_s, cuts, violation, rounds, exact)
@@ -214,15 +214,19 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     sol = root(F, p0, method="hybr", options={"xtol": 1e-14})
     x, lam, s = unpack(sol.x)
     res = F(sol.x)
+    # the residuals' round-off floor grows with the size of the terms that cancel in a fibre
+    # force (~1/t for thin sections): thresholds relative to that size, not absolute
+    z = np.r_[x, direction * lam, 1.0]
+    scale = max(1.0, float(np.max(np.abs(section_force_rows(st, s)[1 + fib, np.arange(s.size)]) @ np.abs(z))))
     # judged by the residual (MINPACK may stop at the noise floor and call it slow progress):
     # fibre forces and slopes ~1e-11 (the noise of the central difference, eps / ds)
-    if (np.max(np.abs(res[:k + 1])) > 1e-10 or np.max(np.abs(res[k + 1:]), initial=0) > 1e-8
+    if (np.max(np.abs(res[:k + 1])) > 1e-10 * scale or np.max(np.abs(res[k + 1:]), initial=0) > 1e-8 * scale
             or s[0] < 0 or s[-1] > L
             # at least two elements apart: otherwise the optimum is degenerate (hinges merging,
             # e.g. at a springing) and the positions are ill-conditioned
             or np.min(np.diff(s), initial=np.inf) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
         return None
-    return x, float(lam), s
+    return x, float(lam), s, scale
 
 
 def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int):
