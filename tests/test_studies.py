@@ -71,6 +71,20 @@ def test_convergence_command(conv, capsys):
     assert png.stat().st_size > 10_000
 
 
+def test_convergence_rows_are_an_independent_analyze(capsys):
+    """Each row's A_L (continuum, hinges refined) and A_L_mesh (LP on the uniform mesh) are the
+    values of an independent ``analyze`` on that mesh, under their own names; the refinement
+    time is measured."""
+    from fembeam import CircularArch, analyze
+
+    assert main(["convergence", "--elements", "50,100", "--json", "--quiet"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    for row in rows:
+        res = analyze(CircularArch.from_ratio(157.5, 0.15), elements=row["n"])
+        assert (row["A_L"], row["A_L_mesh"], row["r"]) == (res.A_L, res.A_L_mesh, res.r)
+        assert row["A_L_mesh"] > row["A_L"] and row["time_refine_s"] > 0
+
+
 def test_convergence_voussoirs_against_continuous(capsys):
     assert main(["convergence", "--voussoirs", "7,15", "--reference-elements", "200", "--json", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -79,6 +93,13 @@ def test_convergence_voussoirs_against_continuous(capsys):
     assert seven["A_L"] == pytest.approx(0.37001, abs=1e-4)   # Oppenheim arch (core acceptance)
     err = out["quantities"]["A_L"]["errors"]
     assert err[1] < err[0]  # 15 voussoirs are closer to the continuous arch than 7
+    # the reference keeps the continuum A_L and the uniform-mesh LP value apart
+    from fembeam import CircularArch, analyze
+
+    ref = analyze(CircularArch.from_ratio(157.5, 0.15), elements=200)
+    assert (out["reference"]["A_L"], out["reference"]["A_L_mesh"], out["reference"]["r"]) == \
+        (ref.A_L, ref.A_L_mesh, ref.r)
+    assert out["quantities"]["A_L"]["reference"] == ref.A_L and "A_L_mesh" not in out["quantities"]
 
 
 def test_convergence_bad_input_is_one_line(capsys):
@@ -100,7 +121,7 @@ def test_sweep_outcomes_reported(local_sweep):
     assert len(res.cases) == 6 and len(res.envelope) == 2
     # the semicircle cannot stand at t/R = 0.10 (minimum 0.1075); it is listed with what it needs
     c = res.case(180.0, 0.10)
-    assert c["outcome"] == "cannot_stand" and c["r"] is None and c["t_min_over_R"] == pytest.approx(0.1075, abs=2e-3)
+    assert c["outcome"] == "cannot_stand" and c["r"] is None and c["t_min_over_R"] == pytest.approx(0.1075, abs=5e-5)
     # thick shallow arch: r = 0 (arrested), and thicker: no mechanism at all
     assert res.case(80.0, 0.10)["outcome"] == "arrested" and res.case(80.0, 0.10)["r"] == 0.0
     assert res.case(80.0, 0.30)["outcome"] == "no_mechanism"
@@ -108,7 +129,7 @@ def test_sweep_outcomes_reported(local_sweep):
     assert res.case(180.0, 0.20)["r"] > res.case(180.0, 0.30)["r"] > 0
     # envelope: Milankovitch semicircle, r below 1 and larger for the shallower arch
     env = {e["embrace_deg"]: e for e in res.envelope}
-    assert env[180.0]["t_min_over_R"] == pytest.approx(0.1075, abs=1e-3)
+    assert env[180.0]["t_min_over_R"] == pytest.approx(0.1075, abs=5e-5)   # Milankovitch, 4 digits
     assert env[180.0]["t_over_R"] > env[180.0]["t_min_over_R"]
     assert 0 < env[180.0]["r"] < env[80.0]["r"] < 1
     assert res.outcomes() == {"cannot_stand": 1, "arrested": 2, "no_mechanism": 1, "rocking": 2}
@@ -120,7 +141,23 @@ def test_sweep_cases_equal_an_independent_analyze(local_sweep):
     for beta, tr in ((180.0, 0.20), (80.0, 0.10)):
         res = analyze(CircularArch.from_ratio(beta, tr), elements=60)
         case = local_sweep.case(beta, tr)
-        assert (case["outcome"], case["A_L"], case["r"]) == (res.outcome, res.A_L, res.r)
+        assert (case["outcome"], case["A_L"], case["A_L_mesh"], case["r"]) == (res.outcome, res.A_L, res.A_L_mesh, res.r)
+
+
+def test_sweep_envelope_is_an_independent_minimum_thickness(local_sweep):
+    """Envelope point of the semicircle: t_min from an independent ``minimum_thickness`` (same
+    tolerance), the arch analysed at t_min (1 + 1e-3) equal to an independent ``analyze``."""
+    from fembeam import CircularArch, analyze, minimum_thickness
+
+    env = {e["embrace_deg"]: e for e in local_sweep.envelope}[180.0]
+    t_min = minimum_thickness(CircularArch.from_ratio(180.0, 0.2), elements=60, tol=1e-4).t_over_R
+    assert env["t_min_over_R"] == pytest.approx(t_min, rel=1e-12)
+    assert env["t_over_R"] == pytest.approx(t_min * (1 + 1e-3), rel=1e-12)
+    res = analyze(CircularArch.from_ratio(180.0, env["t_over_R"]), elements=60)
+    assert (env["outcome"], env["A_L"], env["r"]) == (res.outcome, res.A_L, res.r)
+    # just above t_min the arch barely stands: A_L is tiny, r the largest of its embrace
+    assert 0 < env["A_L"] < 1e-3
+    assert all(c["r"] < env["r"] for c in local_sweep.cases if c["embrace_deg"] == 180.0 and c["r"] is not None)
 
 
 def test_sweep_dask_identical(local_sweep):

@@ -69,7 +69,7 @@ def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEM
                qp_equilibrium_residual=_num(v.get("equilibrium_residual", float("nan"))),
                impulse_line_outside=_num(v.get("impulse_line_outside", float("nan"))),
                time_s=time.perf_counter() - t0,
-               time_lp_s=res.timings.get("limit", 0.0), time_refine_s=res.timings.get("hinge_refinement", 0.0),
+               time_lp_s=res.timings.get("limit", 0.0), time_refine_s=res.timings.get("continuum", 0.0),
                time_qp_s=res.timings.get("impact", 0.0), error=None)
     return row
 
