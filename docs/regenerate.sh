@@ -1,18 +1,88 @@
 #!/usr/bin/env bash
-# Regenerate every committed figure and table of docs/ from the commands that produce them
-# (tests/test_docs_figures.py checks a cheap subset against a fresh run).  About 10 minutes
-# on 2 cores.  Run from the repository root with fembeam installed.
+# Regenerate every committed figure and table of docs/ from the commands that produce them;
+# the list, file by file, is in docs/studies.md ("Regenerating the committed figures").
+# tests/test_docs_figures.py re-runs a cheap subset and compares it with what is committed.
+# About 20 minutes on 2 cores.  Run from anywhere with fembeam installed.
+#
+#   docs/regenerate.sh              everything
+#   docs/regenerate.sh studies      one group: studies | report | benchmarks | pictures | splice
+#
+# After a run, read the diff: the prose of docs/studies.md, docs/elements.md and docs/solvers.md
+# quotes numbers of these tables (the drift test names any quote that no longer matches).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-fembeam convergence --embrace 157.5 --t-over-r 0.15 --elements 50,100,200,400,800,1600 \
-    --csv docs/data/convergence_157.5_0.15.csv --plot docs/img/convergence_157.5_0.15.png \
-    > docs/data/convergence_157.5_0.15.txt
-fembeam convergence --embrace 157.5 --t-over-r 0.15 --voussoirs 7,15,31,63,127,255 \
-    --csv docs/data/convergence_voussoirs_157.5_0.15.csv --plot docs/img/convergence_voussoirs_157.5_0.15.png \
-    > docs/data/convergence_voussoirs_157.5_0.15.txt
-fembeam sweep --embrace 80,100,120,140,160,180 --t-over-r 0.10:0.30:0.01 \
-    --plot docs/img/sweep_fig13.png --csv docs/data/sweep_fig13.csv > docs/data/sweep_fig13.txt
-fembeam sweep --embrace 80,100,120,140,160,180 --t-over-r 0.005:0.30:0.005 --envelope-embrace 60:180:5 \
-    --plot docs/img/sweep_fig13_full.png --csv docs/data/sweep_fig13_full.csv > docs/data/sweep_fig13_full.txt
-fembeam report --out-dir docs/report
-python benchmarks/limit_scaling.py --max 1000000 --analyze 100000 --kinematic 10000 > docs/data/limit_scaling.txt
+what="${1:-all}"
+
+studies() {
+    fembeam convergence --embrace 157.5 --t-over-r 0.15 --elements 50,100,200,400,800,1600 \
+        --csv docs/data/convergence_157.5_0.15.csv --plot docs/img/convergence_157.5_0.15.png \
+        > docs/data/convergence_157.5_0.15.txt
+    fembeam convergence --embrace 157.5 --t-over-r 0.15 --voussoirs 7,15,31,63,127,255 \
+        --csv docs/data/convergence_voussoirs_157.5_0.15.csv --plot docs/img/convergence_voussoirs_157.5_0.15.png \
+        > docs/data/convergence_voussoirs_157.5_0.15.txt
+    fembeam sweep --embrace 80,100,120,140,160,180 --t-over-r 0.10:0.30:0.01 \
+        --plot docs/img/sweep_fig13.png --csv docs/data/sweep_fig13.csv > docs/data/sweep_fig13.txt
+    fembeam sweep --embrace 80,100,120,140,160,180 --t-over-r 0.005:0.30:0.005 --envelope-embrace 60:180:5 \
+        --plot docs/img/sweep_fig13_full.png --csv docs/data/sweep_fig13_full.csv > docs/data/sweep_fig13_full.txt
+}
+
+report() {
+    fembeam report --out-dir docs/report
+}
+
+benchmarks() {
+    python benchmarks/elements.py > docs/data/elements.txt
+    python benchmarks/qp_backends.py > docs/data/qp_backends.txt
+    python benchmarks/limit_scaling.py --max 1000000 --analyze 100000 --kinematic 10000 > docs/data/limit_scaling.txt
+}
+
+pictures() {
+    python - <<'PY'
+from fembeam import CircularArch, analyze
+from fembeam.output.plotting import plot_paper_figure
+from fembeam.output.render import render_png
+
+paper = analyze(CircularArch.from_ratio(157.5, 0.15))            # fembeam analyze (defaults)
+render_png(paper, "docs/img/paper_arch_render.png", size=(900, 506))
+plot_paper_figure(paper, "docs/img/paper_arch_figure.png", dpi=120)
+oppenheim = analyze(CircularArch.from_ratio(150.0, 0.15), voussoirs=7)
+plot_paper_figure(oppenheim, "docs/img/oppenheim_150_figure.png", dpi=120)
+PY
+    python -m fembeam.output.plot_four_hinge docs/img/four_hinge_zone.png
+}
+
+splice() {
+    # paste the transcripts in docs/data/*.txt into the Markdown that shows them
+    python - <<'PY'
+import pathlib
+import re
+
+data = pathlib.Path("docs/data")
+
+
+def replace_block(md_path, opening, new_text, fence):
+    """Replace the fenced block of md_path whose first line is `opening` (a transcript's
+    header line, fixed by the command's arguments) by new_text."""
+    md = pathlib.Path(md_path)
+    text = md.read_text()
+    pattern = re.compile(re.escape(fence) + r"\n" + re.escape(opening) + r"\n.*?```", re.S)
+    text, n = pattern.subn(lambda _: fence + "\n" + new_text + "```", text, count=1)
+    if n != 1:
+        raise SystemExit(f"{md_path}: no block starting with {opening!r}")
+    md.write_text(text)
+
+
+for name in ("convergence_157.5_0.15", "convergence_voussoirs_157.5_0.15", "sweep_fig13"):
+    new = (data / f"{name}.txt").read_text()
+    replace_block("docs/studies.md", new.splitlines()[0], new, "```text")
+for md_path, name in (("docs/elements.md", "elements"), ("docs/solvers.md", "qp_backends")):
+    new = (data / f"{name}.txt").read_text()
+    replace_block(md_path, new.splitlines()[0], new, "```")
+PY
+}
+
+case "$what" in
+    all) studies; report; benchmarks; pictures; splice ;;
+    studies|report|benchmarks|pictures|splice) "$what" ;;
+    *) echo "usage: $0 [all|studies|report|benchmarks|pictures|splice]" >&2; exit 2 ;;
+esac

@@ -443,6 +443,12 @@ def test_elements_rows_are_fresh(variant):
 
 
 # --------------------------------------------------------------------------- docs/solvers.md, limit_scaling
+def test_solvers_md_table_is_the_transcript():
+    md = text("docs/solvers.md")
+    block = re.search(r"## Measured table\n\n```\n(.*?)```", md, re.S)
+    assert block and block.group(1) == (DOCS / "data" / "qp_backends.txt").read_text()
+
+
 def test_solvers_md_clarabel_rows_are_fresh(conv):
     """The QP table of docs/solvers.md solves the impact QP of ``analyze(elements=N)``."""
     md = text("docs/solvers.md")
