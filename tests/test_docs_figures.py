@@ -277,6 +277,22 @@ def test_studies_md_prose_quotes_the_tables(conv):
     assert_printed(r7, float(vt[0]["r"]), "studies.md: 7 voussoirs r")
 
 
+def documented_columns(command: str) -> list[str]:
+    (names,) = quoted("docs/studies.md", rf"CSV columns of `fembeam {command}` \([^)]*\): (.*?)\. ")
+    return re.findall(r"`([A-Za-z_<>]+)`", re.sub(r"\([^)]*\)", "", names))
+
+
+def test_csv_columns_are_documented():
+    conv_cols = documented_columns("convergence")
+    for name in CONV_FILES.values():
+        header = list(csv_rows(name + ".csv")[0])
+        fixed = [c for c in header if not c.startswith("err_")]
+        assert fixed == [c for c in conv_cols if c != "err_<quantity>"], name
+        assert header[len(fixed):] == [f"err_{q}" for q in parse_convergence_txt(name)[2]], name
+    for name in ("sweep_fig13.csv", "sweep_fig13_full.csv"):
+        assert list(csv_rows(name)[0]) == documented_columns("sweep"), name
+
+
 # --------------------------------------------------------------------------- sweep (paper Fig. 13)
 SWEEP_CASES = {"sweep_fig13.csv": [(180.0, 0.20), (120.0, 0.15), (80.0, 0.10), (180.0, 0.10)],
                "sweep_fig13_full.csv": [(140.0, 0.05)]}
