@@ -7,7 +7,7 @@ refinement on) whose *outcome* is always reported: ``rocking`` (r > 0), ``arrest
 beta, t_min/R (bisection on the LP on ``tmin_elements`` elements) and r_max of the arch
 just above it, at t/R = t_min (1 + ``above``).
 
-Cases run in parallel (:mod:`fembeam.parallel`: local processes or Dask), the envelope
+Cases run in parallel (:mod:`fembeam.studies.parallel`: local processes or Dask), the envelope
 first.  Reuse that pays: t_min is computed once per beta and handed to the cases thinner
 than it, which then need one LP instead of ``analyze``'s own bisection.  Warm starts do not: the impact QP takes 2-5 %
 of a case (``timing`` in the result says how much), Clarabel cannot warm-start and the
