@@ -40,11 +40,17 @@ def _positive(name: str, value) -> float:
 
 @dataclass(frozen=True)
 class GroundMotion:
-    """Samples ``t`` (s, strictly increasing) and ``a`` (g); ``name`` for reports."""
+    """Samples ``t`` (s, strictly increasing) and ``a`` (g); ``name`` for reports.
+
+    ``smooth``: the signal is smooth between its first and last samples (a pulse sampled
+    finely, or a rectangular pulse whose only jumps are at its ends), so an integrator may
+    step across samples; otherwise (records) every sample is a kink and steps stay within
+    one sample interval."""
 
     t: np.ndarray
     a: np.ndarray
     name: str = "ground motion"
+    smooth: bool = False
 
     def __post_init__(self):
         t, a = np.asarray(self.t, float), np.asarray(self.a, float)
@@ -79,14 +85,14 @@ class GroundMotion:
         f = float(factor)
         if not math.isfinite(f):
             raise InputError(f"the scale factor must be a finite number, got {factor!r}")
-        return GroundMotion(self.t, f * self.a, f"{self.name} x {f:g}")
+        return GroundMotion(self.t, f * self.a, f"{self.name} x {f:g}", self.smooth)
 
     def to_pga(self, target: float) -> "GroundMotion":
         """Scaled so that its peak ground acceleration is ``target`` (g)."""
         target = _positive("the target peak acceleration", target)
         if self.pga == 0:
             raise InputError(f"{self.name} is zero everywhere: it cannot be scaled to a peak")
-        return GroundMotion(self.t, self.a * (target / self.pga), f"{self.name} to PGA {target:g} g")
+        return GroundMotion(self.t, self.a * (target / self.pga), f"{self.name} to PGA {target:g} g", self.smooth)
 
     # -- pulses -----------------------------------------------------------------------------
     @classmethod
@@ -95,14 +101,16 @@ class GroundMotion:
         amplitude, duration = float(amplitude), _positive("the pulse duration", duration)
         eps = 1e-12 * duration
         t = np.array([0.0, duration - eps, duration])
-        return cls(t, np.array([amplitude, amplitude, 0.0]), f"rectangular pulse {amplitude:g} g, {duration:g} s")
+        return cls(t, np.array([amplitude, amplitude, 0.0]), f"rectangular pulse {amplitude:g} g, {duration:g} s",
+                   True)
 
     @classmethod
     def sine(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
         """One period of ``amplitude sin(2 pi t / period)``."""
         period = _positive("the pulse period", period)
         t = np.linspace(0.0, period, samples)
-        return cls(t, float(amplitude) * np.sin(2 * np.pi * t / period), f"one-sine pulse {amplitude:g} g, {period:g} s")
+        return cls(t, float(amplitude) * np.sin(2 * np.pi * t / period), f"one-sine pulse {amplitude:g} g, {period:g} s",
+                   True)
 
     @classmethod
     def ricker(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
@@ -111,7 +119,8 @@ class GroundMotion:
         period = _positive("the wavelet period", period)
         t = np.linspace(0.0, 3.0 * period, samples)
         u2 = (np.pi * (t - 1.5 * period) / period) ** 2
-        return cls(t, float(amplitude) * (1 - 2 * u2) * np.exp(-u2), f"Ricker wavelet {amplitude:g} g, {period:g} s")
+        return cls(t, float(amplitude) * (1 - 2 * u2) * np.exp(-u2), f"Ricker wavelet {amplitude:g} g, {period:g} s",
+                   True)
 
     # -- records ----------------------------------------------------------------------------
     @classmethod

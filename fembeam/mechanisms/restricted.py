@@ -25,7 +25,8 @@ from .energy import post_impact
 from .hinge import ROCKING_SIDES, opening_signs, pivot_fractions
 from .mechanism import Mechanism
 
-__all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "qp_with_hinges_only_at"]
+__all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "refine_four_hinge",
+           "qp_with_hinges_only_at"]
 
 
 @dataclass
@@ -123,29 +124,33 @@ def best_four_hinge_discrete(joint_s, before: Mechanism, keep: int = 5,
     return RestrictedResult(rank[0][1], rank[0][0], rank[1:], 16 * len(combos), n_compat, "exhaustive")
 
 
+def refine_four_hinge(before: Mechanism, start: Mechanism) -> tuple[float, Mechanism]:
+    """Maximise the exact ``r`` (17) over the four hinge positions of ``start`` (sides
+    fixed) by L-BFGS-B; returns ``(r, mechanism)``, never worse than ``start``."""
+    curve, L, sides = before.curve, before.curve.length, start.sides
+
+    def f(x):
+        s = np.sort(np.clip(x, 0.0, 1.0)) * L
+        return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
+
+    x0 = np.asarray(start.s) / L
+    res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * 4,
+                   options={"ftol": 1e-15, "gtol": 1e-12, "eps": 1e-9, "maxiter": 1000})
+    x = res.x if res.fun <= f(x0) else x0
+    return -f(x), Mechanism(curve, tuple(np.sort(np.clip(x, 0, 1)) * L), sides)
+
+
 def best_four_hinge_continuous(before: Mechanism, grid: int = 31,
                                starts: list[Mechanism] | None = None) -> RestrictedResult:
     """Restricted problem on a continuous arch: exhaustive search on ``grid`` uniform
     voussoirs for the sides and a start, then maximise the exact ``r`` over the four
     hinge positions (L-BFGS-B, sides fixed) from it and from ``starts``."""
     curve = before.curve
-    L = curve.length
-    coarse = best_four_hinge_discrete(np.linspace(0.0, L, grid + 1), before, keep=2)
+    coarse = best_four_hinge_discrete(np.linspace(0.0, curve.length, grid + 1), before, keep=2)
     cands = [m for m in [coarse.after] + [h for _, h in coarse.ranking] + list(starts or []) if m is not None]
-    results = []
-    for start in cands:
-        sides = start.sides
-
-        def f(x, sides=sides):
-            s = np.sort(np.clip(x, 0.0, 1.0)) * L
-            return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
-
-        x0 = np.asarray(start.s) / L
-        res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * 4,
-                       options={"ftol": 1e-15, "gtol": 1e-12, "eps": 1e-9, "maxiter": 1000})
-        x = res.x if res.fun <= f(x0) else x0
-        results.append((-f(x), Mechanism(curve, tuple(np.sort(np.clip(x, 0, 1)) * L), sides)))
-    results.sort(key=lambda z: -z[0])
+    results = sorted((refine_four_hinge(before, start) for start in cands), key=lambda z: -z[0])
+    if not results:
+        return RestrictedResult(None, 0.0, [], coarse.candidates, 0, "exhaustive")
     return RestrictedResult(results[0][1], results[0][0], results[1:], coarse.candidates, coarse.compatible,
                             f"exhaustive on {grid} voussoirs, then L-BFGS-B on the exact r")
 

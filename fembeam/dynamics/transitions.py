@@ -1,0 +1,129 @@
+"""The impact model at every impact: which mechanism follows, and with what rate.
+
+When the member returns to its undeformed shape along a mechanism, every hinge closes at
+once.  The mechanism after the impact is the best compatible one-parameter mechanism of the
+restricted problem (the largest ``r = Gamma^2 / (Lambda Lambda')`` among compatible
+mechanisms, closed-form integrals, :mod:`fembeam.mechanisms.restricted`), with
+``alpha' = (Gamma / Lambda') alpha``.  Both scale linearly with the incoming rate, so a
+:class:`Transition` is computed once per mechanism (for a unit closing rate) and reused.
+Beside it the general impact QP on the finite-element mesh gives ``r_qp``, the upper bound
+over all compatible fields (hinges anywhere).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..analysis import impact
+from ..errors import InputError
+from ..fem import discretize, nodes_through, uniform_nodes
+from ..geometry import MidCurve
+from ..mechanisms import ROCKING_SIDES, Mechanism, merge_adjacent, post_impact
+from ..mechanisms.restricted import best_four_hinge_continuous, best_four_hinge_discrete, refine_four_hinge
+
+__all__ = ["Transition", "ImpactModel", "HINGE_GRID", "WARM_RADIUS"]
+
+HINGE_GRID = 2000     # continuous member: hinge positions after an impact on L / HINGE_GRID
+WARM_RADIUS = 0.05    # a solved mechanism this close (fraction of L) starts the local search
+
+
+@dataclass(frozen=True)
+class Transition:
+    """Impact of ``before`` closing at unit rate: ``after`` (None: the member is arrested),
+    its ``r`` and ``alpha_ratio`` (post-impact rate of ``after`` per unit incoming rate,
+    with the sign that opens ``after``); ``r_qp`` and ``hinges_qp``: the general QP."""
+
+    before: Mechanism
+    after: Mechanism | None
+    r: float
+    alpha_ratio: float
+    r_qp: float | None = None
+    hinges_qp: list = field(default_factory=list)
+
+
+def _key(m: Mechanism) -> tuple:
+    L = m.curve.length
+    return tuple(round(s / L, 12) for s in m.s), m.sides
+
+
+class ImpactModel:
+    """Impact transitions of ``curve`` discretised as in ``fembeam analyze``:
+    ``voussoirs`` rigid voussoirs (hinges only at their joints), or a continuous member
+    (hinges anywhere; ``elements`` rigid elements for the general QP).  ``qp``: also
+    solve the general impact QP (``r_qp``)."""
+
+    def __init__(self, curve: MidCurve, voussoirs: int | None = None, elements: int = 200,
+                 backend: str = "clarabel", qp: bool = True):
+        self.curve, self.voussoirs, self.elements = curve, voussoirs, int(elements)
+        self.backend, self.qp = backend, qp
+        self._cache: dict[tuple, Transition] = {}
+
+    def __call__(self, before: Mechanism) -> Transition:
+        key = _key(before)
+        if key not in self._cache:
+            self._cache[key] = self._solve(before.with_alpha(1.0))
+        return self._cache[key]
+
+    @property
+    def solved(self) -> int:
+        """Number of distinct mechanisms whose impact was solved."""
+        return len(self._cache)
+
+    def _general_qp(self, pre: Mechanism):
+        if not self.qp:
+            return None, []
+        if self.voussoirs is not None:
+            disc = discretize(self.curve, uniform_nodes(self.curve, self.voussoirs))
+        else:
+            disc = discretize(self.curve, nodes_through(uniform_nodes(self.curve, self.elements), pre.s))
+        res = impact(disc, pre.dofs(disc), backend=self.backend)
+        hinges = res.hinges if self.voussoirs is not None else merge_adjacent(disc, res.hinges)
+        return float(res.r), hinges
+
+    def _continuous(self, before: Mechanism, pre: Mechanism, hinges_qp) -> list[Mechanism]:
+        """Continuous member: the restricted optimum, snapped to ``HINGE_GRID`` positions.
+
+        A neighbour (a mechanism already solved, same sides, every hinge within
+        ``WARM_RADIUS`` of the length) gives the start of a local search; otherwise the
+        exhaustive start of :func:`best_four_hinge_continuous`.  Snapping makes the set of
+        mechanisms finite, so that a long motion reuses its transitions; ``r`` is stationary
+        at the optimum, so the snap changes it by O((L / HINGE_GRID)^2)."""
+        curve, L = self.curve, self.curve.length
+        near = [tr for tr in self._cache.values() if tr.after is not None and tr.before.sides == before.sides
+                and np.max(np.abs(np.subtract(tr.before.s, before.s))) < WARM_RADIUS * L]
+        if near:
+            near.sort(key=lambda tr: np.max(np.abs(np.subtract(tr.before.s, before.s))))
+            r, after = refine_four_hinge(pre, near[0].after)
+            found = [after] if r > 0 else []
+        else:
+            starts = [Mechanism.from_hinges(curve, hinges_qp)] if len(hinges_qp) == 4 and all(
+                h.side in ROCKING_SIDES for h in hinges_qp) else []
+            rr = best_four_hinge_continuous(pre, starts=starts)
+            found = [rr.after] if rr.after is not None else []
+        return [Mechanism(curve, tuple(np.round(np.asarray(m.s) / L * HINGE_GRID) * L / HINGE_GRID), m.sides)
+                for m in found]
+
+    def _solve(self, before: Mechanism) -> Transition:
+        sgn = before.compatible_sign()
+        if sgn == 0:
+            raise InputError("the mechanism before the impact is not compatible")
+        pre = before.with_alpha(-sgn)            # closing at unit rate
+        r_qp, hinges_qp = self._general_qp(pre)
+        curve = self.curve
+        if before.n_hinges == 1:                 # a block: the other corners of the base
+            cands = [Mechanism(curve, before.s, (k,)) for k in ROCKING_SIDES]
+        elif self.voussoirs is not None:
+            rr = best_four_hinge_discrete(uniform_nodes(curve, self.voussoirs), pre)
+            cands = [rr.after] if rr.after is not None else []
+        else:
+            cands = self._continuous(before, pre, hinges_qp)
+        best = None
+        for c in cands:
+            fig = post_impact(pre, c)
+            if fig.compatible and (best is None or fig.r > best[1].r):
+                best = (c, fig)
+        if best is None:
+            return Transition(before, None, 0.0, 0.0, r_qp, hinges_qp)
+        after, fig = best
+        return Transition(before, after.with_alpha(1.0), float(fig.r), float(fig.alpha_ratio), r_qp, hinges_qp)
