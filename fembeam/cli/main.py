@@ -3,7 +3,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 
 from ..errors import FembeamError, InputError
 
@@ -15,19 +17,35 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import analyze, convergence, impact, report, sweep
+    from . import analyze, convergence, impact, report, rock, sweep
 
     p = _Parser(prog="fembeam", description="Rocking masonry arches: limit analysis, impact, impulse line.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for mod in (analyze, convergence, sweep, impact, report):
+    for mod in (analyze, convergence, sweep, impact, report, rock):
         mod.register(sub)
     return p
 
 
+class Terminated(BaseException):
+    """SIGTERM, turned into an exception so that open outputs are cleaned up."""
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _terminate)
     try:
         return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print("fembeam: interrupted", file=sys.stderr)
+        return 130
+    except Terminated:
+        print("fembeam: terminated", file=sys.stderr)
+        return 143
     except InputError as e:
         print(f"fembeam: error: {e}", file=sys.stderr)
         return 2

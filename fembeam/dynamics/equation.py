@@ -167,6 +167,16 @@ class EquationOfMotion:
         vy = m1 * r1x + m2 * w2 * r2x + m3 * (ax + w3 * g3x)
         return Lam, dLam, g * vy, g * vx
 
+    def piece_rotations(self, theta: float) -> tuple[float, ...]:
+        """Rotations (rad, counter-clockwise) of the moving pieces at ``theta``, left to
+        right: ``(theta,)`` for one hinge, ``(theta, psi3, psi2)`` for the four-bar."""
+        if self.mechanism.n_hinges == 1:
+            return (float(theta),)
+        k = self._scalars(theta)
+        if k is None:
+            raise SolverError(f"the four-bar linkage cannot reach theta = {theta:g} rad (locked)")
+        return float(theta), k[2], k[3]
+
     def _moments(self, theta: float) -> np.ndarray:
         """``sum_k m_k G_k`` (kg m per unit depth) at ``theta``."""
         if self.mechanism.n_hinges == 1:

@@ -78,8 +78,10 @@ class RockingResult:
     mechanisms: list[Mechanism] = field(default_factory=list)
     impacts: list[ImpactEvent] = field(default_factory=list)
     onsets: list[tuple[float, int]] = field(default_factory=list)   # (t, mechanism index)
-    peak_rotation: float = 0.0
+    peak_rotation: float = 0.0                  # largest |theta| (rotation of the first moving piece)
     t_peak: float | None = None
+    peak_piece_rotation: float = 0.0            # largest rotation of any piece (mirror invariant)
+    peaks: list = field(default_factory=list)   # (t, mechanism index, theta): every turning point
     t_overturn: float | None = None
     overturn_reason: str | None = None      # "unstable_equilibrium" or "linkage_locked"
     thrust_line_exits_at: float | None = None
@@ -108,6 +110,8 @@ class RockingResult:
             "A_L": {"+1": num(self.A_L.get(1)), "-1": num(self.A_L.get(-1))},
             "peak_rotation": float(self.peak_rotation),
             "t_peak": num(self.t_peak),
+            "peak_piece_rotation": float(self.peak_piece_rotation),
+            "turning_points": [{"t": t, "mechanism": k, "theta": th} for t, k, th in self.peaks],
             "t_overturn": num(self.t_overturn),
             "overturn_reason": self.overturn_reason,
             "thrust_line_exits_at": num(self.thrust_line_exits_at),
@@ -169,15 +173,18 @@ class _Track:
     rows: dict = field(default_factory=lambda: {k: [] for k in ("t", "mechanism", "theta", "rate", "K", "V", "a_g")})
     peak: float = 0.0
     t_peak: float | None = None
+    peak_piece: float = 0.0
     pieces: list = field(default_factory=list)   # (ta, tb, mechanism, dense solution) of the motion
+    peaks: list = field(default_factory=list)    # (t, mechanism, theta) where the rate vanishes
 
     def add(self, t, k, theta, rate, K, V, a):
         for key, v in zip(self.rows, (t, k, theta, rate, K, V, a)):
             self.rows[key].append(v)
 
-    def peak_at(self, t: float, theta: float):
+    def peak_at(self, t: float, theta: float, eq: EquationOfMotion):
         if abs(theta) > self.peak:
             self.peak, self.t_peak = abs(theta), float(t)
+        self.peak_piece = max(self.peak_piece, max(abs(x) for x in eq.piece_rotations(theta)))
 
 
 def _check_inputs(curve, ground, t_end):
@@ -345,7 +352,8 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         out.outcome = "rest" if state is None or (state[2] == 0.0 and state[1] == 0.0) else "survived"
     out.mechanisms = list(mechs)
     out.unstable_rotation = [e.sign * min(e.theta_unstable, e.theta_lock) for e in eqs]
-    out.peak_rotation, out.t_peak = track.peak, track.t_peak
+    out.peak_rotation, out.t_peak, out.peaks = track.peak, track.t_peak, track.peaks
+    out.peak_piece_rotation = track.peak_piece
     out.energy_balance_error = balance
     out.history = {k_: np.asarray(v, float) for k_, v in track.rows.items()}
     timings.update(integration=t_int, transitions=t_tr)
@@ -441,9 +449,11 @@ def _episode(eq: EquationOfMotion, k: int, ground: GroundMotion, t: float, t_end
                 Lam = eq.coefficients(th)[0]
                 track.add(tt, k, th, w, 0.5 * Lam * w * w, eq.potential(th), float(ground(tt)))
         for tp, yp in zip(sol.t_events[2], sol.y_events[2]):
-            track.peak_at(tp, yp[0])
+            if tp > ta:         # not the start from rest
+                track.peaks.append((float(tp), k, float(yp[0])))
+            track.peak_at(tp, yp[0], eq)
         y = sol.y[:, -1].copy()
-        track.peak_at(sol.t[-1], y[0])
+        track.peak_at(sol.t[-1], y[0], eq)
         err = max(err, abs(eq.energy(y[0], y[1]) - E0 - y[2]) / E_scale)
         if sol.status == 1:
             te = float(sol.t[-1])

@@ -24,7 +24,7 @@ from ..mechanisms.restricted import best_four_hinge_continuous, best_four_hinge_
 
 __all__ = ["Transition", "ImpactModel", "HINGE_GRID", "WARM_RADIUS"]
 
-HINGE_GRID = 2000     # continuous member: hinge positions after an impact on L / HINGE_GRID
+HINGE_GRID = 100_000  # continuous member: hinge positions after an impact on L / HINGE_GRID
 WARM_RADIUS = 0.05    # a solved mechanism this close (fraction of L) starts the local search
 
 

@@ -1,0 +1,225 @@
+"""``fembeam rock``: the time history of an arch or a block under a ground motion.
+
+Member options are those of ``analyze`` (and ``--voussoirs``), or ``--block WIDTH HEIGHT``;
+the ground motion is a pulse (``--pulse rect|sine|ricker``) or a record (``--record``).  The
+computation is :class:`fembeam.dynamics.rocking.Rocker`; this module parses, prints and writes.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import sys
+
+from ..dynamics.ground import RECORDS, GroundMotion
+from ..dynamics.rocking import Rocker, RockingResult
+from ..errors import InputError
+from ..geometry import StraightMember
+from ..output.files import atomic, check_output
+from .args import add_arch, arch_from, finite_float
+
+PULSES = ("rect", "sine", "ricker")
+
+
+def add_member(p: argparse.ArgumentParser) -> None:
+    """Arch options of ``analyze``, ``--voussoirs``/``--elements``, or ``--block``."""
+    add_arch(p)
+    g = p.add_argument_group("discretisation")
+    m = g.add_mutually_exclusive_group()
+    m.add_argument("--voussoirs", type=int, default=None, metavar="N",
+                   help="discrete arch of N voussoirs: hinges only at the N+1 joints")
+    m.add_argument("--elements", type=int, default=None, metavar="N",
+                   help="continuous arch: rigid elements of the limit analysis and the general QP (default 200)")
+    m.add_argument("--block", type=finite_float, nargs=2, default=None, metavar=("WIDTH", "HEIGHT"),
+                   help="instead of an arch: a rectangular block WIDTH x HEIGHT (m) rocking on a rigid base")
+    g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel", help="QP solver of the general QP")
+    g.add_argument("--no-qp", action="store_true", help="skip the general QP's r_qp at each impact")
+
+
+def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False) -> None:
+    """``--pulse`` with ``--amplitude``/``--duration``/``--period``, or ``--record``."""
+    g = p.add_argument_group("ground motion (accelerations in g, positive along +x)")
+    w = g.add_mutually_exclusive_group(required=True)
+    w.add_argument("--pulse", choices=PULSES, help="rectangular, one-sine or Ricker pulse")
+    if not pulse_required:
+        w.add_argument("--record", metavar="FILE",
+                       help=f"PEER .AT2 file or CSV (time s, acceleration g), or a shipped record: "
+                            f"{', '.join(RECORDS)}")
+    g.add_argument("--amplitude", type=finite_float, metavar="A", help="pulse amplitude (g)")
+    g.add_argument("--duration", type=finite_float, metavar="T1", help="rectangular pulse: duration (s)")
+    g.add_argument("--period", type=finite_float, metavar="TP", help="sine or Ricker pulse: period (s)")
+    if not pulse_required:
+        s = g.add_mutually_exclusive_group()
+        s.add_argument("--scale", type=finite_float, metavar="F", help="record: multiply by F")
+        s.add_argument("--pga", type=finite_float, metavar="A", help="record: scale to a peak of A g")
+
+
+def member_from(args):
+    """``(curve, voussoirs, elements)`` of the member options."""
+    if args.block is not None:
+        width, height = args.block
+        return StraightMember(height=height, width=width, density=args.density), 1, 200
+    from ..analysis.pipeline import DEFAULT_ELEMENTS
+    return arch_from(args), args.voussoirs, args.elements or DEFAULT_ELEMENTS
+
+
+def pulse_from(kind: str, amplitude: float, args) -> GroundMotion:
+    if kind == "rect":
+        if args.duration is None:
+            raise InputError("--pulse rect needs --duration T1 (s)")
+        return GroundMotion.rectangular(amplitude, args.duration)
+    if args.period is None:
+        raise InputError(f"--pulse {kind} needs --period TP (s)")
+    return (GroundMotion.sine if kind == "sine" else GroundMotion.ricker)(amplitude, args.period)
+
+
+def ground_from(args) -> GroundMotion:
+    if args.pulse is not None:
+        if args.amplitude is None:
+            raise InputError(f"--pulse {args.pulse} needs --amplitude A (g)")
+        if getattr(args, "scale", None) is not None or getattr(args, "pga", None) is not None:
+            raise InputError("--scale and --pga apply to --record, not to a pulse")
+        return pulse_from(args.pulse, args.amplitude, args)
+    if args.amplitude is not None or args.duration is not None or args.period is not None:
+        raise InputError("--amplitude, --duration and --period describe a --pulse, not a --record")
+    gm = GroundMotion.record(args.record)
+    if args.scale is not None:
+        gm = gm.scaled(args.scale)
+    if args.pga is not None:
+        gm = gm.to_pga(args.pga)
+    return gm
+
+
+def register(sub) -> None:
+    p = sub.add_parser("rock", help="time history under a ground motion: impacts, rest or overturning",
+                       description="The whole motion of an arch (or a block) under a ground motion: onset at "
+                                   "A_L, rocking along one mechanism at finite rotation, the impact model at "
+                                   "every impact, rest, overturning; the first time the thrust line leaves "
+                                   "the section.")
+    add_member(p)
+    add_ground(p)
+    t = p.add_argument_group("time")
+    t.add_argument("--t-end", type=finite_float, default=None, metavar="S",
+                   help="end of the simulation (s; default: end of the ground motion + 20 sqrt(L/g))")
+    t.add_argument("--dt-out", type=finite_float, default=None, metavar="S",
+                   help="sampling step of the history (s; default: 1/4000 of the simulated time)")
+    t.add_argument("--no-thrust-check", action="store_true", help="skip the thrust-line check along the motion")
+    o = p.add_argument_group("output")
+    o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
+    o.add_argument("--csv", metavar="PATH.csv", help="history: t, mechanism, theta, rate, K, V, a_g")
+    o.add_argument("--plot", metavar="PATH.png", help="figure of a_g, rotation and energy with the impacts")
+    o.add_argument("--vtk", metavar="PATH.pvd", help="ParaView time series of the moving member")
+    o.add_argument("--gif", metavar="PATH.gif", help="animation of the moving member")
+    p.set_defaults(func=run)
+
+
+def _progress(t_end: float):
+    """A tqdm bar over simulated time on stderr when it is a terminal (None otherwise)."""
+    if not sys.stderr.isatty():
+        return None, None
+    from tqdm import tqdm
+    bar = tqdm(total=round(t_end, 3), unit="s", desc="simulated time", file=sys.stderr, leave=False)
+
+    def update(t: float):
+        bar.n = round(min(t, t_end), 3)
+        bar.refresh()
+    return update, bar
+
+
+def hinges_text(m) -> str:
+    return " ".join(f"{a:.2f}{k[0]}" for a, k in zip(m.angles_deg(), m.sides))
+
+
+def summary(res: RockingResult, rocker: Rocker, max_impacts: int = 12) -> str:
+    geo = res.to_dict()["geometry"]
+    if geo.get("shape") == "block":
+        head = f"block {geo['width']:g} m x {geo['height']:g} m on a rigid base"
+    else:
+        head = (f"{geo.get('shape', 'member')} arch, embrace {geo.get('embrace_deg', 0):g} deg, "
+                f"t/R = {geo.get('t_over_R', 0):g}, R = {geo.get('radius', 0):g} m; {res.mode}, {res.elements} "
+                f"{'voussoirs' if res.mode == 'voussoirs' else 'elements'}")
+    lines = [f"fembeam rock: {head}",
+             f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g), simulated to t = {res.t_end:.4g} s"]
+    if res.outcome == "cannot_stand":
+        lines.append("  outcome: cannot_stand (the member does not stand under its own weight: fembeam analyze)")
+        return "\n".join(lines)
+    A = res.A_L
+    lines.append(f"  onset: inertia load above A_L = {A[1]:.6g} g to the right (a_g < 0) or "
+                 f"{A[-1]:.6g} g to the left (a_g > 0)")
+    if res.outcome == "overturned":
+        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s "
+                     f"({res.overturn_reason.replace('_', ' ')})")
+    elif res.outcome == "rest":
+        lines.append(f"  outcome: rest (the member is at rest at t = {res.t_end:.4g} s)")
+    else:
+        lines.append(f"  outcome: survived (still moving at t = {res.t_end:.4g} s)")
+    if res.t_peak is not None:
+        lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s")
+    if res.thrust_line_exits_at is not None:
+        lines.append(f"  thrust line leaves the section at t = {res.thrust_line_exits_at:.6g} s: from then on other "
+                     f"hinges would open (the one-mechanism model is not valid)")
+    elif res.onsets:
+        lines.append("  thrust line inside the section throughout the motion")
+    lines.append(f"  energy balance error: {res.energy_balance_error:.2e} (relative)")
+    lines.append(f"  impacts: {len(res.impacts)}; mechanisms met: {len(res.mechanisms)}")
+    if res.impacts:
+        lines.append("      t [s]          r       r_qp  hinges before -> after (deg, i/e)")
+        for e in res.impacts[:max_impacts]:
+            after = hinges_text(res.mechanisms[e.after]) if e.after is not None else "arrested"
+            rq = f"{e.r_qp:10.6f}" if e.r_qp is not None else "         -"
+            lines.append(f"  {e.t:9.5f} {e.r:10.6f} {rq}  {hinges_text(res.mechanisms[e.before])} -> {after}"
+                         + ("  (rest)" if e.at_rest and e.after is not None else ""))
+        if len(res.impacts) > max_impacts:
+            lines.append(f"  ... {len(res.impacts) - max_impacts} more (--json lists them all)")
+    return "\n".join(lines)
+
+
+def write_csv(res: RockingResult, path) -> None:
+    rows = res.csv_rows()
+    with atomic(path) as tmp, open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(res.history))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def run(args) -> int:
+    outputs = {"csv": check_output(args.csv, "--csv", (".csv",)),
+               "plot": check_output(args.plot, "--plot", (".png", ".pdf", ".svg")),
+               "vtk": check_output(args.vtk, "--vtk", (".pvd",)),
+               "gif": check_output(args.gif, "--gif", (".gif",))}
+    if args.history and not args.json:
+        raise InputError("--history adds the history to --json output; give --json too")
+    curve, voussoirs, elements = member_from(args)
+    ground = ground_from(args)
+    rocker = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=args.backend, qp=not args.no_qp)
+    t_end = args.t_end if args.t_end is not None else None
+    update, bar = _progress(t_end or float(ground.t[-1]))
+    try:
+        res = rocker.run(ground, t_end=t_end, dt_out=args.dt_out, thrust_check=not args.no_thrust_check,
+                         progress=update)
+    finally:
+        if bar is not None:
+            bar.close()
+    written = []
+    if outputs["csv"]:
+        write_csv(res, outputs["csv"])
+        written.append(f"CSV: {outputs['csv']}")
+    if outputs["plot"] or outputs["vtk"] or outputs["gif"]:
+        from ..output import motion
+        if outputs["plot"]:
+            motion.plot_history(res, outputs["plot"])
+            written.append(f"figure: {outputs['plot']}")
+        if outputs["vtk"]:
+            files = motion.write_pvd(res, outputs["vtk"])
+            written.append(f"VTK: {outputs['vtk']} ({len(files) - 1} frames)")
+        if outputs["gif"]:
+            motion.write_gif(res, outputs["gif"])
+            written.append(f"animation: {outputs['gif']}")
+    if args.json:
+        print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
+    else:
+        print(summary(res, rocker))
+        for w in written:
+            print(f"  {w}")
+    return 0

@@ -1,0 +1,225 @@
+"""The rocking time history against closed forms and independent routes.
+
+* the equation of motion: Lambda(0) = the FE kinetic energy of the mechanism's field,
+  Lambda', V', Q against differences of independently computed Lambda, V and sum m x_G;
+* Housner's block: unstable equilibrium at alpha, r = (1 - 1.5 sin^2 alpha)^2, the free-rocking
+  amplitude recursion, the rectangular-pulse overturning threshold in the small-angle limit;
+* onset just above and not just below A_L; the first impact = fembeam impact's restricted model;
+* energy: conserved to 1e-8 in free motion, balanced with the ground's work under forcing;
+* invariance: time scales with sqrt(R/g) at equal slenderness, mirror image for -a_g;
+* accumulation: a decaying motion comes to rest in finite time with finitely many impacts.
+"""
+import math
+
+import numpy as np
+import pytest
+
+from fembeam import CircularArch, StraightMember, analyze, discretize, nodes_through, uniform_nodes
+from fembeam.dynamics.equation import GRAVITY, EquationOfMotion
+from fembeam.dynamics.ground import GroundMotion
+from fembeam.dynamics.rocking import Rocker, onset_time, rock
+from fembeam.mechanisms import Mechanism
+from fembeam.mechanisms.four_hinge_analysis import four_hinge_impact
+
+PAPER = CircularArch.from_ratio(157.5, 0.15)
+
+
+@pytest.fixture(scope="module")
+def paper_eq():
+    res = analyze(PAPER)
+    return res, EquationOfMotion(Mechanism.from_hinges(PAPER, res.hinges_before))
+
+
+def block(width=0.5, height=2.0):
+    return StraightMember(height=height, width=width)
+
+
+# --------------------------------------------------------------------------- equation of motion
+def test_lambda_at_rest_is_the_fe_kinetic_energy(paper_eq):
+    """Lambda(0) = d^T M d of the mechanism's field on a mesh through its hinges (the FE mass
+    matrix, assembled by scikit-fem: an independent route to the integrals)."""
+    _, eq = paper_eq
+    m = eq.mechanism
+    disc = discretize(PAPER, nodes_through(uniform_nodes(PAPER, 400), np.asarray(m.s)))
+    d = m.dofs(disc)
+    assert eq.coefficients(0.0)[0] == pytest.approx(float(d @ disc.M @ d), rel=1e-10)
+
+
+def test_derivatives_against_differences(paper_eq):
+    """Lambda' (from the four-bar's acceleration analysis), V' and Q (velocities) against
+    central differences of Lambda, of V (positions of the centroids) and of sum m x_G."""
+    _, eq = paper_eq
+    h = 1e-5
+    for th in eq.sign * np.array([0.0, 0.3, 0.8]) * eq.theta_unstable:
+        lam, dlam, dv, q = eq.coefficients(th)
+        assert dlam == pytest.approx((eq.coefficients(th + h)[0] - eq.coefficients(th - h)[0]) / (2 * h), rel=1e-7)
+        assert dv == pytest.approx((eq.potential(th + h) - eq.potential(th - h)) / (2 * h), rel=1e-7, abs=1e-9)
+        assert q == pytest.approx(GRAVITY * (eq.horizontal_moment(th + h) - eq.horizontal_moment(th - h)) / (2 * h),
+                                  rel=1e-7)
+
+
+def test_static_load_factor_at_rest_is_A_L(paper_eq):
+    """At theta = 0 the equation's V'/Q is the load factor of the mechanism: A_L."""
+    res, eq = paper_eq
+    _, _, dv, q = eq.coefficients(0.0)
+    assert dv / q == pytest.approx(res.A_L, rel=1e-9)
+    assert eq.sign * dv > 0          # gravity restores
+
+
+def test_block_unstable_equilibrium_and_impact():
+    b = block()
+    alpha = math.atan(0.25)
+    eq = EquationOfMotion(Mechanism.from_hinges(b, analyze(b, voussoirs=1).hinges_before))
+    assert eq.theta_unstable == pytest.approx(alpha, rel=1e-12)
+    R = 0.5 * math.hypot(0.5, 2.0)
+    assert eq.coefficients(0.0)[0] == pytest.approx(4 / 3 * 0.5 * 2.0 * R**2, rel=1e-12)   # J about a corner
+    res = rock(b, GroundMotion.sine(0.5, 0.5), voussoirs=1, t_end=3.0, thrust_check=False)
+    assert res.impacts
+    for e in res.impacts:
+        assert e.r == pytest.approx((1 - 1.5 * math.sin(alpha) ** 2) ** 2, rel=1e-12)
+        assert abs(e.rate_out / e.rate_in) == pytest.approx(1 - 1.5 * math.sin(alpha) ** 2, rel=1e-12)
+        assert e.r_qp == pytest.approx(e.r, rel=1e-8)     # a block has one compatible mechanism
+
+
+# --------------------------------------------------------------------------- Housner
+def test_housner_free_rocking_amplitudes():
+    """cos(alpha - th_{n+1}) = cos(alpha) + r_v^2 (cos(alpha - th_n) - cos(alpha))."""
+    alpha = math.atan(0.25)
+    rv = 1 - 1.5 * math.sin(alpha) ** 2
+    res = rock(block(), GroundMotion.sine(0.5, 0.5), voussoirs=1, t_end=6.0, thrust_check=False)
+    amps = [abs(th) for t, _, th in res.peaks if t > 0.5]      # free rocking after the pulse
+    assert len(amps) >= 6
+    for a, b in zip(amps, amps[1:]):
+        expected = alpha - math.acos(math.cos(alpha) + rv**2 * (math.cos(alpha - a) - math.cos(alpha)))
+        assert b == pytest.approx(expected, rel=1e-8)
+
+
+def test_rectangular_pulse_threshold_small_angle():
+    """Overturning above a/(g alpha) = 1/(1 - exp(-p t1)), p = sqrt(3g/(4R)), as alpha -> 0:
+    the nonlinear threshold differs by O(alpha^2)."""
+    errs = []
+    for width in (0.04, 0.02):
+        b = block(width, 2.0)
+        alpha, R = math.atan(width / 2.0), 0.5 * math.hypot(width, 2.0)
+        p = math.sqrt(3 * GRAVITY / (4 * R))
+        t1 = 1.0 / p
+        formula = alpha / (1 - math.exp(-p * t1))
+        rk = Rocker(b, voussoirs=1, qp=False)
+        lo, hi = formula * 0.98, formula * 1.02
+        assert rk.run(GroundMotion.rectangular(lo, t1), t_end=t1 + 10 / p, thrust_check=False).outcome != "overturned"
+        assert rk.run(GroundMotion.rectangular(hi, t1), t_end=t1 + 10 / p, thrust_check=False).outcome == "overturned"
+        for _ in range(18):
+            mid = 0.5 * (lo + hi)
+            over = rk.run(GroundMotion.rectangular(mid, t1), t_end=t1 + 10 / p, thrust_check=False).outcome
+            lo, hi = (lo, mid) if over == "overturned" else (mid, hi)
+        errs.append(abs(hi / formula - 1))
+    assert errs[1] < 1e-3
+    assert 3.0 < errs[0] / errs[1] < 5.0          # O(alpha^2)
+
+
+# --------------------------------------------------------------------------- onset, first impact
+def test_onset_just_above_and_not_below_A_L(paper_eq):
+    res, _ = paper_eq
+    rk = Rocker(PAPER, qp=False)
+    for sign in (1, -1):         # a_g > 0 loads the arch to the left, a_g < 0 to the right
+        below = rk.run(GroundMotion.rectangular(sign * res.A_L * (1 - 1e-6), 0.5), t_end=0.1, thrust_check=False)
+        above = rk.run(GroundMotion.rectangular(sign * res.A_L * (1 + 1e-6), 0.5), t_end=0.1, thrust_check=False)
+        assert not below.onsets and below.peak_rotation == 0.0 and below.outcome == "rest"
+        assert above.onsets and above.onsets[0][0] == 0.0 and above.peak_rotation > 0
+
+
+def test_onset_time_on_a_ramp():
+    gm = GroundMotion(np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0, -1.0]))
+    assert onset_time(gm, 0.0, 3.0, 0.5, 0.25) == (pytest.approx(0.25), -1)
+    assert onset_time(gm, 0.5, 3.0, 0.5, 2.0) == (pytest.approx(1.75), 1)
+    assert onset_time(gm, 0.0, 3.0, 2.0, 2.0) is None
+
+
+@pytest.mark.parametrize("voussoirs", [7, None])
+def test_first_impact_is_the_restricted_impact(voussoirs):
+    """The first impact after an onset on the +1 mechanism reproduces fembeam impact's
+    restricted r and alpha' (continuous: hinges snapped to L/100000)."""
+    ref = four_hinge_impact(PAPER, voussoirs=voussoirs, model="restricted")
+    res = rock(PAPER, GroundMotion.rectangular(-0.5, 0.1), voussoirs=voussoirs, t_end=1.0, thrust_check=False)
+    first = res.impacts[0]
+    assert res.onsets[0][1] == first.before == 0
+    tol = 1e-12 if voussoirs else 1e-5
+    assert first.r == pytest.approx(ref.r, rel=tol)
+    assert abs(first.rate_out / first.rate_in) == pytest.approx(abs(ref.extra["alpha_ratio"]), rel=tol)
+    assert first.r <= first.r_qp * (1 + 1e-6)
+    assert np.allclose(res.mechanisms[first.after].s, ref.after.s, atol=PAPER.length * 1e-4)
+
+
+# --------------------------------------------------------------------------- energy
+def test_energy_conserved_in_free_motion_and_balanced_under_forcing():
+    res = rock(PAPER, GroundMotion.sine(0.6, 0.3), voussoirs=7, t_end=2.0, thrust_check=False)
+    h = res.history
+    eqs = [EquationOfMotion(m) for m in res.mechanisms]
+    barrier = max(abs(e.potential(e.sign * e.theta_unstable)) for e in eqs)
+    assert res.energy_balance_error < 1e-8
+    E = h["K"] + h["V"]
+    t_imp = np.array([e.t for e in res.impacts])
+    free = (h["t"] > 0.3) & (h["mechanism"] >= 0)
+    episode = np.searchsorted(t_imp, h["t"])
+    for k in np.unique(episode[free]):
+        sel = free & (episode == k)
+        if sel.sum() > 2:
+            assert np.ptp(E[sel]) < 1e-8 * barrier
+    # at each impact K' = r K
+    for e in res.impacts:
+        eb, ea = eqs[e.before], eqs[e.after] if e.after is not None else None
+        K_in = 0.5 * eb.coefficients(0.0)[0] * e.rate_in**2
+        if ea is not None and not e.at_rest:
+            assert 0.5 * ea.coefficients(0.0)[0] * e.rate_out**2 == pytest.approx(e.r * K_in, rel=1e-10)
+
+
+# --------------------------------------------------------------------------- invariance
+def test_time_scales_with_sqrt_R_over_g():
+    small = rock(CircularArch.from_ratio(157.5, 0.15, radius=1.0), GroundMotion.sine(0.6, 0.3), voussoirs=7,
+                 t_end=2.0, thrust_check=False)
+    big = rock(CircularArch.from_ratio(157.5, 0.15, radius=4.0), GroundMotion.sine(0.6, 0.6), voussoirs=7,
+               t_end=4.0, thrust_check=False)
+    assert small.outcome == big.outcome
+    ts, tb = np.array([e.t for e in small.impacts]), np.array([e.t for e in big.impacts])
+    n = min(len(ts), len(tb), 20)
+    assert n >= 5
+    assert np.allclose(tb[:n], 2 * ts[:n], rtol=1e-7)
+    assert big.peak_rotation == pytest.approx(small.peak_rotation, rel=1e-7)
+    assert [e.r for e in big.impacts[:n]] == pytest.approx([e.r for e in small.impacts[:n]], rel=1e-10)
+
+
+def test_mirror_symmetry_of_the_pulse_direction():
+    plus = rock(PAPER, GroundMotion.sine(0.6, 0.3), voussoirs=7, t_end=2.0, thrust_check=False)
+    minus = rock(PAPER, GroundMotion.sine(-0.6, 0.3), voussoirs=7, t_end=2.0, thrust_check=False)
+    assert plus.outcome == minus.outcome
+    # theta is the rotation of the first piece from the left: mirrored, that is another piece
+    assert plus.peak_piece_rotation == pytest.approx(minus.peak_piece_rotation, rel=1e-6)   # integration error
+    n = min(len(plus.impacts), len(minus.impacts), 20)
+    assert n >= 5
+    for a, b in zip(plus.impacts[:n], minus.impacts[:n]):
+        assert b.t == pytest.approx(a.t, rel=1e-6)
+        assert b.r == pytest.approx(a.r, rel=1e-10)
+        ma, mb = plus.mechanisms[a.after], minus.mechanisms[b.after]
+        assert np.allclose(mb.mirrored().s, ma.s, atol=1e-12) and mb.mirrored().sides == ma.sides
+
+
+# --------------------------------------------------------------------------- accumulation, overturning
+def test_accumulation_ends_at_rest_in_finite_time():
+    res = rock(PAPER, GroundMotion.sine(0.6, 0.3), voussoirs=7, t_end=10.0, thrust_check=False)
+    assert res.outcome == "rest"
+    t = np.array([e.t for e in res.impacts])
+    assert res.impacts[-1].at_rest and t[-1] < 5.0
+    dt = np.diff(t)[-10:]
+    assert np.all(dt[1:] < dt[:-1])              # a converging (geometric) series of impact times
+
+
+def test_overturning_reported_with_its_time():
+    res = rock(block(), GroundMotion.rectangular(0.6, 1.0), voussoirs=1, thrust_check=False)
+    assert res.outcome == "overturned" and res.overturn_reason == "unstable_equilibrium"
+    assert 0 < res.t_overturn < 1.0
+    assert res.peak_rotation == pytest.approx(math.atan(0.25), rel=1e-6)
+
+
+def test_cannot_stand_is_an_outcome():
+    res = rock(CircularArch.from_ratio(180.0, 0.05), GroundMotion.sine(0.1, 0.5), voussoirs=7, thrust_check=False)
+    assert res.outcome == "cannot_stand" and not res.impacts
