@@ -223,3 +223,31 @@ def test_overturning_reported_with_its_time():
 def test_cannot_stand_is_an_outcome():
     res = rock(CircularArch.from_ratio(180.0, 0.05), GroundMotion.sine(0.1, 0.5), voussoirs=7, thrust_check=False)
     assert res.outcome == "cannot_stand" and not res.impacts
+
+
+# --------------------------------------------------------------------------- validity of the one-mechanism model
+def test_thrust_line_exit_is_located_on_the_joints():
+    """Voussoirs are monolithic: the check is at their joints.  At the reported exit time the
+    smallest joint margin is -THRUST_TOL (the crossing is bisected); just before, it is inside."""
+    from fembeam.dynamics.rocking import THRUST_TOL
+    from fembeam.dynamics.thrust import section_forces
+
+    res = rock(PAPER, GroundMotion.sine(0.6, 0.3), voussoirs=7, t_end=0.3)
+    t_on, t_x = res.onsets[0][0], res.thrust_line_exits_at
+    assert t_on < t_x < res.impacts[0].t
+    eq = EquationOfMotion(res.mechanisms[0])
+    joints = uniform_nodes(PAPER, 7)
+    h = res.history
+
+    def margin(t):
+        th, w = np.interp(t, h["t"], h["theta"]), np.interp(t, h["t"], h["rate"])
+        a = float(GroundMotion.sine(0.6, 0.3)(t))
+        return section_forces(eq, th, w, eq.acceleration(th, w, a), a, joints).margin
+
+    assert margin(t_on + 0.2 * (t_x - t_on)) > -THRUST_TOL
+    assert margin(t_x + 0.01) < -1e-3
+
+
+def test_a_block_never_leaves_its_one_piece_mechanism():
+    res = rock(block(), GroundMotion.sine(0.5, 0.5), voussoirs=1, t_end=3.0)
+    assert res.impacts and res.thrust_line_exits_at is None

@@ -31,11 +31,12 @@ from scipy.integrate import solve_ivp
 
 from ..analysis import analyze
 from ..errors import InputError, SolverError
+from ..fem import uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms import Mechanism
 from .equation import GRAVITY, EquationOfMotion
 from .ground import GroundMotion
-from .thrust import thrust_line_margin
+from .thrust import section_forces, thrust_line_margin
 from .transitions import ImpactModel, Transition
 
 __all__ = ["rock", "Rocker", "RockingResult", "ImpactEvent", "onset_time", "REST_ENERGY", "OUTCOMES"]
@@ -233,6 +234,7 @@ class Rocker:
             if math.isfinite(self.A[d]):
                 self.start[d] = Mechanism.from_hinges(curve, res.hinges_before)
         self.model = ImpactModel(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=qp)
+        self.joints = uniform_nodes(curve, voussoirs) if voussoirs is not None else None
         self.mechanisms: list[Mechanism] = []
         self.equations: list[EquationOfMotion] = []
         self._index: dict = {}
@@ -360,23 +362,37 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
     out.timings = {**timings, "total": time.perf_counter() - clock}
     if thrust_check and track.pieces:
         t_chk = time.perf_counter()
-        out.thrust_line_exits_at = first_exit(track.pieces, eqs, ground, dt_out)
+        out.thrust_line_exits_at = first_exit(track.pieces, eqs, ground, dt_out, rk.joints)
         out.timings["thrust_check"] = time.perf_counter() - t_chk
     return out
 
 
 def first_exit(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: float,
-               tol: float = THRUST_TOL) -> float | None:
+               joints: np.ndarray | None = None, tol: float = THRUST_TOL) -> float | None:
     """First time (s) at which the thrust line, inertia forces included, leaves the section
     by more than ``tol`` of the thickness anywhere in the moving pieces (from then on other
-    hinges would open); None if it never does.  Each piece of motion is scanned every
+    hinges would open); None if it never does.  ``joints`` (m): a voussoir arch, whose
+    voussoirs are monolithic, is checked at its joints only; otherwise at uniform sections of
+    every moving piece and next to its hinges.  Each piece of motion is scanned every
     ``dt`` (at least 5, at most 400 instants), then the first crossing is bisected to 2^-32
     of a scan interval."""
+    def sections(eq):     # the joints of the moving pieces, not a free end (it carries nothing)
+        m = eq.mechanism
+        br = m.breaks[np.flatnonzero(m.moving)[[0, -1]] + [0, 1]]
+        keep = (joints >= br[0]) & (joints <= br[1])
+        for end, s_end in zip(m.curve.ends, (0.0, m.curve.length)):
+            keep &= ~((end == "free") & (joints == s_end))
+        return joints[keep]
+
+    cuts = [None if joints is None else sections(eq) for eq in eqs]
+
     def margin(k, sol, tt):
         theta, rate = sol(tt)[:2]
         a = float(ground(tt))
-        return thrust_line_margin(eqs[k], theta, rate, eqs[k].acceleration(theta, rate, a), a,
-                                  sections=50).margin + tol
+        acc = eqs[k].acceleration(theta, rate, a)
+        if cuts[k] is None:
+            return thrust_line_margin(eqs[k], theta, rate, acc, a, sections=50).margin + tol
+        return section_forces(eqs[k], theta, rate, acc, a, cuts[k]).margin + tol
 
     for ta, tb, k, sol in pieces:
         ts = np.linspace(ta, tb, int(np.clip(np.ceil((tb - ta) / dt), 5, 400)))
