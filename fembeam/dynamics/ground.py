@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import re
+from bisect import bisect_right
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -67,6 +68,19 @@ class GroundMotion:
     def __call__(self, time) -> np.ndarray:
         """``a_g`` (g) at ``time`` (s): linear between samples, zero outside them."""
         return np.interp(time, self.t, self.a, left=0.0, right=0.0)
+
+    def scalar(self):
+        """A fast scalar ``a_g(time)`` (the same piecewise-linear signal) for integrators."""
+        ts, av = self.t.tolist(), self.a.tolist()
+        n, t0, t1 = len(ts), ts[0], ts[-1]
+
+        def at(time: float) -> float:
+            if time < t0 or time > t1:
+                return 0.0
+            i = min(bisect_right(ts, time), n - 1)
+            ta, tb = ts[i - 1], ts[i]
+            return av[i - 1] + (av[i] - av[i - 1]) * (time - ta) / (tb - ta)
+        return at
 
     @property
     def duration(self) -> float:

@@ -27,7 +27,8 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import DOP853, OdeSolution
+from scipy.optimize import brentq
 
 from ..analysis import analyze
 from ..errors import InputError, SolverError
@@ -45,6 +46,7 @@ REST_ENERGY = 1e-12     # post-impact K / energy barrier below which the member 
 MAX_EPISODES = 100_000  # bound on the number of episodes (impacts + onsets) of one run
 OUTCOMES = ("rest", "survived", "overturned", "cannot_stand")
 RTOL = 1e-10
+EPS = np.finfo(float).eps
 MAX_OUTPUT_STEPS = 10_000_000   # history rows (about 0.5 GB)
 THRUST_TOL = 1e-6       # thrust line outside the section by more than this fraction of t: exit
 
@@ -291,8 +293,9 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
     t_tr = 0.0
 
     track = _Track(np.arange(t0, t_end + 0.5 * dt_out, dt_out))
+    # the integrator never steps across a kink: every sample of a record or of a short pulse
+    # (rectangular), the ends of a finely sampled smooth pulse
     breaks = ground.t if not ground.smooth or ground.t.size <= 8 else ground.t[[0, -1]]
-    max_step = np.inf if ground.smooth else float(np.min(np.diff(ground.t)))
     out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, elements=rk.n)
     t, state = t0, None         # state: (mechanism index, theta, rate) while moving
     work = 0.0                  # energy bookkeeping: E_now = E_start + work - losses
@@ -316,7 +319,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         k, theta, rate = state
         eq = eqs[k]
         ti = time.perf_counter()
-        ev, t, theta, rate, w, err = _episode(eq, k, ground, t, t_end, theta, rate, breaks, max_step, track)
+        ev, t, theta, rate, w, err = _episode(eq, k, ground, t, t_end, theta, rate, breaks, track)
         t_int += time.perf_counter() - ti
         work += w
         balance = max(balance, err)
@@ -418,10 +421,15 @@ def _rest_rows(track: _Track, ground: GroundMotion, ta: float, tb: float):
 
 
 def _episode(eq: EquationOfMotion, k: int, ground: GroundMotion, t: float, t_end: float, theta: float,
-             rate: float, breaks: np.ndarray, max_step: float, track: _Track):
+             rate: float, breaks: np.ndarray, track: _Track):
     """Integrate along ``eq`` from ``(t, theta, rate)`` to the first event.  Returns
     ``(event, t, theta, rate, ground_work, energy_balance_error)`` with event ``"impact"``,
-    ``"overturn"``, ``"locked"`` or ``"end"``."""
+    ``"overturn"``, ``"locked"`` or ``"end"``.
+
+    The signal is smooth between consecutive ``breaks`` (a record: its samples), so the
+    integrator (SciPy's DOP853 stepper, restarted at every break with the last step size) never
+    steps across a kink; events are located on each step's dense output (``brentq``) with the
+    conventions of ``solve_ivp``."""
     sg = eq.sign
     top = min(eq.theta_unstable, eq.theta_lock * (1 - 1e-9))
     reason = "overturn" if eq.theta_unstable <= eq.theta_lock else "locked"
@@ -429,53 +437,78 @@ def _episode(eq: EquationOfMotion, k: int, ground: GroundMotion, t: float, t_end
     scale_w = scale_th * math.sqrt(eq.g / eq.mechanism.curve.length)
     E0 = eq.energy(theta, rate)
     E_scale = max(abs(eq.potential(sg * top)) if math.isfinite(top) else abs(E0), abs(E0), 1e-300)
+    atol = np.array([1e-12 * scale_th, 1e-12 * scale_w, 1e-12 * E_scale])
+    at = ground.scalar()
+    coef = eq.coefficients
 
     def f(tt, y):
-        a = float(ground(tt))
-        Lam, dLam, dV, Q = eq.coefficients(y[0])
-        acc = -(0.5 * dLam * y[1] * y[1] + dV + a * Q) / Lam
-        return [y[1], acc, -a * Q * y[1]]
+        a = at(tt)
+        Lam, dLam, dV, Q = coef(y[0])
+        return np.array([y[1], -(0.5 * dLam * y[1] * y[1] + dV + a * Q) / Lam, -a * Q * y[1]])
 
-    def impact(tt, y):
-        return sg * y[0]
-    impact.terminal, impact.direction = True, -1
-
-    def over(tt, y):
-        return sg * y[0] - top
-    over.terminal, over.direction = True, 1
-
-    def peak(tt, y):
-        return y[1]
-
+    # events: (function of y, direction as in solve_ivp, terminal)
+    events = ((lambda y: sg * y[0], -1, "impact"), (lambda y: sg * y[0] - top, 1, reason), (lambda y: y[1], 0, None))
     y = np.array([theta, rate, 0.0])
-    cuts = [x for x in breaks if t < x < t_end]
-    segments = list(zip([t] + cuts, cuts + [t_end]))
-    err = 0.0
-    for ta, tb in segments:
-        sol = solve_ivp(f, (ta, tb), y, method="DOP853", rtol=RTOL, atol=[1e-12 * scale_th, 1e-12 * scale_w,
-                        1e-12 * E_scale], events=[impact, over, peak], dense_output=True, max_step=max_step)
-        if sol.status < 0:
-            raise SolverError(f"time integration failed at t = {ta:g} s: {sol.message}")
-        track.pieces.append((ta, float(sol.t[-1]), k, sol.sol))
+    i0 = int(np.searchsorted(breaks, t, side="right"))
+    i1 = int(np.searchsorted(breaks, t_end, side="left"))
+    edges = [t, *breaks[i0:i1].tolist(), t_end]
+    ts_all, dense_all = [t], []
+    h = None
+    hit = None
+    g_prev = [ev(y) for ev, _, _ in events]
+    for ta, tb in zip(edges[:-1], edges[1:]):
+        if tb <= ta:
+            continue
+        solver = DOP853(f, ta, y, tb, rtol=RTOL, atol=atol, first_step=None if h is None else min(h, tb - ta))
+        while solver.status == "running":
+            if solver.step() is not None or solver.status == "failed":
+                raise SolverError(f"time integration failed at t = {solver.t:g} s")
+            t_old, t_new = solver.t_old, solver.t
+            dense = solver.dense_output()
+            g_new = [ev(solver.y) for ev, _, _ in events]
+            roots = []
+            for (ev, direction, name), gp, gn in zip(events, g_prev, g_new):
+                up, down = gp <= 0 <= gn, gp >= 0 >= gn
+                if (direction > 0 and up) or (direction < 0 and down) or (direction == 0 and (up or down)):
+                    if gp == gn:
+                        continue
+                    tr = t_new if gn == 0 else (t_old if gp == 0 else
+                                                brentq(lambda x: ev(dense(x)), t_old, t_new, xtol=4 * EPS * abs(t_new)))
+                    roots.append((tr, name))
+            g_prev = g_new
+            stop = min((r for r in roots if r[1] is not None), default=None)
+            for tr, name in roots:
+                if name is None and tr > t and (stop is None or tr <= stop[0]):
+                    yp = dense(tr)
+                    track.peaks.append((float(tr), k, float(yp[0])))
+                    track.peak_at(tr, yp[0], eq)
+            t_stop = stop[0] if stop is not None else t_new
+            ts_all.append(t_stop)
+            dense_all.append(dense)
+            if stop is not None:
+                hit = (stop[1], t_stop, dense(t_stop))
+                break
+        if hit is not None:
+            break
+        h = solver.step_size
+        y = solver.y.copy()
+    sol = OdeSolution(ts_all, dense_all) if dense_all else None
+    te, y = (hit[1], hit[2]) if hit is not None else (t_end, y)
+    if sol is not None:
+        track.pieces.append((t, float(te), k, sol))
         g = track.grid
-        ts = g[(g >= ta) & (g < sol.t[-1])]
+        ts = g[(g >= t) & (g < te)]
         if ts.size:
-            Y = sol.sol(ts)
+            Y = sol(ts)
             for tt, th, w in zip(ts, Y[0], Y[1]):
-                Lam = eq.coefficients(th)[0]
-                track.add(tt, k, th, w, 0.5 * Lam * w * w, eq.potential(th), float(ground(tt)))
-        for tp, yp in zip(sol.t_events[2], sol.y_events[2]):
-            if tp > ta:         # not the start from rest
-                track.peaks.append((float(tp), k, float(yp[0])))
-            track.peak_at(tp, yp[0], eq)
-        y = sol.y[:, -1].copy()
-        track.peak_at(sol.t[-1], y[0], eq)
-        err = max(err, abs(eq.energy(y[0], y[1]) - E0 - y[2]) / E_scale)
-        if sol.status == 1:
-            te = float(sol.t[-1])
-            Lam = eq.coefficients(y[0])[0]
-            track.add(te, k, y[0], y[1], 0.5 * Lam * y[1] ** 2, eq.potential(y[0]), float(ground(te)))
-            if len(sol.t_events[0]):
-                return "impact", te, 0.0, float(y[1]), float(y[2]), err
-            return reason, te, float(y[0]), float(y[1]), float(y[2]), err
-    return "end", t_end, float(y[0]), float(y[1]), float(y[2]), err
+                Lam = coef(th)[0]
+                track.add(tt, k, th, w, 0.5 * Lam * w * w, eq.potential(th), at(tt))
+    track.peak_at(te, y[0], eq)
+    err = abs(eq.energy(y[0], y[1]) - E0 - y[2]) / E_scale
+    if hit is None:
+        return "end", t_end, float(y[0]), float(y[1]), float(y[2]), err
+    Lam = coef(y[0])[0]
+    track.add(te, k, y[0], y[1], 0.5 * Lam * y[1] ** 2, eq.potential(y[0]), at(te))
+    if hit[0] == "impact":
+        return "impact", te, 0.0, float(y[1]), float(y[2]), err
+    return hit[0], te, float(y[0]), float(y[1]), float(y[2]), err
