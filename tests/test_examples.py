@@ -105,3 +105,15 @@ def test_ex03_housner(tmp_path, monkeypatch, capsys):
     ex = load("ex03_housner")
     exact = (1 - 1.5 * np.sin(np.arctan(ex.slenderness)) ** 2) ** 2
     assert np.max(np.abs(ex.r_model - exact)) < 1e-9
+
+
+def test_ex04_el_centro_rocking(tmp_path, monkeypatch, capsys):
+    """The printed lines (quoted in docs/dynamics.md) and the figure of the 1.0 g run."""
+    out = run_script("ex04_el_centro_rocking", tmp_path, monkeypatch, capsys)
+    doc = (EXAMPLES.parent / "docs" / "dynamics.md").read_text()
+    assert out.splitlines()[0] == "A_L = 0.353384 g; El Centro 1940 (PGA 0.281 g) scaled to:"
+    assert "\n".join(out.splitlines()) in doc
+    lines = out.splitlines()[1:]
+    assert [ln.split(":")[1].split(";")[0].split()[0] for ln in lines] == ["rest", "rest", "rest", "overturned"]
+    png = tmp_path / "ex04.png"
+    assert png.stat().st_size > 10_000 and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
