@@ -482,3 +482,23 @@ def test_limit_scaling_uniform_mesh_values_are_fresh():
     for n in (1000, 3000):
         assert_printed(rows[n][5], limit_analysis(discretize(arch, uniform_nodes(arch, n))).A_L,
                        f"limit_scaling.txt N = {n}")
+
+
+def test_readme_rock_transcript_is_fresh(capsys):
+    """The README's ``fembeam rock`` lines (and docs/dynamics.md's) come from the command."""
+    from fembeam.cli.main import main
+
+    assert main(["rock", "--radius", "5", "--record", "elcentro", "--pga", "1.0", "--no-qp",
+                 "--no-thrust-check"]) == 0
+    out = capsys.readouterr().out
+    m = re.search(r"```text\n\$ fembeam rock --radius 5 --record elcentro --pga 1.0 --no-qp\n(.*?)```",
+                  text("README.md"), re.S)
+    assert m, "README.md: no `fembeam rock` transcript"
+    for line in m.group(1).splitlines():
+        if line.strip() != "...":
+            assert line in out.splitlines(), line
+    d = re.search(r"```text\n\$ fembeam rock --radius 5 --record elcentro --pga 1.0 --no-qp\n(.*?)```",
+                  text("docs/dynamics.md"), re.S)
+    for line in d.group(1).splitlines():
+        if line.strip() != "...":
+            assert line in out.splitlines(), line
