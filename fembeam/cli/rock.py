@@ -111,6 +111,8 @@ def register(sub) -> None:
     o.add_argument("--plot", metavar="PATH.png", help="figure of a_g, rotation and energy with the impacts")
     o.add_argument("--vtk", metavar="PATH.pvd", help="ParaView time series of the moving member")
     o.add_argument("--gif", metavar="PATH.gif", help="animation of the moving member")
+    o.add_argument("--frames", type=int, default=None, metavar="N",
+                   help="--vtk and --gif: at most N frames, taken from the history (default 200 and 120)")
     p.set_defaults(func=run)
 
 
@@ -188,6 +190,8 @@ def run(args) -> int:
                "plot": check_output(args.plot, "--plot", (".png", ".pdf", ".svg")),
                "vtk": check_output(args.vtk, "--vtk", (".pvd",)),
                "gif": check_output(args.gif, "--gif", (".gif",))}
+    if args.frames is not None and not 2 <= args.frames <= 100_000:
+        raise InputError(f"--frames must be in [2, 100000], got {args.frames}")
     if args.history and not args.json:
         raise InputError("--history adds the history to --json output; give --json too")
     curve, voussoirs, elements = member_from(args)
@@ -211,10 +215,10 @@ def run(args) -> int:
             motion.plot_history(res, outputs["plot"])
             written.append(f"figure: {outputs['plot']}")
         if outputs["vtk"]:
-            files = motion.write_pvd(res, outputs["vtk"])
+            files = motion.write_pvd(res, outputs["vtk"], frames=args.frames or 200)
             written.append(f"VTK: {outputs['vtk']} ({len(files) - 1} frames)")
         if outputs["gif"]:
-            motion.write_gif(res, outputs["gif"])
+            motion.write_gif(res, outputs["gif"], frames=args.frames or 120)
             written.append(f"animation: {outputs['gif']}")
     if args.json:
         print(json.dumps(res.to_dict(history=args.history), allow_nan=False))

@@ -298,8 +298,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
     breaks = ground.t if not ground.smooth or ground.t.size <= 8 else ground.t[[0, -1]]
     out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, elements=rk.n)
     t, state = t0, None         # state: (mechanism index, theta, rate) while moving
-    work = 0.0                  # energy bookkeeping: E_now = E_start + work - losses
-    balance = 0.0
+    balance = 0.0               # largest |K + V - E_start - W_ground| of an episode (relative)
     t_int = 0.0
     for _ in range(MAX_EPISODES):
         if progress is not None:
@@ -319,9 +318,8 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         k, theta, rate = state
         eq = eqs[k]
         ti = time.perf_counter()
-        ev, t, theta, rate, w, err = _episode(eq, k, ground, t, t_end, theta, rate, breaks, track)
+        ev, t, theta, rate, _, err = _episode(eq, k, ground, t, t_end, theta, rate, breaks, track)
         t_int += time.perf_counter() - ti
-        work += w
         balance = max(balance, err)
         if ev == "end":
             state = (k, theta, rate)
