@@ -17,7 +17,8 @@ REL = 1e-9
 
 def _same(a: float, b: float, what: str, floor: float = 1e-13):
     """Equal to 1e-9 relative, or to ``floor`` absolute (r is a ratio of energies in [0, 1]
-    from a QP solved to 1e-10 of the kinetic energy: below ~1e-12 it is solver noise)."""
+    from a QP solved to 1e-10 of the kinetic energy: differences of a few 1e-12 are solver
+    noise, e.g. 2.0e-12 at r = 1.3e-3 for beta = 71.13 deg, t/R = 0.0606, 59 elements)."""
     if math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b):
         assert (math.isnan(a) and math.isnan(b)) or a == b, (what, a, b)
     else:
@@ -41,13 +42,14 @@ def _hinges_equal(h1, h2, beta, what):
 @example(beta=246.99331510740546, t_over_r=0.9945264899670817, n=29, log_r=3.0, log_rho=0.0)
 @example(beta=268.5381491363777, t_over_r=0.9878847104445414, n=126, log_r=0.0, log_rho=0.0)
 @example(beta=57.255858085608935, t_over_r=0.12758533543874184, n=132, log_r=3.0, log_rho=0.0)
+@example(beta=71.13177198472192, t_over_r=0.060574261425956746, n=59, log_r=3.0, log_rho=1.0)
 def test_units_and_mirror_do_not_change_the_answer(beta, t_over_r, n, log_r, log_rho):
     base = analyze(CircularArch.from_ratio(beta, t_over_r), elements=n, tmin_tol=0.1)
     other = analyze(CircularArch.from_ratio(beta, t_over_r, radius=10.0**log_r, density=10.0**log_rho),
                     elements=n, direction=-1, tmin_tol=0.1)
     assert base.outcome == other.outcome
     _same(base.A_L, other.A_L, "A_L")
-    _same(base.r, other.r, "r", floor=1e-12)
+    _same(base.r, other.r, "r", floor=1e-11)
     if base.thickness is not None:   # the same bisection decisions: the same bracket
         _same(base.t_min_over_R, other.t_min_over_R, "t_min")
     hb = [(h.angle_deg, h.side) for h in base.hinges_before]
