@@ -167,6 +167,18 @@ def onset_time(ground: GroundMotion, t0: float, t1: float, A_plus: float, A_minu
     return best
 
 
+def _below_time(ground: GroundMotion, t0: float, t1: float, A_plus: float, A_minus: float, eps: float):
+    """First sample time in ``(t0, t1]`` where the ground is within both thresholds
+    (``-a_g <= A_plus`` and ``a_g <= A_minus``), or just after the last sample (where the
+    signal is zero); None if there is none before ``t1``."""
+    t, a = ground.t, ground.a
+    ok = np.flatnonzero((t > t0) & (t <= t1) & (-a <= A_plus) & (a <= A_minus))
+    if ok.size:
+        return float(t[ok[0]])
+    after = max(float(t[-1]), t0) + eps
+    return after if after <= t1 else None
+
+
 # --------------------------------------------------------------------------- the run
 @dataclass
 class _Track:
@@ -291,6 +303,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         return out
     timings = {"setup": rk.setup_time}
     t_tr = 0.0
+    T_ref = math.sqrt(curve.length / g)
 
     track = _Track(np.arange(t0, t_end + 0.5 * dt_out, dt_out))
     # the integrator never steps across a kink: every sample of a record or of a short pulse
@@ -307,6 +320,11 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
             break
         if state is None:       # at rest: wait for the next onset
             on = onset_time(ground, t, t_end, A[1], A[-1])
+            if on is not None and out.onsets and t - out.onsets[-1][0] <= 1e-9 * T_ref:
+                # the last onset led back to rest at once (a load that only touches A_L):
+                # wait until the ground is back below both thresholds, then for a new crossing
+                tb = _below_time(ground, t, t_end, A[1], A[-1], 1e-9 * T_ref)
+                on = None if tb is None else onset_time(ground, tb, t_end, A[1], A[-1])
             _rest_rows(track, ground, t, t_end if on is None else on[0])
             if on is None:
                 t = t_end

@@ -1,0 +1,138 @@
+"""``fembeam spectrum``: overturning amplitude of an arch or a block against pulse period.
+
+For each period (sine, Ricker) or duration (rect) the amplitude grid is scanned in full, the
+first overturning amplitude bisected, and scanned amplitudes above it that do not overturn are
+reported (safe regions above).  The computation is :func:`fembeam.studies.spectrum.spectrum`.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+
+from ..errors import InputError
+from ..output.files import atomic, check_output
+from ..studies.spectrum import (AMPLITUDE_SPAN, N_GRID, PULSES, T_END_FACTOR, SpectrumResult, plot_spectrum,
+                                spectrum)
+from .args import finite_float, float_list
+from .rock import add_member, member_from
+
+
+def register(sub) -> None:
+    p = sub.add_parser("spectrum", help="overturning amplitude against pulse period (safe regions above it too)",
+                       description="For each pulse period (duration for rect) the smallest amplitude that overturns "
+                                   "the member: a scan of the amplitude grid, then bisection below the first "
+                                   "overturning grid point. Scanned amplitudes above it that do not overturn are "
+                                   "reported (the safe set need not be an interval). Amplitudes in g; a positive "
+                                   "pulse loads the member to the left (--sign -1: mirrored pulse).")
+    add_member(p)
+    g = p.add_argument_group("pulses")
+    g.add_argument("--pulse", choices=PULSES, required=True, help="rectangular, one-sine or Ricker pulse")
+    g.add_argument("--periods", type=float_list, required=True, metavar="S[,S..|A:B:STEP]",
+                   help="pulse periods in s (durations for --pulse rect)")
+    g.add_argument("--amplitudes", type=float_list, default=None, metavar="G[,G..|A:B:STEP]",
+                   help=f"increasing amplitude grid in g (default: {N_GRID} geometric points from the onset A_L "
+                        f"to {AMPLITUDE_SPAN:g} A_L)")
+    g.add_argument("--sign", type=int, choices=(1, -1), default=1,
+                   help="+1: the pulse as defined (positive first, loading to the left); -1: mirrored")
+    g.add_argument("--bisect-tol", type=finite_float, default=1e-3, metavar="TOL",
+                   help="relative width of the final bracket (default 1e-3)")
+    g.add_argument("--t-end-factor", type=finite_float, default=T_END_FACTOR, metavar="F",
+                   help=f"each run lasts to the end of the pulse + F sqrt(L/g) (default {T_END_FACTOR:g})")
+    x = p.add_argument_group("execution and output")
+    x.add_argument("--workers", type=int, default=None, metavar="N", help="local worker processes (default: all cores)")
+    x.add_argument("--scheduler", metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
+    x.add_argument("--json", action="store_true", help="print one JSON object on stdout instead of the table")
+    x.add_argument("--csv", metavar="PATH.csv", help="one row per period")
+    x.add_argument("--plot", metavar="PATH.png", help="figure: amplitude / onset against period, safe regions above")
+    x.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    csv_path = check_output(args.csv, "--csv", (".csv",))
+    plot_path = check_output(args.plot, "--plot", (".png", ".pdf", ".svg"))
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be >= 1, got {args.workers}")
+    if args.elements is not None and args.elements < 4:
+        raise InputError(f"--elements must be >= 4, got {args.elements}")
+    if args.voussoirs is not None and args.voussoirs < 1:
+        raise InputError(f"--voussoirs must be >= 1, got {args.voussoirs}")
+    if args.scheduler:
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
+    curve, voussoirs, elements = member_from(args)
+    res = spectrum(curve, args.pulse, args.periods, voussoirs=voussoirs, elements=elements,
+                   amplitudes=args.amplitudes, workers=args.workers, scheduler=args.scheduler,
+                   progress=not args.quiet, bisect_tol=args.bisect_tol, t_end_factor=args.t_end_factor,
+                   sign=args.sign, backend=args.backend)
+    written = []
+    if csv_path:
+        write_csv(res, csv_path)
+        written.append(f"CSV: {csv_path}")
+    if plot_path:
+        with atomic(plot_path) as tmp:
+            plot_spectrum(res, tmp)
+        written.append(f"figure: {plot_path}")
+    if args.json:
+        print(json.dumps(res.to_dict(), allow_nan=False))
+    else:
+        print(table(res))
+        for w in written:
+            print(f"  {w}")
+    return 0
+
+
+def write_csv(res: SpectrumResult, path) -> None:
+    rows = res.csv_rows()
+    with atomic(path) as tmp, open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def _num(x, fmt: str = ".6g") -> str:
+    return "-" if x is None else format(x, fmt)
+
+
+def table(res: SpectrumResult) -> str:
+    geo = res.geometry
+    if geo.get("shape") == "block":
+        head = f"block {geo['width']:g} m x {geo['height']:g} m"
+    else:
+        n = res.settings["voussoirs"]
+        disc = f"{n} voussoirs" if n else f"continuous, {res.settings['elements']} elements"
+        if "embrace_deg" in geo:
+            shape = f"embrace {geo['embrace_deg']:g} deg, t/R = {geo.get('t_over_R', 0):g}"
+        else:
+            shape = ", ".join(f"{k} = {v:g}" for k, v in geo.items()
+                              if isinstance(v, (int, float)) and not isinstance(v, bool) and k != "density")
+        head = f"{geo.get('shape', 'member')} arch, {shape}, {disc}"
+    A0, amps = res.onset, res.amplitudes
+    col = "duration" if res.kind == "rect" else "period"
+    out = [f"fembeam spectrum: {head}; {res.kind} pulses, sign {res.sign:+d}",
+           f"  A_L = {res.A_L[1]:.6g} g (+1), {res.A_L[-1]:.6g} g (-1); onset amplitude {A0:.6g} g",
+           f"  amplitudes: {len(amps)} from {amps[0]:.4g} to {amps[-1]:.4g} g ({res.settings['grid']}); "
+           f"runs to pulse end + {res.settings['t_end_factor']:g} sqrt(L/g)",
+           f"  {col + ' [s]':>12} {'a_over [g]':>11} {'a/onset':>8} {'bracket [g]':>23} {'safe above':>10} {'runs':>5}"]
+    for r in res.rows:
+        a, (lo, hi) = r["first_overturning"], r["bracket"]
+        if a is None:
+            br, ratio = f"none up to {amps[-1]:.4g}", "-"
+        else:
+            br, ratio = f"[{lo:.5g}, {hi:.5g}]", f"{a / A0:.4f}"
+        safe = f"yes ({len(r['safe_amplitudes_above'])})" if r["safe_above"] else "no"
+        out.append(f"  {r['period']:12.5g} {_num(a, '11.6g'):>11} {ratio:>8} {br:>23} {safe:>10} {r['runs']:5d}"
+                   + (f"  {len(r['errors'])} solver error(s)" if r["errors"] else ""))
+    for r in res.rows:
+        if r["safe_above"]:
+            out.append(f"  {col} {r['period']:g} s: safe above the first overturning amplitude at "
+                       + ", ".join(f"{x:.4g}" for x in r["safe_amplitudes_above"]) + " g")
+        for e in r["errors"]:
+            out.append(f"  {col} {r['period']:g} s, amplitude {e['amplitude']:.6g} g: {e['error']}")
+    tm = res.timing
+    out.append(f"  {tm['runs']} time histories; wall time {tm['wall']:.1f} s, CPU in cases {tm['cases_cpu']:.1f} s, "
+               f"{res.settings['executor']}")
+    return "\n".join(out)

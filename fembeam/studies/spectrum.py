@@ -1,0 +1,433 @@
+"""Overturning spectra: the smallest pulse amplitude (or record scale factor) that overturns.
+
+Sign convention (that of :mod:`fembeam.dynamics.rocking`): accelerations are in g, positive
+along +x; a positive ``a_g`` loads the member to the *left* (inertia along -x), against the
+threshold ``A_L(-1)``; a negative one loads it to the right, against ``A_L(+1)``.  ``sign = +1``
+applies a pulse as defined (positive first for rect, sine and Ricker), ``sign = -1`` its mirror
+image; a symmetric member gives the same answer for both.
+
+The safe set is not an interval in general: a rocking member can overturn at some amplitude
+and survive a larger one (the larger pulse reverses the motion in time).  So
+:func:`overturning_amplitude` scans a whole increasing grid, takes the first grid amplitude
+that overturns, bisects between it and the safe grid point below it to a relative tolerance,
+and reports the scanned amplitudes *above* it that do not overturn (``safe_above``).  Amplitudes
+at or below the onset (the member cannot move: ``max(a_g) <= A_L(-1)`` and
+``max(-a_g) <= A_L(+1)``) are safe without a run.  The grid's resolution limits what the scan can
+see: a safe or an overturning window narrower than a grid step can be missed.
+
+A run counts as overturning when :meth:`Rocker.run` reports ``"overturned"`` before ``t_end``;
+motions still under way at ``t_end`` count as safe.  For a single rigid block (``voussoirs=1``)
+one shortcut is exact: once the ground motion is over, the energy ``K + V`` never increases, so a
+block whose energy just after the pulse is below both corners' barriers cannot overturn
+(``"below_barrier"``); this avoids the thousands of impacts of a slender block (``r`` near 1)
+rocking slowly to rest.
+
+:func:`spectrum` repeats the search per pulse period (sine, Ricker) or duration (rect), one task
+per period on local processes or Dask (:mod:`fembeam.studies.parallel`); each task builds its
+own :class:`Rocker`, so results do not depend on the executor.  :func:`collapse_scale` does the
+search over scale factors of a record.
+"""
+from __future__ import annotations
+
+import functools
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from ..dynamics.ground import GroundMotion
+from ..dynamics.rocking import Rocker
+from ..errors import CannotStandError, InputError, SolverError
+from ..geometry import MidCurve
+from .parallel import default_workers, run_tasks
+
+__all__ = ["overturning_amplitude", "spectrum", "spectrum_case", "SpectrumResult", "plot_spectrum",
+           "collapse_scale", "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "PULSES", "SAFE"]
+
+PULSES = ("rect", "sine", "ricker")
+SAFE = ("no_motion", "rest", "survived", "below_barrier")   # outcomes that are not overturning
+N_GRID = 40             # default grid points (amplitudes or factors)
+AMPLITUDE_SPAN = 10.0   # default amplitude grid: onset .. 10 x onset (geometric)
+FACTOR_SPAN = 20.0      # default factor grid: onset factor .. 20 x it (geometric)
+T_END_FACTOR = 20.0     # default free time after a pulse, in sqrt(L/g)
+MAX_BISECT = 60         # bound on the bisection steps
+MAX_CASES = 10_000      # bound on the scanned (period, amplitude) points of one study
+
+
+# --------------------------------------------------------------------------- helpers
+def pulse(kind: str, amplitude: float, period: float) -> GroundMotion:
+    """The pulse ``kind`` (``rect``: ``period`` is its duration) of ``amplitude`` g."""
+    if kind == "rect":
+        return GroundMotion.rectangular(amplitude, period)
+    if kind == "sine":
+        return GroundMotion.sine(amplitude, period)
+    if kind == "ricker":
+        return GroundMotion.ricker(amplitude, period)
+    raise InputError(f"the pulse must be one of {', '.join(PULSES)}, got {kind!r}")
+
+
+def pulse_end(kind: str, period: float) -> float:
+    """End of the pulse (s): rect and sine ``period``, Ricker ``3 period``."""
+    return 3.0 * period if kind == "ricker" else float(period)
+
+
+def onset_amplitude(A: dict, unit: GroundMotion) -> float:
+    """Smallest ``f > 0`` at which ``f * unit`` can set the member moving: ``min(A_L(-1) /
+    max(a), A_L(+1) / max(-a))`` over the signs present in ``unit`` (inf if none)."""
+    pos, neg = float(np.max(unit.a)), float(np.max(-unit.a))
+    cands = [A[-1] / pos if pos > 0 else math.inf, A[1] / neg if neg > 0 else math.inf]
+    return float(min(cands))
+
+
+def geometric_grid(lo: float, span: float, n: int) -> list[float]:
+    """``n`` points from ``lo`` to ``span * lo``, equal ratios."""
+    return [float(x) for x in lo * np.geomspace(1.0, span, n)]
+
+
+def _cannot_move(ground: GroundMotion, A: dict) -> bool:
+    """The ground never exceeds the thresholds (strictly, with 1e-9 relative margin)."""
+    return bool(np.max(ground.a) <= A[-1] * (1 + 1e-9) and np.max(-ground.a) <= A[1] * (1 + 1e-9))
+
+
+def _block_barrier(rk: Rocker) -> float | None:
+    """One rigid body on one joint: the smaller energy barrier (J per unit depth) of its two
+    rocking mechanisms; None for any other member (no shortcut)."""
+    if rk.mode != "voussoirs" or rk.n != 1 or len(rk.start) != 2:
+        return None
+    out = []
+    for d in (1, -1):
+        eq = rk.equations[rk.index(rk.start[d])]
+        top = min(eq.theta_unstable, eq.theta_lock)
+        if not math.isfinite(top):
+            return None
+        out.append(eq.potential(eq.sign * top))
+    return min(out)
+
+
+def _check_grid(values, name: str) -> list[float]:
+    v = [float(x) for x in values]
+    if not v:
+        raise InputError(f"{name}: give at least one value")
+    if len(v) > MAX_CASES:
+        raise InputError(f"{name}: at most {MAX_CASES} values, got {len(v)}")
+    if not all(math.isfinite(x) and x > 0 for x in v):
+        raise InputError(f"{name} must be positive finite numbers, got {values}")
+    if any(b <= a for a, b in zip(v, v[1:])):
+        raise InputError(f"{name} must be strictly increasing")
+    return v
+
+
+class _Decider:
+    """Overturns or not, for one member and one family of ground motions."""
+
+    def __init__(self, rk: Rocker, make_ground: Callable[[float], GroundMotion], t_end, sign: int, progress=None):
+        self.rk, self.make_ground, self.t_end, self.sign, self.progress = rk, make_ground, t_end, sign, progress
+        self.barrier = _block_barrier(rk)
+        self.runs, self.errors = 0, []
+
+    def __call__(self, a: float) -> str:
+        out = self._decide(a)
+        if self.progress is not None:
+            self.progress(a, out)
+        return out
+
+    def _decide(self, a: float) -> str:
+        ground = self.make_ground(self.sign * a)
+        rk = self.rk
+        if _cannot_move(ground, rk.A):
+            return "no_motion"
+        self.runs += 1
+        try:
+            if self.barrier is not None:
+                t0, tp = float(ground.t[0]), float(ground.t[-1])
+                t_short = tp + max(0.01 * math.sqrt(rk.curve.length / rk.g), 1e-3 * (tp - t0))
+                if self.t_end is None or self.t_end > t_short:
+                    res = rk.run(ground, t_end=t_short, thrust_check=False)
+                    if res.outcome != "survived":
+                        return res.outcome
+                    h = res.history
+                    after = np.nonzero((h["t"] >= tp) & (h["mechanism"] >= 0))[0]
+                    if after.size and h["K"][after[-1]] + h["V"][after[-1]] < self.barrier * (1 - 1e-9):
+                        return "below_barrier"
+            return rk.run(ground, t_end=self.t_end, thrust_check=False).outcome
+        except SolverError as e:      # kept, reported; bad input (InputError) propagates
+            self.errors.append({"amplitude": float(a), "error": f"{type(e).__name__}: {e}"})
+            return "solver_error"
+
+
+# --------------------------------------------------------------------------- one search
+def overturning_amplitude(rocker: Rocker, make_ground: Callable[[float], GroundMotion], amplitudes: Sequence[float],
+                          t_end: float | None = None, bisect_tol: float = 1e-3, sign: int = 1,
+                          onset: float | None = None, progress: Callable | None = None) -> dict:
+    """The smallest amplitude of ``make_ground`` that overturns the member of ``rocker``.
+
+    ``make_ground(a)``: the ground motion of amplitude ``a`` (g for pulses, a factor for
+    records), called with ``sign * a``; ``amplitudes``: the increasing scan grid (> 0);
+    ``t_end`` (s): end of each run (None: the end of the ground motion + ``20 sqrt(L/g)``);
+    ``bisect_tol``: relative width of the final bracket (at most ``MAX_BISECT`` steps);
+    ``onset``: amplitudes up to it cannot move the member (default ``min(A_L(+1), A_L(-1))``,
+    right when ``a`` is the peak ``|a_g|``); ``progress(a, outcome)`` after each decision.
+
+    Returns ``first_overturning`` (upper end of the bracket; None if no scanned amplitude
+    overturns), ``bracket`` ``[lo, hi]`` (lo safe, hi overturning; ``[largest safe, None]``
+    without overturning), ``safe_above`` and ``safe_amplitudes_above`` (scanned amplitudes above
+    the first overturning one that do not overturn), ``runs`` (time histories computed),
+    ``scan`` (amplitude, outcome) and ``bisection`` steps, ``converged``, ``errors``."""
+    amps = _check_grid(amplitudes, "the amplitudes")
+    if sign not in (1, -1):
+        raise InputError(f"sign must be +1 or -1, got {sign!r}")
+    if not (0 < bisect_tol < 1):
+        raise InputError(f"bisect_tol must be in (0, 1), got {bisect_tol!r}")
+    if not rocker.stands:
+        raise CannotStandError("the member does not stand under its own weight (fembeam analyze)")
+    if onset is None:
+        onset = min(rocker.A[1], rocker.A[-1])
+    decide = _Decider(rocker, make_ground, t_end, sign, progress)
+    scan = [(a, "no_motion" if a <= onset else decide(a)) for a in amps]
+    over = [i for i, (_, o) in enumerate(scan) if o == "overturned"]
+    safe = [a for a, o in scan if o in SAFE]
+    out = {"first_overturning": None, "bracket": [safe[-1] if safe else None, None], "safe_above": False,
+           "safe_amplitudes_above": [], "converged": False, "onset": float(onset), "bisection": []}
+    if over:
+        i = over[0]
+        hi = scan[i][0]
+        below = [a for a, o in scan[:i] if o in SAFE]
+        if below:
+            lo = below[-1]
+        else:       # nothing scanned below: the onset if it is safe, else zero ground
+            lo = onset if 0 < onset < hi and decide(onset) in SAFE else 0.0
+        steps = []
+        while hi - lo > bisect_tol * hi and len(steps) < MAX_BISECT:
+            mid = 0.5 * (lo + hi)
+            o = decide(mid)
+            steps.append({"amplitude": mid, "outcome": o})
+            if o == "overturned":
+                hi = mid
+            elif o in SAFE:
+                lo = mid
+            else:
+                break
+        above = [a for a, o in scan[i + 1:] if o in SAFE]
+        out.update(first_overturning=hi, bracket=[lo, hi], safe_above=bool(above), safe_amplitudes_above=above,
+                   converged=hi - lo <= bisect_tol * hi, bisection=steps)
+    out.update(runs=decide.runs, scan=[{"amplitude": a, "outcome": o} for a, o in scan], errors=decide.errors)
+    return out
+
+
+# --------------------------------------------------------------------------- spectrum
+def spectrum_case(curve: MidCurve, kind: str, period: float, amplitudes: list[float], t_end: float,
+                  voussoirs: int | None = None, elements: int = 200, backend: str = "clarabel",
+                  bisect_tol: float = 1e-3, sign: int = 1, onset: float | None = None) -> dict:
+    """One period (a task of :func:`spectrum`): its own :class:`Rocker`, then
+    :func:`overturning_amplitude` of ``pulse(kind, a, period)``; a row with ``period`` (s),
+    ``t_end`` (s) and ``time_s``."""
+    clock = time.perf_counter()
+    rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
+    res = overturning_amplitude(rk, functools.partial(_pulse_of, kind, period), amplitudes, t_end=t_end,
+                                bisect_tol=bisect_tol, sign=sign, onset=onset)
+    return {"period": float(period), **res, "t_end": float(t_end), "time_s": time.perf_counter() - clock}
+
+
+def _pulse_of(kind: str, period: float, amplitude: float) -> GroundMotion:
+    return pulse(kind, amplitude, period)
+
+
+def _json_safe(x):
+    if isinstance(x, dict):
+        return {str(k): _json_safe(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_json_safe(v) for v in x]
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    return x
+
+
+@dataclass
+class SpectrumResult:
+    """Rows per period (``period`` s: the duration for rect pulses; ``first_overturning``,
+    ``bracket`` in g, ``safe_above``, ``runs``, the scan); ``A_L`` (g) both ways; ``onset`` (g):
+    the amplitude at which the pulse first moves the member."""
+
+    kind: str
+    sign: int
+    rows: list[dict]
+    A_L: dict
+    onset: float
+    amplitudes: list[float]
+    geometry: dict
+    settings: dict
+    wall_time: float = 0.0
+    timing: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """JSON-safe (null for undefined or non-finite numbers)."""
+        return _json_safe({"study": "spectrum", "pulse": self.kind, "sign": self.sign,
+                           "abscissa": "duration_s" if self.kind == "rect" else "period_s",
+                           "geometry": self.geometry, "A_L": {"+1": self.A_L[1], "-1": self.A_L[-1]},
+                           "onset_g": self.onset, "amplitudes_g": self.amplitudes, "settings": self.settings,
+                           "rows": self.rows, "wall_time_s": round(self.wall_time, 3), "timing_s": self.timing})
+
+    def csv_rows(self) -> list[dict]:
+        """One row per period: amplitudes in g and over the onset; empty cells for none."""
+        out = []
+        for r in self.rows:
+            a, (lo, hi) = r["first_overturning"], r["bracket"]
+            out.append({"period_s": r["period"], "first_overturning_g": a,
+                        "first_overturning_over_onset": None if a is None else a / self.onset,
+                        "bracket_lo_g": lo, "bracket_hi_g": hi, "safe_above": r["safe_above"],
+                        "safe_amplitudes_above_g": ";".join(f"{x:.6g}" for x in r["safe_amplitudes_above"]),
+                        "runs": r["runs"], "errors": len(r["errors"]), "time_s": round(r["time_s"], 4)})
+        return out
+
+
+def _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign, n_amplitudes,
+                    span) -> list[float]:
+    if kind not in PULSES:
+        raise InputError(f"the pulse must be one of {', '.join(PULSES)}, got {kind!r}")
+    ps = [float(p) for p in periods]
+    if not ps:
+        raise InputError("give at least one pulse period (duration for rect)")
+    if not all(math.isfinite(p) and p > 0 for p in ps):
+        raise InputError(f"pulse periods (durations) must be positive finite seconds, got {periods}")
+    if voussoirs is not None and voussoirs < 1:
+        raise InputError(f"voussoirs must be >= 1, got {voussoirs}")
+    if voussoirs is None and elements < 4:
+        raise InputError(f"elements must be >= 4, got {elements}")
+    if not (0 < bisect_tol <= 0.1):
+        raise InputError(f"the bisection tolerance must be in (0, 0.1], got {bisect_tol!r}")
+    if not (math.isfinite(t_end_factor) and 0 < t_end_factor <= 1000):
+        raise InputError(f"the t_end factor must be in (0, 1000] (units of sqrt(L/g)), got {t_end_factor!r}")
+    if sign not in (1, -1):
+        raise InputError(f"sign must be +1 or -1, got {sign!r}")
+    if amplitudes is not None:
+        n_amplitudes = len(_check_grid(amplitudes, "the amplitudes"))
+    elif not (2 <= n_amplitudes <= MAX_CASES and math.isfinite(span) and span > 1):
+        raise InputError(f"the default amplitude grid needs 2..{MAX_CASES} points and a span > 1")
+    if len(ps) * n_amplitudes > MAX_CASES:
+        raise InputError(f"{len(ps)} periods x {n_amplitudes} amplitudes = {len(ps) * n_amplitudes} scanned cases: "
+                         f"at most {MAX_CASES}")
+    return ps
+
+
+def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: int | None = None,
+             elements: int = 200, amplitudes: Sequence[float] | None = None, workers: int | None = None,
+             scheduler=None, progress: bool = True, bisect_tol: float = 1e-3, t_end_factor: float = T_END_FACTOR,
+             *, sign: int = 1, backend: str = "clarabel", n_amplitudes: int = N_GRID,
+             span: float = AMPLITUDE_SPAN) -> SpectrumResult:
+    """Overturning amplitude (g) of ``curve`` under ``kind`` pulses for each of ``periods`` (s;
+    durations for rect).  Default grid: ``n_amplitudes`` geometric points from the onset
+    amplitude (``A_L`` of the direction the pulse loads first) to ``span`` times it.  Each run
+    lasts to the end of the pulse + ``t_end_factor sqrt(L/g)``.  Bad input raises
+    :class:`InputError` before any run; a member that cannot stand, :class:`CannotStandError`."""
+    ps = _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign,
+                         n_amplitudes, span)
+    clock = time.perf_counter()
+    rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
+    if not rk.stands:
+        raise CannotStandError("the member does not stand under its own weight (fembeam analyze)")
+    onset = onset_amplitude(rk.A, pulse(kind, float(sign), 1.0))
+    if not math.isfinite(onset):
+        raise InputError("no pulse of this kind can set the member moving (no mechanism: A_L infinite)")
+    grid = [float(a) for a in amplitudes] if amplitudes is not None else geometric_grid(onset, span, n_amplitudes)
+    free = t_end_factor * math.sqrt(curve.length / rk.g)
+    common = {"curve": curve, "kind": kind, "amplitudes": grid, "voussoirs": voussoirs, "elements": elements,
+              "backend": backend, "bisect_tol": bisect_tol, "sign": sign, "onset": onset}
+    rows = run_tasks([(spectrum_case, {**common, "period": p, "t_end": pulse_end(kind, p) + free}) for p in ps],
+                     workers=workers, scheduler=scheduler, progress=progress, desc=f"spectrum: {kind} pulses")
+    wall = time.perf_counter() - clock
+    settings = {"voussoirs": voussoirs, "elements": elements if voussoirs is None else None, "backend": backend,
+                "bisect_tol": bisect_tol, "t_end_factor": t_end_factor, "t_end": "pulse end + t_end_factor sqrt(L/g)",
+                "grid": "given" if amplitudes is not None else f"geometric, {n_amplitudes} points, onset to {span:g} x",
+                "executor": "dask" if scheduler is not None else f"local ({workers or default_workers()} workers)"}
+    geo = curve.describe() if hasattr(curve, "describe") else {}
+    return SpectrumResult(kind, sign, rows, dict(rk.A), onset, grid, geo, settings, wall,
+                          {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
+                           "runs": sum(r["runs"] for r in rows)})
+
+
+def plot_spectrum(result: SpectrumResult, path) -> None:
+    """Overturning amplitude over the onset against period (duration for rect): the bisected
+    curve, the scanned amplitudes that overturn (red) and the safe ones above the first
+    overturning amplitude (green: safe regions above)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    A0 = result.onset
+    rows = sorted(result.rows, key=lambda r: r["period"])
+    fig, ax = plt.subplots(figsize=(8.0, 5.0))
+    over = [(r["period"], s["amplitude"] / A0) for r in rows for s in r["scan"] if s["outcome"] == "overturned"]
+    above = [(r["period"], a / A0) for r in rows for a in r["safe_amplitudes_above"]]
+    if over:
+        ax.plot(*zip(*over), ".", color="tab:red", ms=3, alpha=0.5, label="scanned: overturns")
+    if above:
+        ax.plot(*zip(*above), "o", color="tab:green", mfc="none", ms=5,
+                label="scanned: safe above the first overturning")
+    x = [r["period"] for r in rows]
+    y = [np.nan if r["first_overturning"] is None else r["first_overturning"] / A0 for r in rows]
+    ax.plot(x, y, "k-o", ms=3.5, lw=1.3, label="first overturning amplitude (bisected)")
+    none = [r["period"] for r in rows if r["first_overturning"] is None]
+    if none:
+        top = max(result.amplitudes) / A0
+        ax.plot(none, [top] * len(none), "^", color="k", mfc="none", ms=6,
+                label=f"no overturning up to {top:.3g} x onset")
+    ax.set_xlabel("pulse duration (s)" if result.kind == "rect" else "pulse period (s)")
+    ax.set_ylabel(f"amplitude / onset ({A0:.4g} g)")
+    ax.set_ylim(bottom=0.0)
+    ax.set_title(f"Overturning spectrum, {result.kind} pulses (sign {result.sign:+d})", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+# --------------------------------------------------------------------------- records
+def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None = None, elements: int = 200,
+                   factors: Sequence[float] | None = None, *, t_end: float | None = None, bisect_tol: float = 1e-3,
+                   sign: int = 1, backend: str = "clarabel", n_factors: int = N_GRID, span: float = FACTOR_SPAN,
+                   progress: Callable | None = None) -> dict:
+    """Smallest scale factor of ``ground`` that overturns ``curve`` (the search of
+    :func:`overturning_amplitude` over factors; ``sign = -1`` mirrors the record).  Default
+    grid: ``n_factors`` geometric points from the onset factor (the record first exceeds
+    ``A_L``; ``A_L / PGA`` for a symmetric member) to ``span`` times it.  ``t_end`` (s):
+    default the end of the record + ``20 sqrt(L/g)``.  Returns the search's dict with factors
+    (``first_overturning``, ``bracket``, ``safe_factors_above``, ``scan``), plus
+    ``pga_at_first_overturning`` (g), the record's ``pga`` and ``A_L``."""
+    if not isinstance(ground, GroundMotion):
+        raise InputError(f"collapse_scale needs a GroundMotion, got {type(ground).__name__}")
+    if ground.pga == 0:
+        raise InputError(f"{ground.name} is zero everywhere: no scale factor moves the member")
+    if factors is not None:
+        _check_grid(factors, "the factors")
+    elif not (2 <= n_factors <= MAX_CASES and math.isfinite(span) and span > 1):
+        raise InputError(f"the default factor grid needs 2..{MAX_CASES} points and a span > 1")
+    if t_end is not None and not (math.isfinite(t_end) and t_end > ground.t[0]):
+        raise InputError(f"t_end must be finite and after the start of the record ({ground.t[0]:g} s), got {t_end}")
+    clock = time.perf_counter()
+    rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
+    if not rk.stands:
+        raise CannotStandError("the member does not stand under its own weight (fembeam analyze)")
+    f0 = onset_amplitude(rk.A, ground.scaled(sign))
+    if not math.isfinite(f0):
+        raise InputError("no scale factor of this record can set the member moving (A_L infinite)")
+    grid = [float(f) for f in factors] if factors is not None else geometric_grid(f0, span, n_factors)
+    res = overturning_amplitude(rk, ground.scaled, grid, t_end=t_end, bisect_tol=bisect_tol, sign=sign, onset=f0,
+                                progress=progress)
+    f = res["first_overturning"]
+    res["safe_factors_above"] = res.pop("safe_amplitudes_above")
+    for key in ("scan", "bisection", "errors"):
+        res[key] = [{("factor" if k == "amplitude" else k): v for k, v in s.items()} for s in res[key]]
+    res.update(record=ground.name, pga=ground.pga, sign=sign, onset_factor=f0, factors=grid,
+               pga_at_first_overturning=None if f is None else f * ground.pga,
+               A_L={"+1": rk.A[1], "-1": rk.A[-1]}, geometry=curve.describe() if hasattr(curve, "describe") else {},
+               voussoirs=voussoirs, elements=elements if voussoirs is None else None,
+               t_end=t_end, time_s=time.perf_counter() - clock)
+    res.pop("onset")
+    return _json_safe(res)

@@ -1,0 +1,184 @@
+"""Overturning spectra and collapse scale factors against closed forms and direct runs.
+
+* Housner's slender block under rectangular pulses: the bisected overturning amplitude matches
+  ``a/(g alpha) = 1/(1 - exp(-p t1))`` to the O(alpha^2) nonlinear deviation (1.4e-4 at alpha = 0.02);
+* the spectrum (parallel tasks, the block's energy shortcut) gives the bracket of an independent
+  scan-and-bisect written with plain :meth:`Rocker.run`, float for float;
+* safe regions above the first overturning amplitude: a stocky block (tan alpha = 0.5) under a
+  one-sine pulse of 0.68 s overturns at 3.1 A_L and survives 3.5 and 3.6 A_L (found by scanning);
+* collapse-scale on a shipped record: the bracket's ends against direct runs;
+* JSON without NaN, CLI errors as one line with exit 2, CSV written atomically.
+"""
+import csv
+import json
+import math
+
+import pytest
+
+from fembeam import CircularArch, StraightMember
+from fembeam.cli import main
+from fembeam.dynamics.equation import GRAVITY
+from fembeam.dynamics.ground import GroundMotion
+from fembeam.dynamics.rocking import Rocker
+from fembeam.studies.spectrum import collapse_scale, geometric_grid, overturning_amplitude, spectrum
+
+STOCKY = StraightMember(height=2.0, width=1.0)      # tan alpha = 0.5, Housner r = 0.49
+ISLAND_T = 0.68                                     # one-sine period with a safe window above
+T_REC = 10.0                                        # s: the strong part of the El Centro record
+ISLAND_GRID = [r * 0.5 for r in (2.0, 2.5, 2.9, 3.1, 3.5, 3.6, 4.0, 4.5)]
+
+
+def overturns(rk, ground, **kw) -> bool:
+    return rk.run(ground, thrust_check=False, **kw).outcome == "overturned"
+
+
+@pytest.mark.parametrize("p_t1", [0.5, 2.0])
+def test_housner_rectangular_pulse(p_t1):
+    width = 0.04
+    alpha, R = math.atan(width / 2.0), 0.5 * math.hypot(width, 2.0)
+    p = math.sqrt(3 * GRAVITY / (4 * R))
+    t1 = p_t1 / p
+    formula = alpha / (1 - math.exp(-p * t1))
+    rk = Rocker(StraightMember(height=2.0, width=width), voussoirs=1, qp=False)
+    res = overturning_amplitude(rk, lambda a: GroundMotion.rectangular(a, t1), geometric_grid(rk.A[1], 10.0, 40),
+                                bisect_tol=1e-6)
+    lo, hi = res["bracket"]
+    assert res["converged"] and hi - lo <= 1e-6 * hi and res["first_overturning"] == hi
+    dev = hi / formula - 1
+    assert 5e-5 < dev < 3e-4                     # the nonlinear O(alpha^2) excess, ~1.4e-4
+    assert not res["safe_above"] and res["runs"] < 70
+    assert res["scan"][0]["outcome"] == "no_motion"          # the onset itself is not run
+    # the ends of the bracket with full runs (no shortcut), long enough to decide
+    t_end = t1 + 30 / p
+    assert overturns(rk, GroundMotion.rectangular(hi, t1), t_end=t_end)
+    assert not overturns(rk, GroundMotion.rectangular(lo, t1), t_end=t_end)
+
+
+def independent_bracket(curve, period, grid, voussoirs, tol):
+    """Scan-and-bisect with plain Rocker.run (default t_end: pulse end + 20 sqrt(L/g))."""
+    rk = Rocker(curve, voussoirs=voussoirs, qp=False)
+    over = [overturns(rk, GroundMotion.sine(a, period)) for a in grid]
+    if True not in over:
+        return None, []
+    i = over.index(True)
+    lo, hi = max([a for a, o in zip(grid[:i], over[:i]) if not o], default=min(rk.A.values())), grid[i]
+    while hi - lo > tol * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if overturns(rk, GroundMotion.sine(mid, period)) else (mid, hi)
+    return [lo, hi], [a for a, o in zip(grid[i + 1:], over[i + 1:]) if not o]
+
+
+@pytest.fixture(scope="module")
+def island():
+    return spectrum(STOCKY, "sine", [ISLAND_T, 1.0], voussoirs=1, amplitudes=ISLAND_GRID, workers=2, progress=False,
+                    bisect_tol=1e-3)
+
+
+def test_spectrum_equals_independent_bisection(island):
+    for row in island.rows:
+        bracket, above = independent_bracket(STOCKY, row["period"], ISLAND_GRID, 1, 1e-3)
+        assert row["bracket"] == bracket and row["first_overturning"] == bracket[1]
+        assert row["safe_amplitudes_above"] == above
+    assert island.rows[1]["first_overturning"] < island.rows[0]["first_overturning"]
+
+
+def test_safe_region_above_the_first_overturning_amplitude(island):
+    row = island.rows[0]
+    assert row["period"] == ISLAND_T
+    assert 2.9 * 0.5 <= row["first_overturning"] <= 3.1 * 0.5
+    assert row["safe_above"] and row["safe_amplitudes_above"] == [3.5 * 0.5, 3.6 * 0.5]
+    rk = Rocker(STOCKY, voussoirs=1, qp=False)
+    outcome = {a: overturns(rk, GroundMotion.sine(a, ISLAND_T)) for a in ISLAND_GRID}
+    assert [a for a in ISLAND_GRID if a > row["first_overturning"] and not outcome[a]] == row["safe_amplitudes_above"]
+    assert outcome[3.1 * 0.5] and outcome[4.0 * 0.5] and not outcome[2.9 * 0.5]
+    assert not island.rows[1]["safe_above"]
+    d = island.to_dict()
+    json.dumps(d, allow_nan=False)
+    assert d["rows"][0]["safe_above"] is True and d["onset_g"] == pytest.approx(0.5)
+
+
+def test_arch_spectrum_equals_independent_bisection():
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    grid = [0.5, 0.6, 0.8, 1.0]
+    res = spectrum(arch, "sine", [0.8], voussoirs=7, amplitudes=grid, workers=1, progress=False, bisect_tol=1e-2)
+    bracket, above = independent_bracket(arch, 0.8, grid, 7, 1e-2)
+    assert res.rows[0]["bracket"] == bracket and res.rows[0]["safe_amplitudes_above"] == above
+
+
+def test_collapse_scale_against_direct_runs():
+    block, rec = StraightMember(height=2.0, width=0.5), GroundMotion.record("elcentro_chopra")
+    res = collapse_scale(block, rec, voussoirs=1, factors=[1.0, 2.0, 3.0, 4.0], bisect_tol=1e-2, t_end=T_REC)
+    f = res["first_overturning"]
+    lo, hi = res["bracket"]
+    assert f == hi and hi - lo <= 1e-2 * hi and 1.0 <= lo < hi <= 4.0
+    assert res["pga_at_first_overturning"] == pytest.approx(f * rec.pga)
+    assert res["onset_factor"] == pytest.approx(0.25 / rec.pga)
+    rk = Rocker(block, voussoirs=1, qp=False)
+    assert overturns(rk, rec.scaled(hi), t_end=T_REC) and not overturns(rk, rec.scaled(lo), t_end=T_REC)
+    assert res["safe_above"] == bool(res["safe_factors_above"])
+    json.dumps(res, allow_nan=False)
+
+
+def test_cli_spectrum_json_csv_and_no_overturning(tmp_path, capsys):
+    out = tmp_path / "s.csv"
+    assert main(["spectrum", "--block", "0.5", "2", "--pulse", "rect", "--periods", "0.05,0.5",
+                 "--amplitudes", "0.3,0.5,1.0", "--bisect-tol", "0.01", "--workers", "1", "--json", "--quiet",
+                 "--csv", str(out)]) == 0
+    d = json.loads(capsys.readouterr().out)
+    json.dumps(d, allow_nan=False)
+    first = [r["first_overturning"] for r in d["rows"]]
+    assert first[0] is None and d["rows"][0]["bracket"] == [1.0, None]      # too short a pulse: no overturning
+    assert 0.3 < first[1] <= 0.5
+    rows = list(csv.DictReader(out.open()))
+    assert [r["period_s"] for r in rows] == ["0.05", "0.5"] and rows[0]["first_overturning_g"] == ""
+    assert [p.name for p in tmp_path.iterdir()] == ["s.csv"]                  # no temporary left
+
+
+def test_csv_is_written_atomically(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "s.csv"
+    out.write_text("old\n")
+
+    def fail(*a, **k):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(csv.DictWriter, "writerows", fail)
+    assert main(["spectrum", "--block", "0.5", "2", "--pulse", "rect", "--periods", "0.5", "--amplitudes", "0.3",
+                 "--workers", "1", "--quiet", "--csv", str(out)]) == 130
+    assert out.read_text() == "old\n" and [p.name for p in tmp_path.iterdir()] == ["s.csv"]
+
+
+@pytest.mark.parametrize("argv", [
+    ["spectrum", "--pulse", "sine", "--periods", "0,1"],
+    ["spectrum", "--pulse", "sine", "--periods", ","],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--amplitudes", "0.5,0.4"],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--amplitudes", "-0.5"],
+    ["spectrum", "--pulse", "sine", "--periods", "0.01:100:0.001"],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--bisect-tol", "0"],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--t-end-factor", "-1"],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--workers", "0"],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--csv", "out.txt"],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--plot", "/no/such/dir/s.png"],
+    ["spectrum", "--pulse", "sine", "--periods", "1", "--voussoirs", "0"],
+    ["spectrum", "--pulse", "square", "--periods", "1"],
+    ["spectrum", "--pulse", "sine", "--periods", "nan"],
+    ["collapse-scale", "--record", "no_such_record"],
+    ["collapse-scale", "--record", "elcentro", "--factors", "2,1"],
+    ["collapse-scale", "--record", "elcentro", "--t-end", "-1"],
+    ["collapse-scale", "--record", "elcentro", "--bisect-tol", "0.5"],
+])
+def test_cli_bad_input_exits_2_with_one_line(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as e:      # argparse's own errors (bad choice, not a number)
+        code = e.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "error" in err
+
+
+def test_cli_collapse_scale_json(capsys):
+    assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--factors", "2,3,4",
+                 "--bisect-tol", "0.05", "--t-end", "10", "--json", "--quiet"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["command"] == "collapse-scale" and d["first_overturning"] is not None
+    assert d["bracket"][1] == d["first_overturning"] and isinstance(d["safe_above"], bool)
+    assert d["scan"][0].keys() == {"factor", "outcome"}
