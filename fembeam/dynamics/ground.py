@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["GroundMotion", "RECORDS"]
+__all__ = ["GroundMotion", "Pulse", "RECORDS"]
 
 RECORDS = {   # records shipped with fembeam (fembeam/data/ground_motions/README.md)
     "elcentro": "RSN6_IMPVALL.I_I-ELC180.AT2",
@@ -40,18 +40,48 @@ def _positive(name: str, value) -> float:
 
 
 @dataclass(frozen=True)
+class Pulse:
+    """The exact formula of a pulse (``kind``: ``"rect"``, ``"sine"``, ``"ricker"``), in g;
+    zero outside ``[0, end]``.  ``period`` is the duration of a rectangular pulse."""
+
+    kind: str
+    amplitude: float
+    period: float
+
+    @property
+    def end(self) -> float:
+        return 3.0 * self.period if self.kind == "ricker" else self.period
+
+    def at(self, time: float) -> float:
+        """``a_g`` at one time (plain floats: the integrator's hot path)."""
+        if time < 0.0 or time > self.end or (self.kind == "rect" and time >= self.period):
+            return 0.0
+        if self.kind == "rect":
+            return self.amplitude
+        if self.kind == "sine":
+            return self.amplitude * math.sin(2.0 * math.pi * time / self.period)
+        u2 = (math.pi * (time - 1.5 * self.period) / self.period) ** 2
+        return self.amplitude * (1.0 - 2.0 * u2) * math.exp(-u2)
+
+    def scaled(self, factor: float) -> "Pulse":
+        return Pulse(self.kind, self.amplitude * factor, self.period)
+
+
+@dataclass(frozen=True)
 class GroundMotion:
     """Samples ``t`` (s, strictly increasing) and ``a`` (g); ``name`` for reports.
 
     ``smooth``: the signal is smooth between its first and last samples (a pulse sampled
     finely, or a rectangular pulse whose only jumps are at its ends), so an integrator may
     step across samples; otherwise (records) every sample is a kink and steps stay within
-    one sample interval."""
+    one sample interval.  ``exact``: the formula of a pulse, evaluated by the integrator
+    instead of the samples (which then serve the onset scan and the plots)."""
 
     t: np.ndarray
     a: np.ndarray
     name: str = "ground motion"
     smooth: bool = False
+    exact: Pulse | None = None
 
     def __post_init__(self):
         t, a = np.asarray(self.t, float), np.asarray(self.a, float)
@@ -70,7 +100,10 @@ class GroundMotion:
         return np.interp(time, self.t, self.a, left=0.0, right=0.0)
 
     def scalar(self):
-        """A fast scalar ``a_g(time)`` (the same piecewise-linear signal) for integrators."""
+        """A fast scalar ``a_g(time)`` for integrators: the pulse's formula, or the same
+        piecewise-linear signal."""
+        if self.exact is not None:
+            return self.exact.at
         ts, av = self.t.tolist(), self.a.tolist()
         n, t0, t1 = len(ts), ts[0], ts[-1]
 
@@ -99,14 +132,17 @@ class GroundMotion:
         f = float(factor)
         if not math.isfinite(f):
             raise InputError(f"the scale factor must be a finite number, got {factor!r}")
-        return GroundMotion(self.t, f * self.a, f"{self.name} x {f:g}", self.smooth)
+        return GroundMotion(self.t, f * self.a, f"{self.name} x {f:g}", self.smooth,
+                            None if self.exact is None else self.exact.scaled(f))
 
     def to_pga(self, target: float) -> "GroundMotion":
         """Scaled so that its peak ground acceleration is ``target`` (g)."""
         target = _positive("the target peak acceleration", target)
         if self.pga == 0:
             raise InputError(f"{self.name} is zero everywhere: it cannot be scaled to a peak")
-        return GroundMotion(self.t, self.a * (target / self.pga), f"{self.name} to PGA {target:g} g", self.smooth)
+        f = target / self.pga
+        return GroundMotion(self.t, self.a * f, f"{self.name} to PGA {target:g} g", self.smooth,
+                            None if self.exact is None else self.exact.scaled(f))
 
     # -- pulses -----------------------------------------------------------------------------
     @classmethod
@@ -116,7 +152,7 @@ class GroundMotion:
         eps = 1e-12 * duration
         t = np.array([0.0, duration - eps, duration])
         return cls(t, np.array([amplitude, amplitude, 0.0]), f"rectangular pulse {amplitude:g} g, {duration:g} s",
-                   True)
+                   True, Pulse("rect", amplitude, duration))
 
     @classmethod
     def sine(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
@@ -124,7 +160,7 @@ class GroundMotion:
         period = _positive("the pulse period", period)
         t = np.linspace(0.0, period, samples)
         return cls(t, float(amplitude) * np.sin(2 * np.pi * t / period), f"one-sine pulse {amplitude:g} g, {period:g} s",
-                   True)
+                   True, Pulse("sine", float(amplitude), period))
 
     @classmethod
     def ricker(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
@@ -134,7 +170,7 @@ class GroundMotion:
         t = np.linspace(0.0, 3.0 * period, samples)
         u2 = (np.pi * (t - 1.5 * period) / period) ** 2
         return cls(t, float(amplitude) * (1 - 2 * u2) * np.exp(-u2), f"Ricker wavelet {amplitude:g} g, {period:g} s",
-                   True)
+                   True, Pulse("ricker", float(amplitude), period))
 
     # -- records ----------------------------------------------------------------------------
     @classmethod

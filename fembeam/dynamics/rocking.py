@@ -142,7 +142,8 @@ class RockingResult:
 def onset_time(ground: GroundMotion, t0: float, t1: float, A_plus: float, A_minus: float):
     """First time in ``[t0, t1]`` at which ``-a_g > A_plus`` (returns ``(t, +1)``) or
     ``a_g > A_minus`` (``(t, -1)``), exact on the piecewise-linear signal (zero outside its
-    samples); None if the ground stays below both thresholds."""
+    samples), refined on the formula of a pulse; None if the ground stays below both
+    thresholds."""
     t, a = ground.t, ground.a
     # the signal on [t0, t1]: its samples inside, with the values at t0 and t1
     inside = (t > t0) & (t < t1)
@@ -162,6 +163,12 @@ def onset_time(ground: GroundMotion, t0: float, t1: float, A_plus: float, A_minu
             f0, f1 = f[i - 1], f[i]
             tc = ts[i - 1] + (ts[i] - ts[i - 1]) * (-f0) / (f1 - f0)
             tc = min(max(tc, ts[i - 1]), ts[i])
+            if ground.exact is not None:     # the crossing of the pulse's formula in this interval
+                ex = (lambda x: -ground.exact.at(x) - A_plus) if d == 1 else (lambda x: ground.exact.at(x) - A_minus)
+                if ex(ts[i - 1]) <= 0 < ex(ts[i]):
+                    tc = brentq(ex, ts[i - 1], ts[i], xtol=1e-15, rtol=8 * EPS)
+                    while ex(tc) <= 0 and tc < ts[i]:    # just inside the exceedance
+                        tc = np.nextafter(tc, np.inf)
         if best is None or tc < best[0]:
             best = (float(tc), d)
     return best
@@ -405,9 +412,11 @@ def first_exit(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: fl
 
     cuts = [None if joints is None else sections(eq) for eq in eqs]
 
+    at = ground.scalar()
+
     def margin(k, sol, tt):
         theta, rate = sol(tt)[:2]
-        a = float(ground(tt))
+        a = at(tt)
         acc = eqs[k].acceleration(theta, rate, a)
         if cuts[k] is None:
             return thrust_line_margin(eqs[k], theta, rate, acc, a, sections=50).margin + tol
