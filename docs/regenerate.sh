@@ -5,7 +5,7 @@
 # About 20 minutes on 2 cores.  Run from anywhere with fembeam installed.
 #
 #   docs/regenerate.sh              everything
-#   docs/regenerate.sh studies      one group: studies | report | benchmarks | pictures | splice
+#   docs/regenerate.sh studies      one group: studies | report | benchmarks | dynamics | pictures | splice
 #
 # After a run, read the diff: the prose of docs/studies.md, docs/elements.md and docs/solvers.md
 # quotes numbers of these tables (the drift test names any quote that no longer matches).
@@ -34,6 +34,13 @@ benchmarks() {
     python benchmarks/elements.py > docs/data/elements.txt
     python benchmarks/qp_backends.py > docs/data/qp_backends.txt
     python benchmarks/limit_scaling.py --max 1000000 --analyze 100000 --kinematic 10000 > docs/data/limit_scaling.txt
+    python benchmarks/rocking.py > docs/data/rocking_benchmark.txt
+}
+
+dynamics() {
+    fembeam spectrum --voussoirs 7 --embrace 157.5 --t-over-r 0.15 --pulse sine --periods 0.1:2.05:0.05 \
+        --workers 2 --quiet --csv docs/data/spectrum_sine_7v.csv --plot docs/img/spectrum_sine_7v.png \
+        > docs/data/spectrum_sine_7v.txt
 }
 
 pictures() {
@@ -82,7 +89,7 @@ PY
 }
 
 case "$what" in
-    all) studies; report; benchmarks; pictures; splice ;;
-    studies|report|benchmarks|pictures|splice) "$what" ;;
-    *) echo "usage: $0 [all|studies|report|benchmarks|pictures|splice]" >&2; exit 2 ;;
+    all) studies; report; benchmarks; dynamics; pictures; splice ;;
+    studies|report|benchmarks|dynamics|pictures|splice) "$what" ;;
+    *) echo "usage: $0 [all|studies|report|benchmarks|dynamics|pictures|splice]" >&2; exit 2 ;;
 esac

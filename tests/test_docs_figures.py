@@ -502,3 +502,21 @@ def test_readme_rock_transcript_is_fresh(capsys):
     for line in d.group(1).splitlines():
         if line.strip() != "...":
             assert line in out.splitlines(), line
+
+
+def test_spectrum_table_rows_are_fresh():
+    """docs/data/spectrum_sine_7v.txt (quoted in docs/dynamics.md): two periods recomputed."""
+    from fembeam.studies.spectrum import spectrum
+
+    rows = {float(p[0]): p for p in (line.split() for line in (DOCS / "data" / "spectrum_sine_7v.txt")
+                                     .read_text().splitlines()) if p and p[0].replace(".", "").isdigit()}
+    fresh = spectrum(CircularArch.from_ratio(157.5, 0.15), "sine", [0.45, 1.0], voussoirs=7, workers=1,
+                     progress=False)
+    for row in fresh.rows:
+        printed = rows[row["period"]]
+        assert_printed(printed[1], row["first_overturning"], f"spectrum period {row['period']}")
+        assert ("yes" in " ".join(printed)) == bool(row["safe_above"])
+    dyn = text("docs/dynamics.md")
+    assert all(line in text("docs/data/spectrum_sine_7v.txt").splitlines()
+               for line in re.search(r"--periods 0.1:2.05:0.05 --workers 2\n(.*?)```", dyn, re.S).group(1).splitlines()
+               if line.strip() != "...")

@@ -47,6 +47,9 @@ def atomic(path) -> Iterator[str]:
     os.close(fd)
     try:
         yield tmp
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)      # mkstemp's 0600 would outlive the rename
         os.replace(tmp, p)
     except BaseException:
         with contextlib.suppress(OSError):
