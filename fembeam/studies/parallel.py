@@ -59,11 +59,18 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
         else:
             from concurrent.futures import ProcessPoolExecutor, as_completed
 
-            with ProcessPoolExecutor(max_workers=workers or default_workers()) as pool:
+            pool = ProcessPoolExecutor(max_workers=workers or default_workers())
+            try:
                 futs = {pool.submit(_call, f, kw): i for i, (f, kw) in enumerate(tasks)}
                 for fut in as_completed(futs):
                     out[futs[fut]] = fut.result()
                     bar.update()
+            except BaseException:   # an error, Ctrl-C or SIGTERM: stop the workers now, queue dropped
+                for proc in list((getattr(pool, "_processes", None) or {}).values()):
+                    proc.kill()          # SIGKILL: the workers inherit our SIGTERM handler
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+            pool.shutdown()
     finally:
         bar.close()
     return out
