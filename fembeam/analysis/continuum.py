@@ -69,8 +69,30 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
         fx = val(x)
         c, d, fd, fc = (np.where(left, x, d), np.where(left, c, x),
                         np.where(left, fc, fx), np.where(left, fx, fd))
-    sm = np.where(fc < fd, c, d)
-    return sm, fib, np.minimum(fc, fd)
+    sm, vm = np.where(fc < fd, c, d), np.minimum(fc, fd)
+    kinks = np.asarray(getattr(st.disc.curve, "kinks", ()), float)
+    if kinks.size:
+        sm, vm = _one_sided(kinks, nodes, el, sm, vm, val, 2.0 * width)
+    return sm, fib, vm
+
+
+def _one_sided(kinks, nodes, el, sm, vm, val, near):
+    """At a kink (a node) the fibre force of the element's own normal cuts tends to a limit
+    that differs from its value on the kink's cut (the bisector): a minimum there lies at
+    the end of the element, where the golden search stops ``near`` short of it, a first-
+    order error.  Searches that ended that close to a kink are evaluated at the kink's
+    one-sided section (one ulp inside the element: the element's own tangent) instead,
+    when it is weaker."""
+    j = np.argmin(np.abs(sm[:, None] - kinks[None, :]), 1)
+    k = kinks[j]
+    at = np.abs(sm - k) <= near
+    if not at.any():
+        return sm, vm
+    inside = np.where(nodes[el] < k, np.nextafter(k, -np.inf), np.nextafter(k, np.inf))
+    s_alt = np.where(at, inside, sm)
+    v_alt = val(s_alt)
+    better = at & (v_alt < vm)
+    return np.where(better, s_alt, sm), np.where(better, v_alt, vm)
 
 
 @dataclass
@@ -144,14 +166,19 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
     lam = float(main.z[k])
     hinge_s = _support(disc, cuts, main.y, J)
     exact = False
-    polished = _polish(st, direction, *_clusters(disc, cuts, fib, main.y, J), main.z[:k], lam)
-    if polished is not None:
+    clusters = _clusters(disc, cuts, fib, main.y, J)
+    # the LP's clusters, then (curves with breaks) those near a break moved onto it
+    for cand in [clusters] + _at_breaks(disc, *clusters):
+        polished = _polish(st, direction, *cand, main.z[:k], lam)
+        if polished is None:
+            continue
         x_p, lam_p, s_p, scale = polished
         s_new, f_new, v = weakest_sections(st, np.r_[x_p, direction * lam_p, 1.0])
         joints = joint_rows(st, direction) @ np.r_[x_p, lam_p, 1.0]
         v_p = max(0.0, -float(np.min(v, initial=0.0)), -float(np.min(joints)))
         if v_p <= tol * scale and lam_p <= lam * (1 + 1e-9):
             lam, violation, hinge_s, exact = lam_p, v_p, s_p, True
+            break
     lower = lam * margin / (margin + violation) if margin > 0 else 0.0
     return ContinuumLimit("ok", lam, min(lam, lower), margin, hinge_s, cuts, violation, rounds, exact)
 
@@ -177,6 +204,38 @@ def _clusters(disc, cuts, fib, y, J):
     sc = np.where(ends, np.where(sc < 0.5 * L, 0.0, L), sc)
     order = np.argsort(sc)
     return sc[order], fc[order], ends[order]
+
+
+def _at_breaks(disc, s, fib, fixed) -> list:
+    """Candidate clusters with each free one lying within two elements of one of the
+    curve's :attr:`~fembeam.geometry.MidCurve.breaks` (a kink, the crown of a thickness
+    law) moved onto it and fixed there: the fibre force has a corner at a break, so a
+    hinge there is a minimum without a vanishing slope, which :func:`_polish` cannot find
+    as a free unknown.  At a kink the hinge may be on the kink's own cut or on either
+    one-sided cut (one ulp off the kink: the normal cut of that side's branch), three
+    candidates each.  Empty when no cluster moves."""
+    import itertools
+
+    br = np.asarray(getattr(disc.curve, "breaks", ()), float)
+    if br.size == 0 or s.size == 0:
+        return []
+    kinks = set(getattr(disc.curve, "kinks", ()))
+    near = 2.0 * np.max(np.diff(disc.nodes_s))
+    d = np.abs(s[:, None] - br[None, :])
+    j = np.argmin(d, 1)
+    move = np.flatnonzero(~fixed & (d[np.arange(s.size), j] <= near))
+    if move.size == 0:
+        return []
+    options = [[b] + ([np.nextafter(b, -np.inf), np.nextafter(b, np.inf)] if b in kinks else [])
+               for b in br[j[move]]]
+    out = []
+    for choice in itertools.product(*options):
+        s2 = s.copy()
+        s2[move] = choice
+        f2 = fixed.copy()
+        f2[move] = True
+        out.append((s2, fib, f2))
+    return out
 
 
 def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):

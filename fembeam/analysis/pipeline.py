@@ -166,7 +166,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
             res.A_L_lower = cont.A_L_lower
         if cont.status == "cannot_stand" or cont.exact_hinges:
             # the mechanism (or the collapse certificate) on a mesh with nodes at its hinges
-            disc = discretize(curve, nodes_through(nodes, cont.hinge_s))
+            disc = discretize(curve, nodes_through(nodes, cont.hinge_s, keep=curve.kinks))
             lim = limit_analysis(disc, direction, verify=verify)
             if lim.status != cont.status:
                 raise SolverError(f"limit analysis: the continuum says {cont.status}, the mesh through its "

@@ -1,4 +1,4 @@
-"""``fembeam analyze``: limit analysis and impact of a circular arch."""
+"""``fembeam analyze``: limit analysis and impact of an arch (any shape of :func:`.args.add_arch`)."""
 from __future__ import annotations
 
 import json
@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ..analysis import AnalysisResult, analyze
 from ..errors import InputError
-from .args import add_arch, add_solver, arch_from
+from .args import add_arch, add_solver, arch_from, arch_title
 
 
 def register(sub) -> None:
@@ -95,9 +95,7 @@ def _hinges(hs) -> str:
 
 
 def summary(res: AnalysisResult) -> str:
-    g = res.geometry
-    lines = [f"fembeam analyze: circular arch, embrace {g['embrace_deg']:g} deg, t/R = {g['t_over_R']:g}, "
-             f"R = {g['radius']:g} m",
+    lines = [f"fembeam analyze: {arch_title(res.geometry)}",
              f"  mesh: {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
              f" ({res.mode}), load direction {res.direction:+d}"]
     if res.outcome == "cannot_stand":
@@ -106,10 +104,17 @@ def summary(res: AnalysisResult) -> str:
         th = res.thickness
         if th is not None and th.outcome == "ok":
             what = "the continuous arch" if th.continuum else f"these {res.elements} voussoirs"
-            lines.append(f"  minimum thickness of {what}: t/R >= {th.t_over_R:.6f} "
-                         f"(bracket [{th.lower * th.curve.t_over_r:.6f}, {th.t_over_R:.6f}], {th.solves} margin LPs)")
+            if th.t_over_R is not None:
+                lines.append(f"  minimum thickness of {what}: t/R >= {th.t_over_R:.6f} (bracket "
+                             f"[{th.lower * th.curve.t_over_r:.6f}, {th.t_over_R:.6f}], {th.solves} margin LPs)")
+            else:
+                lines.append(f"  minimum thickness of {what}: {th.scale:.6f} times the given thickness "
+                             f"(bracket [{th.lower:.6f}, {th.scale:.6f}], {th.solves} margin LPs)")
         elif th is not None:
-            lines.append("  no thickness below t/R = 2 lets it stand")
+            lines.append("  no thickness below t/R = 2 lets it stand" if th.t_over_R is not None or
+                         hasattr(th.curve, "t_over_r") else
+                         f"  no thickness up to the shape's limit ({th.curve.max_thickness_scale:.6g} times the "
+                         "given one) lets it stand")
         return "\n".join(lines)
     if res.outcome == "no_mechanism":
         lines.append("  outcome: NO MECHANISM: no horizontal acceleration can turn this arch into a mechanism")

@@ -8,7 +8,9 @@ import math
 import os
 
 from ..analysis import DEFAULT_ELEMENTS
-from ..geometry import CircularArch
+from ..errors import InputError
+from ..geometry import (CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch,
+                        SurveyedArch)
 from ..analysis.qp import BACKENDS
 
 
@@ -40,21 +42,56 @@ def int_list(text: str) -> list[int]:
         raise argparse.ArgumentTypeError(f"expected comma-separated integers, got {text!r}") from None
 
 
+SHAPES = ("circular", "pointed", "elliptical", "parabolic", "catenary")
+_CIRCULAR_OPTIONS = ("--embrace", "--t-over-r", "--radius")
+_SHAPE_OPTIONS = (("--span", "span"), ("--rise", "rise"), ("--thickness", "thickness"),
+                  ("--thickness-springing", "thickness_springing"), ("--thickness-crown", "thickness_crown"))
+
+
+class _Given(argparse.Action):
+    """Store the value and remember that the option was given (its default is not None,
+    so ``arch_from`` could not tell otherwise)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+        setattr(namespace, "_arch_given", set(getattr(namespace, "_arch_given", ())) | {self.option_strings[0]})
+
+
 def add_arch(p: argparse.ArgumentParser, many: bool = False) -> None:
-    """Options describing a circular arch (``many``: lists for studies)."""
+    """Options describing the arch: circular (``--embrace``, ``--t-over-r``, ``--radius``;
+    ``many``: lists for studies) or another ``--shape`` (``--span``, ``--rise``, a
+    thickness), or a surveyed mid-curve (``--midcurve``); :func:`arch_from` builds it."""
     g = p.add_argument_group("arch")
+    g.add_argument("--shape", choices=SHAPES, default=None,
+                   help="mid-curve: circular (default; --embrace, --t-over-r, --radius), pointed (two arcs, "
+                        "rise >= span/2), elliptical, parabolic or catenary (--span, --rise and a thickness)")
     if many:
-        g.add_argument("--embrace", type=float_list, default=[157.5], metavar="DEG[,DEG..|A:B:STEP]",
+        g.add_argument("--embrace", type=float_list, default=[157.5], action=_Given, metavar="DEG[,DEG..|A:B:STEP]",
                        help="embrace angle(s) beta in degrees, in (0, 360) (default 157.5)")
-        g.add_argument("--t-over-r", type=float_list, default=[0.15], metavar="X[,X..|A:B:STEP]",
+        g.add_argument("--t-over-r", type=float_list, default=[0.15], action=_Given, metavar="X[,X..|A:B:STEP]",
                        help="thickness over mid-curve radius, in (0, 2) (default 0.15)")
     else:
-        g.add_argument("--embrace", type=finite_float, default=157.5, metavar="DEG",
+        g.add_argument("--embrace", type=finite_float, default=157.5, action=_Given, metavar="DEG",
                        help="embrace angle beta in degrees, in (0, 360) (default 157.5)")
-        g.add_argument("--t-over-r", type=finite_float, default=0.15, metavar="X",
+        g.add_argument("--t-over-r", type=finite_float, default=0.15, action=_Given, metavar="X",
                        help="thickness over mid-curve radius t/R, in (0, 2) (default 0.15)")
-    g.add_argument("--radius", type=finite_float, default=1.0, metavar="M",
+    g.add_argument("--radius", type=finite_float, default=1.0, action=_Given, metavar="M",
                    help="mid-curve radius R in metres (default 1; r and A_L/g do not depend on it)")
+    g.add_argument("--span", type=finite_float, default=None, metavar="M",
+                   help="--shape other than circular: span L between the springings (m)")
+    g.add_argument("--rise", type=finite_float, default=None, metavar="M",
+                   help="--shape other than circular: rise H of the mid-curve's crown above the springings (m)")
+    g.add_argument("--thickness", type=finite_float, default=None, metavar="M",
+                   help="constant thickness (m) of a --shape other than circular or of a --midcurve")
+    g.add_argument("--thickness-springing", type=finite_float, default=None, metavar="TS",
+                   help="with --thickness-crown: thickness linear in the arc length from TS (m) at each "
+                        "springing ...")
+    g.add_argument("--thickness-crown", type=finite_float, default=None, metavar="TC",
+                   help="... to TC (m) at the crown (the highest point of a --midcurve)")
+    g.add_argument("--midcurve", default=None, metavar="FILE.csv",
+                   help="surveyed mid-curve: CSV columns x,y (m, springing to springing) and optionally t "
+                        "(thickness, m; else give --thickness or --thickness-springing/--thickness-crown); "
+                        "interpolated by a spline (docs: fembeam.geometry.surveyed)")
     g.add_argument("--density", type=finite_float, default=1.0, metavar="RHO",
                    help="density (default 1; only scales the impulses)")
 
@@ -74,8 +111,79 @@ def add_solver(p: argparse.ArgumentParser, elements_default: int | None = DEFAUL
                    help="keep the incipient mechanism's hinges on the uniform mesh (no continuous refinement)")
 
 
-def arch_from(args) -> CircularArch:
-    return CircularArch.from_ratio(args.embrace, args.t_over_r, radius=args.radius, density=args.density)
+def arch_from(args) -> MidCurve:
+    """The member of the :func:`add_arch` options; InputError (exit 2) for options that
+    do not fit together (e.g. ``--span`` with a circular arch, ``--shape pointed``
+    without ``--rise``)."""
+    shape = getattr(args, "shape", None)
+    midcurve = getattr(args, "midcurve", None)
+    given = sorted(set(getattr(args, "_arch_given", ())) & set(_CIRCULAR_OPTIONS), key=_CIRCULAR_OPTIONS.index)
+    new = {opt: getattr(args, dest, None) for opt, dest in _SHAPE_OPTIONS}
+    new_given = [opt for opt, v in new.items() if v is not None]
+    density = getattr(args, "density", 1.0)
+    if midcurve is not None:
+        if shape is not None:
+            raise InputError("--midcurve gives the shape of the arch: drop --shape")
+        bad = given + [o for o in ("--span", "--rise") if new[o] is not None]
+        if bad:
+            raise InputError(f"{bad[0]} does not apply to --midcurve (the file gives the mid-curve); "
+                             "thickness: the file's t column, --thickness or --thickness-springing/--thickness-crown")
+        _check_thickness_options(new, "--midcurve", required=False)
+        return SurveyedArch.from_csv(midcurve, thickness=new["--thickness"],
+                                     thickness_springing=new["--thickness-springing"],
+                                     thickness_crown=new["--thickness-crown"], density=density)
+    if shape in (None, "circular"):
+        if new_given:
+            raise InputError(f"{new_given[0]} applies to --shape pointed|elliptical|parabolic|catenary or --midcurve; "
+                             "a circular arch takes --embrace, --t-over-r and --radius")
+        return CircularArch.from_ratio(args.embrace, args.t_over_r, radius=args.radius, density=density)
+    if given:
+        raise InputError(f"{given[0]} applies to the circular arch only; --shape {shape} takes --span, --rise and "
+                         "--thickness (or --thickness-springing and --thickness-crown)")
+    missing = [o for o in ("--span", "--rise") if new[o] is None]
+    if missing:
+        raise InputError(f"--shape {shape} needs {' and '.join(missing)} (m)")
+    _check_thickness_options(new, f"--shape {shape}", required=True)
+    return _SHAPE_CLASSES[shape](span=new["--span"], rise=new["--rise"], thickness=new["--thickness"],
+                                 thickness_springing=new["--thickness-springing"],
+                                 thickness_crown=new["--thickness-crown"], density=density)
+
+
+_SHAPE_CLASSES = {"pointed": PointedArch, "elliptical": EllipticalArch, "parabolic": ParabolicArch,
+                  "catenary": CatenaryArch}
+
+
+def _check_thickness_options(new: dict, what: str, required: bool) -> None:
+    t, ts, tc = new["--thickness"], new["--thickness-springing"], new["--thickness-crown"]
+    if t is not None and (ts is not None or tc is not None):
+        raise InputError("give either --thickness or --thickness-springing with --thickness-crown, not both")
+    if (ts is None) != (tc is None):
+        raise InputError("--thickness-springing and --thickness-crown go together (thickness linear in the arc "
+                         "length from each springing to the crown)")
+    if required and t is None and ts is None:
+        raise InputError(f"{what} needs --thickness T, or --thickness-springing TS and --thickness-crown TC (m)")
+
+
+def arch_title(geometry: dict) -> str:
+    """One line describing the member of ``describe()``: the circular arch's words as
+    ever (``circular arch, embrace 157.5 deg, t/R = 0.15, R = 1 m``), else the shape,
+    span, rise and thickness."""
+    g = geometry
+    shape = g.get("shape", "member")
+    if shape == "circular":
+        return f"circular arch, embrace {g['embrace_deg']:g} deg, t/R = {g['t_over_R']:g}, R = {g['radius']:g} m"
+    if "thickness_springing" in g:
+        th = f"thickness {g['thickness_springing']:g} m at the springings to {g['thickness_crown']:g} m at the crown"
+    elif isinstance(g.get("thickness"), (int, float)):
+        th = f"thickness {g['thickness']:g} m"
+    elif "thickness_min" in g:
+        th = f"thickness {g['thickness_min']:g}-{g['thickness_max']:g} m (t column)"
+    else:
+        th = ""
+    what = (f"{shape} arch" if shape != "surveyed"
+            else f"surveyed arch ({g.get('points')} points, {g.get('spline')} spline)")
+    sizes = [f"{k} {g[k]:g} m" for k in ("span", "rise") if isinstance(g.get(k), (int, float))]
+    return ", ".join([what] + sizes + ([th] if th else []))
 
 
 def write_outputs(result, args, stem: str, plot) -> None:

@@ -7,7 +7,7 @@ import json
 from ..studies.convergence import ConvergenceStudy, convergence_study, plot_convergence
 from ..errors import InputError
 from ..analysis.qp import BACKENDS
-from .args import add_arch, arch_from, finite_float, int_list, write_outputs
+from .args import add_arch, arch_from, arch_title, finite_float, int_list, write_outputs
 
 DEFAULT_ELEMENTS = [50, 100, 200, 400, 800, 1600]
 
@@ -71,8 +71,9 @@ def _hinges(hs) -> str:
 def table(study: ConvergenceStudy) -> str:
     """Readable table: one row per mesh, then limits, errors and rates per quantity."""
     g, what = study.geometry, ("elements" if study.mode == "continuous" else "voussoirs")
-    out = [f"fembeam convergence: circular arch, embrace {g.get('embrace_deg'):g} deg, t/R = {g.get('t_over_R'):g}, "
-           f"{what} {','.join(map(str, study.levels))}",
+    title = (f"circular arch, embrace {g.get('embrace_deg'):g} deg, t/R = {g.get('t_over_R'):g}"
+             if g.get("shape") == "circular" else arch_title(g))
+    out = [f"fembeam convergence: {title}, {what} {','.join(map(str, study.levels))}",
            f"  {'N':>5} {'h/R':>9} {'h deg':>7} {'A_L':>11} {'A_L_mesh':>11} {'r':>10} "
            f"{'err r':>9} {('err A_Lm' if study.mode == 'continuous' else 'err A_L'):>9} {'eq.res':>8} {'tensile':>8} {'work':>8} {'t [s]':>6} {'LP':>5} {'QP':>5}"]
     qr = study.quantities.get("r", {})

@@ -18,7 +18,8 @@ from ..errors import InputError
 from ..mechanisms.discrete_series import discrete_series
 from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, FourHingeImpact, four_hinge_impact
 from ..mechanisms.hinge import ROCKING_SIDES
-from .args import add_arch, arch_from, int_list
+from ..geometry import CircularArch
+from .args import add_arch, arch_from, arch_title, int_list
 from .analyze import add_picture_options, check_picture_options
 
 SIDE_CODES = {**{k[0]: k for k in ROCKING_SIDES}, **{k: k for k in ROCKING_SIDES}}
@@ -130,7 +131,8 @@ def run_series(args) -> int:
     if args.json:
         print(json.dumps({"command": "impact --series", "geometry": curve.describe(), "rows": rows}))
         return 0
-    print(f"fembeam impact --series: embrace {curve.embrace_deg:g} deg, t/R = {curve.t_over_r:g}")
+    print(f"fembeam impact --series: embrace {curve.embrace_deg:g} deg, t/R = {curve.t_over_r:g}"
+          if isinstance(curve, CircularArch) else f"fembeam impact --series: {arch_title(curve.describe())}")
     print(f"  {'voussoirs':>10s} {'A_L':>10s} {'r_max (QP)':>11s} {'QP hinges':>9s} {'r_4hinge':>10s}")
     for r in rows:
         r4 = "-" if r["r_4hinge"] is None else f"{r['r_4hinge']:.6f}"
@@ -145,7 +147,7 @@ def _h(hs) -> str:
 def summary(o: dict) -> str:
     g = o["geometry"]
     head = (f"fembeam impact: circular arch, embrace {g['embrace_deg']:g} deg, t/R = {g['t_over_R']:g}, "
-            f"{o['mode']}")
+            f"{o['mode']}" if g.get("shape") == "circular" else f"fembeam impact: {arch_title(g)}, {o['mode']}")
     if o["r"] is None:
         return head + f"\n  outcome: {o['outcome']} (no impact analysis)"
     a = o["admissibility"]

@@ -16,7 +16,7 @@ from ..dynamics.rocking import Rocker, RockingResult
 from ..errors import InputError
 from ..geometry import StraightMember
 from ..output.files import atomic, check_output
-from .args import add_arch, arch_from, finite_float
+from .args import add_arch, arch_from, arch_title, finite_float
 
 PULSES = ("rect", "sine", "ricker")
 
@@ -139,8 +139,9 @@ def summary(res: RockingResult, rocker: Rocker, max_impacts: int = 12) -> str:
         head = f"block {geo['width']:g} m x {geo['height']:g} m on a rigid base"
     else:
         head = (f"{geo.get('shape', 'member')} arch, embrace {geo.get('embrace_deg', 0):g} deg, "
-                f"t/R = {geo.get('t_over_R', 0):g}, R = {geo.get('radius', 0):g} m; {res.mode}, {res.elements} "
-                f"{'voussoirs' if res.mode == 'voussoirs' else 'elements'}")
+                f"t/R = {geo.get('t_over_R', 0):g}, R = {geo.get('radius', 0):g} m" if "embrace_deg" in geo
+                else arch_title(geo)) + (f"; {res.mode}, {res.elements} "
+                                         f"{'voussoirs' if res.mode == 'voussoirs' else 'elements'}")
     lines = [f"fembeam rock: {head}",
              f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g), simulated to t = {res.t_end:.4g} s"]
     if res.outcome == "cannot_stand":

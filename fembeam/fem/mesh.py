@@ -10,21 +10,57 @@ __all__ = ["uniform_nodes", "nodes_through"]
 
 
 def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
-    """Arc-length coordinates of ``n_elements + 1`` equally spaced nodes."""
+    """Arc-length coordinates of ``n_elements + 1`` equally spaced nodes.
+
+    A curve with kinks (:attr:`MidCurve.kinks`, e.g. the crown of a pointed arch) gets a
+    node at every kink: each smooth piece between kinks is meshed uniformly, the elements
+    shared out in proportion to the lengths (largest remainders, ties to the left, at
+    least one per piece; so the count is kept unless it is below the number of pieces).
+    Without kinks: ``numpy.linspace(0, length, n_elements + 1)``."""
     if not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
         raise InputError(f"the number of elements must be a positive integer, got {n_elements!r}")
-    return np.linspace(0.0, curve.length, int(n_elements) + 1)
+    kinks = np.asarray(getattr(curve, "kinks", ()), float)
+    if kinks.size == 0:
+        return np.linspace(0.0, curve.length, int(n_elements) + 1)
+    edges = np.concatenate([[0.0], kinks, [curve.length]])
+    counts = _share(int(n_elements), np.diff(edges))
+    return np.concatenate([np.linspace(a, b, k + 1)[:-1] for a, b, k in zip(edges[:-1], edges[1:], counts)]
+                          + [edges[-1:]])
 
 
-def nodes_through(nodes_s: np.ndarray, points_s) -> np.ndarray:
+def _share(n: int, lengths: np.ndarray) -> np.ndarray:
+    """``n`` elements shared out over pieces of ``lengths``: at least one each, the rest by
+    largest remainder of the proportional share (ties to the first piece)."""
+    k = lengths.size
+    if n <= k:
+        return np.ones(k, int)
+    quota = (n - k) * lengths / np.sum(lengths)
+    counts = 1 + np.floor(quota).astype(int)
+    rest = n - int(np.sum(counts))
+    counts[np.argsort(-(quota - np.floor(quota)), kind="stable")[:rest]] += 1
+    return counts
+
+
+def nodes_through(nodes_s: np.ndarray, points_s, keep=()) -> np.ndarray:
     """Copy of ``nodes_s`` with a node on each of ``points_s``: the nearest node is moved
     there when it is an interior node not yet used (the element count stays), else a node
-    is inserted.  Points within 1e-10 of the length of a node are already there."""
+    is inserted.  Points within 1e-10 of the length of a node are already there.  Nodes at
+    the arc lengths ``keep`` (e.g. the curve's kinks) are never moved; a point next to one
+    of them but not on it (a kink's one-sided cut, one ulp off) gets a node of its own."""
     out = np.array(nodes_s, float)
     tol = 1e-10 * (out[-1] - out[0])
     moved = np.zeros(out.size, bool)
     moved[[0, -1]] = True
+    keep = np.atleast_1d(np.asarray(keep, float))
+    for k in keep:
+        moved |= np.abs(out - k) <= tol
     pts = np.atleast_1d(np.asarray(points_s, float))
+    beside = np.array([np.any((np.abs(keep - p) <= tol) & (keep != p)) for p in pts], bool)
+    if beside.any():
+        fixed = out[moved]
+        out = np.unique(np.concatenate([out, pts[beside]]))
+        moved = np.isin(out, fixed) | np.isin(out, pts[beside])
+        pts = pts[~beside]
     # closest first: the result does not depend on the order of the points, and the
     # mesh of the mirror image is the mirror image of the mesh
     for p in pts[np.argsort([np.min(np.abs(out - q)) for q in pts], kind="stable")]:

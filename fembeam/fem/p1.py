@@ -63,6 +63,9 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
     if components not in ("intrinsic", "cartesian"):
         raise InputError(f"components must be 'intrinsic' or 'cartesian', got {components!r}")
     cart = components == "cartesian"
+    if getattr(curve, "kinks", ()):
+        raise InputError("continuous P1 fields are not defined across a kink of the mid-curve (the tangent "
+                         "jumps there); use the rigid elements (fembeam.discretize)")
     if intorder > 1:
         raise InputError("P1 strain rows use the midpoint rule (intorder=1): a higher order "
                          "would need one row per quadrature point")

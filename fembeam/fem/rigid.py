@@ -118,11 +118,48 @@ def _element_frames(curve: MidCurve, mesh: MeshLine1) -> dict:
     return {"s": sm, "P": curve.position(sm), "t": curve.tangent(sm), "n": curve.normal(sm)}
 
 
+def _across_breaks(curve: MidCurve, nodes_s: np.ndarray, fr: dict, M: sp.spmatrix) -> sp.spmatrix:
+    """``M`` with the blocks of the elements containing one of ``curve.breaks`` (a kink,
+    a crown of a thickness law, a spline knot: the densities are not smooth there and the
+    cell quadrature would span it) replaced by the exact ones, from
+    :meth:`MidCurve.segment_inertia` (which integrates each smooth part).  With the
+    element's mass ``m``, first moment ``S`` and polar moment ``J`` about its midpoint
+    ``P``: ``2K = m |V|^2 + 2 omega V . (k x S) + J omega^2``, ``V = w t + v n``."""
+    br = np.asarray(getattr(curve, "breaks", ()), float)
+    if br.size == 0:
+        return M
+    tol = 1e-13 * curve.length
+    e = np.flatnonzero(np.any((br[None, :] > nodes_s[:-1, None] + tol) & (br[None, :] < nodes_s[1:, None] - tol), 1))
+    if e.size == 0:
+        return M
+    m, S0, J0 = curve.segment_inertia(nodes_s[e], nodes_s[e + 1])
+    P, te, ne = fr["P"][:, e], fr["t"][:, e], fr["n"][:, e]
+    S = S0 - m * P
+    J = J0 - 2 * np.sum(P * S0, 0) + m * np.sum(P * P, 0)
+    kS = np.array([-S[1], S[0]])
+    blocks = np.zeros((e.size, NDOF, NDOF))
+    blocks[:, 0, 0] = blocks[:, 1, 1] = m
+    blocks[:, 0, 2] = blocks[:, 2, 0] = np.sum(te * kS, 0)
+    blocks[:, 1, 2] = blocks[:, 2, 1] = np.sum(ne * kS, 0)
+    blocks[:, 2, 2] = J
+    dof = NDOF * e[:, None] + np.arange(NDOF)                       # (ne, 3): M is block diagonal
+    keep = np.ones(M.shape[0])
+    keep[dof.ravel()] = 0.0
+    K = sp.diags(keep)
+    rows = np.repeat(dof, NDOF, axis=1).ravel()
+    cols = np.tile(dof, NDOF).ravel()
+    return (K @ M @ K + sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=M.shape)).tocsr()
+
+
 def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Discretization:
     """Assemble ``M``, ``B_open`` and ``B_slide`` on the mesh with nodes ``nodes_s``.
 
     ``intorder`` is the Gauss order of the mass form (round-off accuracy for a single
-    element spanning 120 degrees of a circle).
+    element spanning 120 degrees of a circle); an element containing one of the curve's
+    :attr:`~fembeam.geometry.MidCurve.breaks` gets its exact block instead.  At a kink
+    (a node, when the mesh comes from :func:`~fembeam.fem.uniform_nodes`) the joint is
+    the section the curve defines there: position, tangent (the bisector), normal and
+    thickness at the kink; nothing else here assumes a smooth mid-curve.
     """
     nodes_s = np.asarray(nodes_s, float)
     if nodes_s.ndim != 1 or nodes_s.size < 2 or np.any(np.diff(nodes_s) <= 0):
@@ -131,7 +168,7 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Disc
     fr = _element_frames(curve, mesh)
     E = ElementVector(ElementLineP0(), NDOF)
     data = {"Px": fr["P"][0], "Py": fr["P"][1], "tx": fr["t"][0], "ty": fr["t"][1],
-            "nx": fr["n"][0], "ny": fr["n"][1], "sm": fr["s"]}
+            "nx": fr["n"][0], "ny": fr["n"][1], "sl": nodes_s[:-1]}
 
     def interp(basis0):
         return {k: basis0.interpolate(v) for k, v in data.items()}
@@ -153,6 +190,7 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Disc
 
     cb = CellBasis(mesh, E, intorder=intorder)
     M = asm(mass, cb, **interp(CellBasis(mesh, ElementLineP0(), intorder=intorder)))
+    M = _across_breaks(curve, nodes_s, fr, M)
 
     # joint operators: contributions of one side of each joint, sign = -outward normal
     def joint_form(kind: str, y_sign: float):
@@ -161,7 +199,7 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Disc
             s = w.x[0]
             X, tj, nj = curve.position(s), curve.tangent(s), curve.normal(s)
             y = 0.5 * y_sign * curve.thickness_at(s)
-            sign = np.where(w.sm < s, -1.0, 1.0)   # left element: -(+1); right: -(-1)
+            sign = np.where(w.sl < s, -1.0, 1.0)   # left element: -(+1); right: -(-1)
             Q = X + y * nj
             vx = u[0] * w.tx + u[1] * w.nx - u[2] * (Q[1] - w.Py)
             vy = u[0] * w.ty + u[1] * w.ny + u[2] * (Q[0] - w.Px)

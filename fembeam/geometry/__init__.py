@@ -2,6 +2,12 @@
 curvature, thickness) and the exact inertia of the region between normal cuts."""
 from .base import MidCurve
 from .block import StraightMember
+from .catenary import CatenaryArch
 from .circular import CircularArch
+from .elliptical import EllipticalArch
+from .parabolic import ParabolicArch
+from .pointed import PointedArch
+from .surveyed import SurveyedArch
 
-__all__ = ["MidCurve", "CircularArch", "StraightMember"]
+__all__ = ["MidCurve", "CircularArch", "StraightMember", "PointedArch", "EllipticalArch", "ParabolicArch",
+           "CatenaryArch", "SurveyedArch"]

@@ -68,9 +68,31 @@ class MidCurve:
         """Points ``X(s) + y n(s)`` of the sections at ``s``, ``y`` (m) along the normal."""
         return self.position(s) + np.asarray(y, float) * self.normal(s)
 
+    @property
+    def kinks(self) -> tuple[float, ...]:
+        """Arc lengths (m, increasing, interior) where the tangent jumps (e.g. the crown of
+        a pointed arch).  There the tangent and normal are those of the bisector, so the
+        section (joint) at a kink is the cut along the bisector of the two normals.
+        Meshes put a node at every kink (:func:`~fembeam.fem.uniform_nodes`)."""
+        return ()
+
+    @property
+    def breaks(self) -> tuple[float, ...]:
+        """Arc lengths (m, increasing, interior) where the densities of
+        :meth:`inertia_densities` are not smooth: the kinks, plus e.g. the crown of a
+        thickness law linear from each springing, or the knots of a spline.
+        :meth:`segment_inertia` splits its Gauss rule there."""
+        return self.kinks
+
     def angle_deg(self, s: np.ndarray) -> np.ndarray:
         """Reporting coordinate of a section (deg from the left end for arches)."""
         return np.asarray(s, dtype=float)
+
+    def s_at_angle(self, angle_deg) -> np.ndarray:
+        """Inverse of :meth:`angle_deg`: the arc length (m) of the section reported at
+        ``angle_deg``.  Default: linear in ``s`` (shapes whose coordinate is not linear
+        override it; where the coordinate jumps, at a kink, they return the kink)."""
+        return np.asarray(angle_deg, float) * (self.length / float(self.angle_deg(self.length)))
 
     def inertia_densities(self, s: np.ndarray):
         """Mass, first and second moment (about the origin) per unit arc length.
@@ -90,8 +112,40 @@ class MidCurve:
 
     def segment_inertia(self, sa, sb, order: int = 24):
         """Mass ``m``, first moment ``S`` (2-vector) and polar moment ``J`` about the
-        origin of the member pieces ``[sa, sb]`` (arrays), by Gauss-Legendre quadrature."""
+        origin of the member pieces ``[sa, sb]`` (arrays), by Gauss-Legendre quadrature
+        (``order`` points; a piece containing one of :attr:`breaks` is integrated as the
+        sum of its smooth parts, so the rule never spans a kink)."""
         sa, sb = np.atleast_1d(np.asarray(sa, float)), np.atleast_1d(np.asarray(sb, float))
+        br = np.asarray(self.breaks, float)
+        if br.size:
+            sa, sb = np.broadcast_arrays(sa, sb)
+            tol = 1e-13 * self.length
+            lo, hi = np.minimum(sa, sb), np.maximum(sa, sb)
+            inside = (br[None, :] > lo[:, None] + tol) & (br[None, :] < hi[:, None] - tol)
+            if inside.any():
+                return self._split_inertia(sa, sb, br, inside, order)
+        return self._smooth_inertia(sa, sb, order)
+
+    def _split_inertia(self, sa, sb, br, inside, order):
+        """:meth:`segment_inertia` of pieces cut at the breaks ``br[inside[i]]`` of piece ``i``."""
+        rows, cols = np.nonzero(inside)
+        n = sa.size
+        desc = sb < sa                                      # signed pieces: walk from sa to sb
+        seg = np.concatenate([np.arange(n), rows])
+        start = np.concatenate([sa, br[cols]])
+        first = np.concatenate([np.zeros(n), np.ones(rows.size)])
+        along = np.concatenate([np.zeros(n), np.where(desc[rows], -br[cols], br[cols])])
+        order_ = np.lexsort((along, first, seg))
+        seg, start = seg[order_], start[order_]
+        end = np.empty_like(start)
+        end[:-1] = start[1:]
+        last = np.r_[seg[1:] != seg[:-1], True]
+        end[last] = sb[seg[last]]
+        m, S, J = self._smooth_inertia(start, end, order)
+        return (np.bincount(seg, m, n), np.array([np.bincount(seg, S[0], n), np.bincount(seg, S[1], n)]),
+                np.bincount(seg, J, n))
+
+    def _smooth_inertia(self, sa, sb, order):
         xg, wg = _gauss(order)
         half = 0.5 * (sb - sa)
         s = 0.5 * (sa + sb)[:, None] + half[:, None] * xg[None, :]

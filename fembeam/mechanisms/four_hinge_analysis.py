@@ -109,7 +109,8 @@ class FourHingeImpact:
         if self.r is None:
             raise InputError(f"nothing to draw: outcome {self.analysis.outcome}")
         curve, before, after = self.curve, self.before, self.after
-        nodes = nodes_through(uniform_nodes(curve, self.picture_elements), np.concatenate([before.s, after.s]))
+        nodes = nodes_through(uniform_nodes(curve, self.picture_elements), np.concatenate([before.s, after.s]),
+                              keep=curve.kinks)
         disc = discretize(curve, nodes)
         line = self.line_at(disc.joint_s)
         idx = np.abs(line.s[None, :] - disc.joint_s[:, None]).argmin(1)
@@ -186,8 +187,12 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
             if discrete:
                 for s in after.s:
                     if np.min(np.abs(sec - s)) > 1e-9 * L:
+                        ang = np.asarray(curve.angle_deg(sec), float)
+                        where = (f"joints every {float(curve.angle_deg(L)) / voussoirs:g} deg"
+                                 if np.allclose(np.diff(ang), ang[-1] / voussoirs) else
+                                 "joints at " + ", ".join(f"{a:.4g}" for a in ang) + " deg")
                         raise InputError(f"hinge after at {float(curve.angle_deg(s)):g} deg is not at a voussoir "
-                                         f"joint (joints every {float(curve.angle_deg(L)) / voussoirs:g} deg)")
+                                         f"joint ({where})")
                 after = Mechanism(curve, tuple(sec[np.abs(sec[:, None] - np.array(after.s)).argmin(0)]),
                                   after.sides)
         else:

@@ -100,12 +100,12 @@ class Mechanism:
     @classmethod
     def from_angles(cls, curve: MidCurve, angles_deg, sides, alpha: float = 1.0) -> "Mechanism":
         """Hinges at ``angles_deg`` (the curve's reporting coordinate, deg from the left
-        springing for arches; linear in ``s``)."""
-        scale = curve.length / float(curve.angle_deg(curve.length))
+        springing for arches), placed by :meth:`MidCurve.s_at_angle`."""
+        top = float(curve.angle_deg(curve.length))
         a = np.asarray(angles_deg, float)
-        if np.any(a < -1e-9) or np.any(a * scale > curve.length * (1 + 1e-12)):
-            raise InputError(f"hinge angles must lie in [0, {float(curve.angle_deg(curve.length)):g}] deg")
-        return cls(curve, tuple(np.clip(a * scale, 0.0, curve.length)), tuple(sides), alpha)
+        if np.any(a < -1e-9) or np.any(a > top * (1 + 1e-12)):
+            raise InputError(f"hinge angles must lie in [0, {top:g}] deg")
+        return cls(curve, tuple(np.clip(curve.s_at_angle(a), 0.0, curve.length)), tuple(sides), alpha)
 
     @classmethod
     def from_dofs(cls, disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_TOL) -> "Mechanism":
@@ -232,8 +232,16 @@ class Mechanism:
 
     def dofs(self, disc: Discretization) -> np.ndarray:
         """Element DOFs of the field on ``disc``: each element takes the motion of the
-        piece containing its midpoint (exact when the hinges are nodes of the mesh)."""
-        Vx, Vy, W = self.motion_at(disc.frames["s"]).T
+        piece containing its midpoint (exact when the hinges are nodes of the mesh; an
+        element too short for its midpoint to differ from its ends, e.g. one ulp at a
+        kink's one-sided cut, takes the piece right of its left node)."""
+        sm, nodes = disc.frames["s"], disc.nodes_s
+        piece = self.piece_of(sm)
+        short = (sm <= nodes[:-1]) | (sm >= nodes[1:])
+        if short.any():
+            right_of = np.searchsorted(self.breaks, nodes[:-1][short], side="right") - 1
+            piece[short] = np.clip(right_of, 0, self.moving.size - 1)
+        Vx, Vy, W = self.motion()[piece].T
         return rigid_dofs(disc, (Vx, Vy), W)
 
     def hinges(self) -> list[Hinge]:

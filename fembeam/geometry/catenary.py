@@ -1,0 +1,63 @@
+"""Catenary arch: the inverted hanging chain through the springings and the crown,
+the funicular of a load uniform along the arc."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .arch import SymmetricArch
+from .parametric import ParametricCurve
+
+__all__ = ["CatenaryArch", "catenary_parameter"]
+
+
+def catenary_parameter(span: float, rise: float) -> float:
+    """The parameter ``c`` (m) of the catenary ``y = H - c (cosh(x/c) - 1)`` through
+    ``(-+L/2, 0)`` and ``(0, H)``: ``q = L/(2c)`` solves ``(cosh q - 1) / (2q) = H/L``
+    (the left side increases from 0 to infinity with ``q``)."""
+    ratio = rise / span
+
+    def f(q):
+        return 2.0 * math.sinh(0.5 * q) ** 2 / (2.0 * q) - ratio
+
+    q = brentq(f, 1e-12, 700.0, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500)
+    return span / (2.0 * q)
+
+
+@dataclass(frozen=True)
+class CatenaryArch(ParametricCurve, SymmetricArch):
+    """Catenary ``y = H - c (cosh(x/c) - 1)``, ``x`` in ``[-L/2, L/2]`` (``L = span``,
+    ``H = rise``, m), ``c`` from :func:`catenary_parameter`; parametrised by ``x``
+    (arc length numerically; closed form ``2 c sinh(L/(2c))``).  Thickness and density
+    as :class:`~fembeam.geometry.arch.SymmetricArch`."""
+
+    shape = "catenary"
+
+    def _build(self) -> None:
+        object.__setattr__(self, "_c", catenary_parameter(float(self.span), float(self.rise)))
+        self._setup_arc_length()
+
+    def _geometry_key(self):
+        return (float(self.span), float(self.rise))
+
+    def _u_breaks(self):
+        return np.array([-0.5 * self.span, 0.5 * self.span])
+
+    def _r(self, u):
+        u = np.asarray(u, float)
+        c = self._c
+        return np.array([u, self.rise - 2.0 * c * np.sinh(0.5 * u / c) ** 2])
+
+    def _dr(self, u):
+        u = np.asarray(u, float)
+        return np.array([np.ones_like(u), -np.sinh(u / self._c)])
+
+    def _ddr(self, u):
+        u = np.asarray(u, float)
+        return np.array([np.zeros_like(u), -np.cosh(u / self._c) / self._c])
+
+    def _describe_geometry(self) -> dict:
+        return {"span": self.span, "rise": self.rise, "catenary_parameter": self._c}
