@@ -76,7 +76,8 @@ class ImpactModel:
         if self.voussoirs is not None:
             disc = discretize(self.curve, uniform_nodes(self.curve, self.voussoirs))
         else:
-            disc = discretize(self.curve, nodes_through(uniform_nodes(self.curve, self.elements), pre.s))
+            disc = discretize(self.curve, nodes_through(uniform_nodes(self.curve, self.elements), pre.s,
+                                                        keep=self.curve.kinks))
         res = impact(disc, pre.dofs(disc), backend=self.backend)
         hinges = res.hinges if self.voussoirs is not None else merge_adjacent(disc, res.hinges)
         return float(res.r), hinges
