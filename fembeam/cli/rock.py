@@ -60,7 +60,7 @@ def member_from(args):
         width, height = args.block
         return StraightMember(height=height, width=width, density=args.density), 1, 200
     from ..analysis.pipeline import DEFAULT_ELEMENTS
-    return arch_from(args), args.voussoirs, args.elements or DEFAULT_ELEMENTS
+    return arch_from(args), args.voussoirs, DEFAULT_ELEMENTS if args.elements is None else args.elements
 
 
 def pulse_from(kind: str, amplitude: float, args) -> GroundMotion:
@@ -199,7 +199,8 @@ def run(args) -> int:
     ground = ground_from(args)
     rocker = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=args.backend, qp=not args.no_qp)
     t_end = args.t_end if args.t_end is not None else None
-    update, bar = _progress(t_end or float(ground.t[-1]))
+    update, bar = _progress(t_end if t_end is not None else
+                            float(ground.t[-1]) + 20.0 * (curve.length / rocker.g) ** 0.5)
     try:
         res = rocker.run(ground, t_end=t_end, dt_out=args.dt_out, thrust_check=not args.no_thrust_check,
                          progress=update)

@@ -359,7 +359,8 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         tt = time.perf_counter()
         tr: Transition = model(mechs[k])
         t_tr += time.perf_counter() - tt
-        barrier = eq.potential(eq.sign * min(eq.theta_unstable, eq.theta_lock))
+        top = min(eq.theta_unstable, eq.theta_lock)
+        barrier = eq.potential(eq.sign * top) if math.isfinite(top) else math.inf
         K_in = 0.5 * eq.coefficients(0.0)[0] * rate * rate
         if tr.after is None:
             out.impacts.append(ImpactEvent(t, k, None, rate, 0.0, 0.0, tr.r_qp, True))
@@ -378,6 +379,13 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
                           f"t = {t_end:g} s; stopped at t = {t:g} s")
     if out.outcome != "overturned":
         out.outcome = "rest" if state is None or (state[2] == 0.0 and state[1] == 0.0) else "survived"
+        if not track.rows["t"] or track.rows["t"][-1] < t_end:     # the history ends at t_end
+            a_end = float(ground(t_end))
+            if state is None:
+                track.add(t_end, -1, 0.0, 0.0, 0.0, 0.0, a_end)
+            else:
+                k, th, w = state
+                track.add(t_end, k, th, w, 0.5 * eqs[k].coefficients(th)[0] * w * w, eqs[k].potential(th), a_end)
     out.mechanisms = list(mechs)
     out.unstable_rotation = [e.sign * min(e.theta_unstable, e.theta_lock) for e in eqs]
     out.peak_rotation, out.t_peak, out.peaks = track.peak, track.t_peak, track.peaks

@@ -93,11 +93,12 @@ class ImpactModel:
         curve, L = self.curve, self.curve.length
         near = [tr for tr in self._cache.values() if tr.after is not None and tr.before.sides == before.sides
                 and np.max(np.abs(np.subtract(tr.before.s, before.s))) < WARM_RADIUS * L]
+        found = []
         if near:
             near.sort(key=lambda tr: np.max(np.abs(np.subtract(tr.before.s, before.s))))
             r, after = refine_four_hinge(pre, near[0].after)
-            found = [after] if r > 0 else []
-        else:
+            found = [after] if r > 0 and post_impact(pre, after).compatible else []
+        if not found:          # no neighbour, or its start led nowhere: the full search
             starts = [Mechanism.from_hinges(curve, hinges_qp)] if len(hinges_qp) == 4 and all(
                 h.side in ROCKING_SIDES for h in hinges_qp) else []
             rr = best_four_hinge_continuous(pre, starts=starts)
