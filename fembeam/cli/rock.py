@@ -133,7 +133,7 @@ def hinges_text(m) -> str:
     return " ".join(f"{a:.2f}{k[0]}" for a, k in zip(m.angles_deg(), m.sides))
 
 
-def summary(res: RockingResult, rocker: Rocker, max_impacts: int = 12) -> str:
+def summary(res: RockingResult, max_impacts: int = 12) -> str:
     geo = res.to_dict()["geometry"]
     if geo.get("shape") == "block":
         head = f"block {geo['width']:g} m x {geo['height']:g} m on a rigid base"
@@ -225,7 +225,7 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
     else:
-        print(summary(res, rocker))
+        print(summary(res))
         for w in written:
             print(f"  {w}")
     return 0

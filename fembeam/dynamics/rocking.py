@@ -343,7 +343,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         k, theta, rate = state
         eq = eqs[k]
         ti = time.perf_counter()
-        ev, t, theta, rate, _, err = _episode(eq, k, ground, t, t_end, theta, rate, breaks, track)
+        ev, t, theta, rate, err = _episode(eq, k, ground, t, t_end, theta, rate, breaks, track)
         t_int += time.perf_counter() - ti
         balance = max(balance, err)
         if ev == "end":
@@ -456,7 +456,7 @@ def _rest_rows(track: _Track, ground: GroundMotion, ta: float, tb: float):
 def _episode(eq: EquationOfMotion, k: int, ground: GroundMotion, t: float, t_end: float, theta: float,
              rate: float, breaks: np.ndarray, track: _Track):
     """Integrate along ``eq`` from ``(t, theta, rate)`` to the first event.  Returns
-    ``(event, t, theta, rate, ground_work, energy_balance_error)`` with event ``"impact"``,
+    ``(event, t, theta, rate, energy_balance_error)`` with event ``"impact"``,
     ``"overturn"``, ``"locked"`` or ``"end"``.
 
     The signal is smooth between consecutive ``breaks`` (a record: its samples), so the
@@ -539,9 +539,9 @@ def _episode(eq: EquationOfMotion, k: int, ground: GroundMotion, t: float, t_end
     track.peak_at(te, y[0], eq)
     err = abs(eq.energy(y[0], y[1]) - E0 - y[2]) / E_scale
     if hit is None:
-        return "end", t_end, float(y[0]), float(y[1]), float(y[2]), err
+        return "end", t_end, float(y[0]), float(y[1]), err
     Lam = coef(y[0])[0]
     track.add(te, k, y[0], y[1], 0.5 * Lam * y[1] ** 2, eq.potential(y[0]), at(te))
     if hit[0] == "impact":
-        return "impact", te, 0.0, float(y[1]), float(y[2]), err
-    return hit[0], te, float(y[0]), float(y[1]), float(y[2]), err
+        return "impact", te, 0.0, float(y[1]), err
+    return hit[0], te, float(y[0]), float(y[1]), err
