@@ -31,6 +31,8 @@ def register(sub) -> None:
     g.add_argument("--direction", type=int, choices=(1, -1), default=1, help="load direction (default +1)")
     g.add_argument("--backend", choices=BACKENDS, default="clarabel", help="impact QP solver (default clarabel)")
     g.add_argument("--no-refine", action="store_true", help="no continuous refinement of the hinges before impact")
+    g.add_argument("--tmin", action="store_true",
+                   help="also the minimum thickness on every mesh (factor of the thickness law; ~20 LPs a mesh)")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout instead of the table")
     o.add_argument("--csv", metavar="PATH", help="write the table as CSV")
@@ -54,7 +56,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--reference-elements must be >= 4, got {args.reference_elements}")
     study = convergence_study(arch_from(args), elements=elements, voussoirs=args.voussoirs, order=args.order,
                               reference_elements=args.reference_elements, direction=args.direction,
-                              backend=args.backend, refine_hinges=not args.no_refine, progress=not args.quiet)
+                              backend=args.backend, refine_hinges=not args.no_refine, progress=not args.quiet,
+                              tmin=args.tmin)
     write_outputs(study, args, "convergence", plot_convergence)
     print(json.dumps(study.to_dict()) if args.json else table(study))
     return 0
@@ -73,16 +76,21 @@ def table(study: ConvergenceStudy) -> str:
     g, what = study.geometry, ("elements" if study.mode == "continuous" else "voussoirs")
     title = (f"circular arch, embrace {g.get('embrace_deg'):g} deg, t/R = {g.get('t_over_R'):g}"
              if g.get("shape") == "circular" else arch_title(g))
+    circ = "h_over_R" in study.rows[0]
+    tm = "t_min_factor" in study.rows[0]
     out = [f"fembeam convergence: {title}, {what} {','.join(map(str, study.levels))}",
-           f"  {'N':>5} {'h/R':>9} {'h deg':>7} {'A_L':>11} {'A_L_mesh':>11} {'r':>10} "
+           f"  {'N':>5} " + (f"{'h/R':>9} {'h deg':>7}" if circ else f"{'h/span':>9}") + f" {'A_L':>11} {'A_L_mesh':>11} {'r':>10} "
+           + (f"{'t_min fac':>12} " if tm else "") +
            f"{'err r':>9} {('err A_Lm' if study.mode == 'continuous' else 'err A_L'):>9} {'eq.res':>8} {'tensile':>8} {'work':>8} {'t [s]':>6} {'LP':>5} {'QP':>5}"]
     qr = study.quantities.get("r", {})
     qm = study.quantities.get("A_L_mesh", study.quantities.get("A_L", {}))
     for i, row in enumerate(study.rows):
         er = qr.get("errors", [None] * len(study.rows))[i]
         em = qm.get("errors", [None] * len(study.rows))[i]
-        out.append(f"  {row['n']:5d} {row['h_over_R']:9.6f} {row['h_deg']:7.4f} {_f(row['A_L'], '11.8f')} "
-                   f"{_f(row['A_L_mesh'], '11.8f')} {_f(row['r'], '10.7f')} {_f(er, '9.2e')} {_f(em, '9.2e')} "
+        size = f"{row['h_over_R']:9.6f} {row['h_deg']:7.4f}" if circ else f"{row['h_over_span']:9.6f}"
+        out.append(f"  {row['n']:5d} {size} {_f(row['A_L'], '11.8f')} "
+                   f"{_f(row['A_L_mesh'], '11.8f')} {_f(row['r'], '10.7f')} "
+                   + (f"{_f(row['t_min_factor'], '12.9f')} " if tm else "") + f"{_f(er, '9.2e')} {_f(em, '9.2e')} "
                    f"{_f(row['qp_equilibrium_residual'], '8.1e')} {_f(row['max_tensile_impulse'], '8.1e')} "
                    f"{_f(row['impulse_work'], '8.1e')} {row['time_total_s']:6.3f} {row['time_lp_s']:5.3f} "
                    f"{row['time_qp_s']:5.3f}" + ("" if row["outcome"] == "rocking" else f"  [{row['outcome']}]"))

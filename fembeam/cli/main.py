@@ -17,11 +17,11 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import analyze, collapse_scale, convergence, impact, report, rock, spectrum, sweep
+    from . import analyze, collapse_scale, convergence, impact, min_thickness, report, rock, spectrum, sweep
 
     p = _Parser(prog="fembeam", description="Rocking masonry arches: limit analysis, impact, impulse line.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for mod in (analyze, convergence, sweep, impact, report, rock, spectrum, collapse_scale):
+    for mod in (analyze, min_thickness, convergence, sweep, impact, report, rock, spectrum, collapse_scale):
         mod.register(sub)
     return p
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis import AnalysisResult, analyze
+from ..analysis import AnalysisResult, analyze, minimum_thickness
 from ..errors import InputError
 from ..geometry import MidCurve
 
@@ -34,6 +34,7 @@ ROUNDOFF = 1e-9  # relative spread below which a quantity is "exact at every lev
 # hinge angles set by the four-hinge optimiser, not by the mesh, scatter by ~3e-5 deg
 # (A_L is stationary in them); below this spread a hinge counts as mesh-independent
 HINGE_ATOL_DEG = 1e-4
+TMIN_TOL = 1e-10   # bisection tolerance of the minimum thickness in a study
 
 # verification figures carried into the table: (group, key) -> column
 VERIFICATION_COLUMNS = {
@@ -140,7 +141,7 @@ class ConvergenceStudy:
 
     @property
     def h(self) -> np.ndarray:
-        return np.array([r["h_over_R"] for r in self.rows])
+        return np.array([_h(r) for r in self.rows])
 
     def to_dict(self) -> dict:
         return {"study": "convergence", "mode": self.mode, "geometry": self.geometry,
@@ -162,9 +163,23 @@ class ConvergenceStudy:
         return out
 
 
-def _row(res: AnalysisResult, n: int, beta: float, wall: float) -> dict:
+def mesh_size(curve: MidCurve, n: int) -> dict:
+    """Size of ``n`` equal elements: ``h/R = beta/N`` (and degrees) on a circular arch,
+    else the element's arc length over the span (over the length of a member without one)."""
+    beta = getattr(curve, "beta", None)
+    if beta is not None:
+        return {"h_over_R": float(beta) / n, "h_deg": math.degrees(beta) / n}
+    span = (curve.describe() if hasattr(curve, "describe") else {}).get("span") or curve.length
+    return {"h_over_span": curve.length / (n * span)}
+
+
+def _h(row: dict) -> float:
+    return row["h_over_R"] if "h_over_R" in row else row["h_over_span"]
+
+
+def _row(res: AnalysisResult, n: int, size: dict, wall: float) -> dict:
     v = res.verification
-    row = {"n": n, "h_over_R": beta / n, "h_deg": math.degrees(beta) / n, "outcome": res.outcome,
+    row = {"n": n, **size, "outcome": res.outcome,
            "A_L": _num(res.A_L), "A_L_mesh": _num(res.A_L_mesh), "r": _num(res.r),
            "hinges_before": [h.to_dict() for h in res.hinges_before],
            "hinges_after": [h.to_dict() for h in res.hinges_after],
@@ -208,24 +223,27 @@ def _quantity(h, x, order: float, reference: float | None, atol: float = 0.0) ->
     q["rate"] = None if exact else _num(rate_fit(h, err))
     fitted = observed = float("nan")
     if not exact and ok.sum() >= 3:
-        observed = observed_order(h[ok], x[ok])
-        try:
-            fitted = fit_order(h[ok], x[ok])[2]
-        except Exception:  # the fit is a diagnostic only
-            fitted = float("nan")
+        with np.errstate(all="ignore"):   # diagnostics only: a level equal to the limit gives log(0)
+            observed = observed_order(h[ok], x[ok])
+            try:
+                fitted = fit_order(h[ok], x[ok])[2]
+            except Exception:
+                fitted = float("nan")
     q["fitted_order"], q["observed_order_3"] = _num(fitted), _num(observed)
     return q
 
 
 def convergence_study(curve: MidCurve, elements: list[int] | None = None, voussoirs: list[int] | None = None,
                       order: float = 2.0, reference_elements: int = 1600, direction: int = 1,
-                      backend: str = "clarabel", refine_hinges: bool = True, progress: bool = True
-                      ) -> ConvergenceStudy:
+                      backend: str = "clarabel", refine_hinges: bool = True, progress: bool = True,
+                      tmin: bool = False) -> ConvergenceStudy:
     """Run ``analyze`` on each mesh and fit the convergence (see module docstring).
 
     ``elements``: continuous arch, errors against Richardson with ``order``;
     ``voussoirs``: discrete arches, errors against the continuous arch on
     ``reference_elements`` elements.  ``progress`` writes one line per mesh to stderr.
+    ``tmin``: also the minimum thickness (factor of the thickness law, to ``TMIN_TOL``) on
+    each mesh: every section checked on the continuous arch, the joints of the voussoirs.
     """
     if (elements is None) == (voussoirs is None):
         raise InputError("give either a list of elements (continuous arch) or of voussoirs (discrete arches)")
@@ -235,7 +253,6 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
     if not (order > 0 and math.isfinite(order)):
         raise InputError(f"the assumed order must be a positive number, got {order!r}")
     mode = "continuous" if elements is not None else "voussoirs"
-    beta = float(getattr(curve, "beta", curve.length))
     clock = time.perf_counter()
 
     def say(msg):
@@ -251,6 +268,9 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
                      "A_L_mesh": _num(ref.A_L_mesh), "r": _num(ref.r),
                      "hinges_before": [h.to_dict() for h in ref.hinges_before],
                      "hinges_after": [h.to_dict() for h in ref.hinges_after]}
+        if tmin:
+            reference["t_min_factor"] = _num(minimum_thickness(curve, elements=reference_elements,
+                                                               tol=TMIN_TOL).scale)
         say(f"continuous reference on {reference_elements} elements: A_L = {ref.A_L:.8f}, r = {ref.r:.8f} "
             f"({time.perf_counter() - t0:.2f} s)")
 
@@ -259,13 +279,17 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
         t0 = time.perf_counter()
         kw = {"elements": n} if mode == "continuous" else {"voussoirs": n}
         res = analyze(curve, direction=direction, backend=backend, refine_hinges=refine_hinges, **kw)
-        rows.append(_row(res, n, beta, time.perf_counter() - t0))
+        rows.append(_row(res, n, mesh_size(curve, n), time.perf_counter() - t0))
+        if tmin:
+            rows[-1]["t_min_factor"] = _num(minimum_thickness(curve, tol=TMIN_TOL, **kw).scale)
         say(f"{n:6d} {'elements' if mode == 'continuous' else 'voussoirs'}: {res.outcome}, "
             f"A_L = {res.A_L:.8f}, r = {res.r:.8f} ({rows[-1]['time_total_s']:.2f} s)")
 
-    h = np.array([r["h_over_R"] for r in rows])
+    h = np.array([_h(r) for r in rows])
     series = {"A_L": [r["A_L"] for r in rows], "A_L_mesh": [r["A_L_mesh"] for r in rows],
               "r": [r["r"] for r in rows]}
+    if tmin:
+        series["t_min_factor"] = [r["t_min_factor"] for r in rows]
     if mode == "voussoirs":  # no hinge refinement: A_L is the LP on the voussoirs, A_L_mesh the same
         del series["A_L_mesh"]
     series.update(_hinge_series(rows, "hinges_before"))
@@ -274,7 +298,7 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
     for name, x in series.items():
         ref_value = None
         if reference is not None:
-            if name in ("A_L", "A_L_mesh", "r"):
+            if name in ("A_L", "A_L_mesh", "r", "t_min_factor"):
                 ref_value = reference[name]
             else:  # hinge angle: compare with the continuous hinge of the same rank and side
                 key, k = name.rsplit("_", 2)[0], int(name.rsplit("_", 2)[1]) - 1
@@ -298,11 +322,11 @@ def plot_convergence(study: ConvergenceStudy, path: str) -> None:
 
     h = study.h
     hinge_q = {k: q for k, q in study.quantities.items() if k.startswith("hinges_") and not q["exact"]}
-    main_q = {k: q for k, q in study.quantities.items() if k in ("A_L", "A_L_mesh", "r")}
+    main_q = {k: q for k, q in study.quantities.items() if k in ("A_L", "A_L_mesh", "r", "t_min_factor")}
     ncol = 2 if hinge_q else 1
     fig, axes = plt.subplots(1, ncol, figsize=(6.2 * ncol, 4.8), squeeze=False)
     labels = {"A_L": "$A_L$ (hinge-refined)" if study.mode == "continuous" else "$A_L$ (voussoir LP)",
-              "A_L_mesh": "$A_L$ uniform-mesh LP", "r": "$r$"}
+              "A_L_mesh": "$A_L$ uniform-mesh LP", "r": "$r$", "t_min_factor": "$t_{min}$ (factor of $t$)"}
     against = ("Richardson, assumed p = %g" % study.assumed_order if study.mode == "continuous"
                else "continuous arch, %d el." % study.reference["elements"])
 
@@ -330,7 +354,7 @@ def plot_convergence(study: ConvergenceStudy, path: str) -> None:
             ys = [y for ln in ax.lines for y in np.atleast_1d(ln.get_ydata()) if np.isfinite(y) and y > 0]
             h2 = np.array([h.min(), h.max()])
             ax.loglog(h2, min(ys) * 0.3 * (h2 / h2[0]) ** 2, "--", color="0.6", lw=1, label="slope 2")
-        ax.set_xlabel("h / R = beta / N")
+        ax.set_xlabel("h / R = beta / N" if "h_over_R" in study.rows[0] else "h / span (element arc length)")
         ax.set_ylabel(ylabel)
         ax.set_title(title, fontsize=10)
         ax.grid(True, which="major", alpha=0.3)
@@ -339,9 +363,10 @@ def plot_convergence(study: ConvergenceStudy, path: str) -> None:
 
     g = study.geometry
     what = "elements" if study.mode == "continuous" else "voussoirs"
+    name = (f"beta = {g.get('embrace_deg')} deg, t/R = {g.get('t_over_R')}" if g.get("shape") == "circular"
+            else f"{g.get('shape')} arch, span {g.get('span', '?'):g} m, rise {g.get('rise', '?'):g} m")
     draw(axes[0, 0], main_q, f"|error| (against {against})",
-         f"beta = {g.get('embrace_deg')} deg, t/R = {g.get('t_over_R')}: N = "
-         f"{study.levels[0]}..{study.levels[-1]} {what}")
+         f"{name}: N = {study.levels[0]}..{study.levels[-1]} {what}")
     if hinge_q:
         draw(axes[0, 1], hinge_q, "|error| of hinge angle (deg)", "hinge positions")
     fig.tight_layout()

@@ -1,0 +1,120 @@
+"""``fembeam min-thickness``: any shape, its collapse mechanism, the funicular case."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from fembeam import CircularArch, minimum_thickness
+from fembeam.analysis.thickness import _stands
+from fembeam.cli.main import main
+from fembeam.fem import uniform_nodes
+from fembeam.geometry import CatenaryArch, EllipticalArch, ParabolicArch, PointedArch
+
+MILANKOVITCH = 0.107478   # semicircle, true centroids, radial joints (Milankovitch 1907; Ochsendorf 2002)
+
+
+def _run(capsys, *argv):
+    code = main(["min-thickness", *argv])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_semicircle_against_milankovitch(capsys):
+    code, out, _ = _run(capsys, "--embrace", "180", "--json")
+    d = json.loads(out)
+    assert code == 0 and d["outcome"] == "ok"
+    assert d["t_min_over_R"] == pytest.approx(MILANKOVITCH, abs=1e-6)
+    assert d["thickness_min"]["thickness"] == pytest.approx(d["t_min_over_R"])
+    assert d["geometric_safety_factor"] == pytest.approx(0.15 / d["t_min_over_R"], rel=1e-12)
+    # the collapse mechanism: springing and crown on the extrados, haunches 54.5 deg from the crown
+    angles = {round(h["angle_deg"], 1): h["side"] for h in d["hinges"]}
+    assert angles.get(35.5) == "intrados" and angles.get(144.5) == "intrados" and angles.get(90.0) == "extrados"
+
+
+def test_bracket_is_a_certificate():
+    """Independently of the bisection: the arch at the reported factor stands, just below it does not."""
+    a = PointedArch(span=10.0, rise=7.0, thickness=0.5)
+    th = minimum_thickness(a, elements=80, tol=1e-8)
+    nodes = uniform_nodes(a, 80)
+    assert _stands(a.with_thickness_scaled(th.scale), nodes, True)
+    assert not _stands(a.with_thickness_scaled(th.lower), nodes, True)
+    assert th.scale - th.lower <= 1e-8 * th.scale
+
+
+def test_shapes_of_half_circle_limit_give_its_minimum_thickness():
+    """Pointed and elliptical arches with rise = span / 2 are the semicircle: same t_min to 1e-9."""
+    L, t = 10.0, 0.6
+    ref = minimum_thickness(CircularArch(radius=L / 2, embrace_deg=180.0, thickness=t), elements=100, tol=1e-12)
+    for a in (PointedArch(span=L, rise=L / 2, thickness=t), EllipticalArch(span=L, rise=L / 2, thickness=t)):
+        got = minimum_thickness(a, elements=100, tol=1e-12)
+        assert got.scale == pytest.approx(ref.scale, rel=1e-9)
+
+
+def test_catenary_stands_at_any_thickness(capsys):
+    """The uniform catenary is the funicular of its weight up to the centroid offset: it stands
+    at every thickness checked (checked directly, not through the bisection); the parabola of
+    the same span and rise does not, and a catenary thinning towards the crown neither."""
+    a = CatenaryArch(span=10.0, rise=4.0, thickness=0.5)
+    nodes = uniform_nodes(a, 100)
+    for k in (1.0, 0.1, a.min_thickness_scale):
+        assert _stands(a.with_thickness_scaled(k), nodes, True)
+    code, out, _ = _run(capsys, "--shape", "catenary", "--span", "10", "--rise", "4", "--thickness", "0.5", "--json")
+    d = json.loads(out)
+    assert code == 0 and d["outcome"] == "stands_at_any_thickness" and d["thickness_min"] == {"thickness": 0.0}
+    assert d["geometric_safety_factor"] is None and "funicular" in d["explanation"]
+    assert d["thickness_checked_min"]["thickness"] == pytest.approx(0.5 * a.min_thickness_scale)
+    par = minimum_thickness(ParabolicArch(span=10.0, rise=4.0, thickness=0.5), elements=100)
+    assert par.outcome == "ok" and 0.01 < par.scale < 1
+    var = minimum_thickness(CatenaryArch(span=10.0, rise=4.0, thickness_springing=0.6, thickness_crown=0.3),
+                            elements=100)
+    assert var.outcome == "ok" and var.scale > 0.05
+
+
+def test_variable_thickness_reports_both_ends(capsys):
+    code, out, _ = _run(capsys, "--shape", "elliptical", "--span", "10", "--rise", "3",
+                        "--thickness-springing", "1.2", "--thickness-crown", "0.6", "--elements", "60")
+    assert code == 0
+    assert "thickness springing" in out and "thickness crown" in out and "geometric factor of safety" in out
+    code, out, _ = _run(capsys, "--shape", "elliptical", "--span", "10", "--rise", "3",
+                        "--thickness-springing", "1.2", "--thickness-crown", "0.6", "--elements", "60", "--json")
+    d = json.loads(out)
+    tm = d["thickness_min"]
+    assert tm["thickness_springing"] == pytest.approx(2 * tm["thickness_crown"], rel=1e-12)
+    assert tm["thickness_crown"] == pytest.approx(0.6 * d["thickness_scale"], rel=1e-12)
+
+
+def test_voussoirs_check_the_joints_only(capsys):
+    """Fewer joints to check: a discrete arch needs no more thickness than the continuum."""
+    cont = minimum_thickness(CircularArch.from_ratio(180, 0.15), elements=100)
+    vous = minimum_thickness(CircularArch.from_ratio(180, 0.15), voussoirs=7)
+    assert vous.scale <= cont.scale
+    code, out, _ = _run(capsys, "--embrace", "180", "--voussoirs", "7", "--json")
+    assert code == 0 and json.loads(out)["t_min_over_R"] == pytest.approx(vous.t_over_R, rel=1e-5)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--tol", "0"], "--tol"),
+    (["--elements", "2"], "--elements"),
+    (["--voussoirs", "0"], "--voussoirs"),
+    (["--friction", "-1"], "--friction"),
+    (["--friction", "nan"], "finite"),
+    (["--shape", "parabolic", "--span", "10"], "--rise"),
+])
+def test_bad_input_exit_2_one_line(capsys, argv, words):
+    try:
+        code = main(["min-thickness", *argv])
+    except SystemExit as e:      # argparse's own checks
+        code = e.code
+    err = capsys.readouterr().err
+    assert code == 2 and words in err and len(err.strip().splitlines()) == 1
+
+
+def test_never_stands_is_an_answer(capsys):
+    """A near-full ring whose folding limit comes before a thrust line fits."""
+    a = CircularArch.from_ratio(350, 0.05)
+    th = minimum_thickness(a, elements=60)
+    code, out, _ = _run(capsys, "--embrace", "350", "--t-over-r", "0.05", "--elements", "60", "--json")
+    d = json.loads(out)
+    assert code == 0 and th.outcome == d["outcome"] == "never_stands"
+    assert d["thickness_min"] is None and d["thickness_scale"] is None and "admits a thrust line" in d["explanation"]
