@@ -5,7 +5,7 @@
 # About 20 minutes on 2 cores.  Run from anywhere with fembeam installed.
 #
 #   docs/regenerate.sh              everything
-#   docs/regenerate.sh studies      one group: studies | report | benchmarks | dynamics | pictures | splice
+#   docs/regenerate.sh studies      one group: studies | report | benchmarks | dynamics | shapes | pictures | splice
 #
 # After a run, read the diff: the prose of docs/studies.md, docs/elements.md and docs/solvers.md
 # quotes numbers of these tables (the drift test names any quote that no longer matches).
@@ -41,6 +41,20 @@ dynamics() {
     fembeam spectrum --voussoirs 7 --embrace 157.5 --t-over-r 0.15 --pulse sine --periods 0.1:2.05:0.05 \
         --workers 2 --quiet --csv docs/data/spectrum_sine_7v.csv --plot docs/img/spectrum_sine_7v.png \
         > docs/data/spectrum_sine_7v.txt
+}
+
+shapes() {
+    # convergence of A_L, r and t_min for one pointed, one elliptical and one parabolic arch
+    for spec in "pointed 7 0.8" "elliptical 3 0.8" "parabolic 3 0.6"; do
+        set -- $spec
+        arch="--shape $1 --span 10 --rise $2 --thickness $3"
+        fembeam convergence $arch --tmin --elements 25,50,100,200,400,800 --quiet \
+            --csv docs/data/shapes_$1.csv --plot docs/img/shapes_convergence_$1.png > docs/data/shapes_$1.txt
+        fembeam convergence $arch --tmin --voussoirs 8,16,32,64,128 --reference-elements 800 --quiet \
+            --csv docs/data/shapes_$1_voussoirs.csv > docs/data/shapes_$1_voussoirs.txt
+        fembeam analyze $arch --figure docs/img/shape_$1.png > docs/data/shapes_$1_analyze.txt
+        fembeam min-thickness $arch > docs/data/shapes_$1_min_thickness.txt
+    done
 }
 
 pictures() {
@@ -82,6 +96,10 @@ def replace_block(md_path, opening, new_text, fence):
 for name in ("convergence_157.5_0.15", "convergence_voussoirs_157.5_0.15", "sweep_fig13"):
     new = (data / f"{name}.txt").read_text()
     replace_block("docs/studies.md", new.splitlines()[0], new, "```text")
+for shape in ("pointed", "elliptical", "parabolic"):
+    for name in (f"shapes_{shape}", f"shapes_{shape}_voussoirs", f"shapes_{shape}_min_thickness"):
+        new = (data / f"{name}.txt").read_text()
+        replace_block("docs/shapes.md", new.splitlines()[0], new, "```text")
 for md_path, name in (("docs/elements.md", "elements"), ("docs/solvers.md", "qp_backends")):
     new = (data / f"{name}.txt").read_text()
     replace_block(md_path, new.splitlines()[0], new, "```")
@@ -89,7 +107,7 @@ PY
 }
 
 case "$what" in
-    all) studies; report; benchmarks; dynamics; pictures; splice ;;
-    studies|report|benchmarks|dynamics|pictures|splice) "$what" ;;
-    *) echo "usage: $0 [all|studies|report|benchmarks|dynamics|pictures|splice]" >&2; exit 2 ;;
+    all) studies; report; benchmarks; dynamics; shapes; pictures; splice ;;
+    studies|report|benchmarks|dynamics|shapes|pictures|splice) "$what" ;;
+    *) echo "usage: $0 [all|studies|report|benchmarks|dynamics|shapes|pictures|splice]" >&2; exit 2 ;;
 esac
