@@ -8,8 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .arch import SymmetricArch
-from .parametric import ParametricCurve
+from .graph import GraphArch
 
 __all__ = ["CatenaryArch", "catenary_parameter"]
 
@@ -28,7 +27,7 @@ def catenary_parameter(span: float, rise: float) -> float:
 
 
 @dataclass(frozen=True)
-class CatenaryArch(ParametricCurve, SymmetricArch):
+class CatenaryArch(GraphArch):
     """Catenary ``y = H - c (cosh(x/c) - 1)``, ``x`` in ``[-L/2, L/2]`` (``L = span``,
     ``H = rise``, m), ``c`` from :func:`catenary_parameter`; parametrised by ``x``
     (arc length numerically; closed form ``2 c sinh(L/(2c))``).  Thickness and density
@@ -40,24 +39,14 @@ class CatenaryArch(ParametricCurve, SymmetricArch):
         object.__setattr__(self, "_c", catenary_parameter(float(self.span), float(self.rise)))
         self._setup_arc_length()
 
-    def _geometry_key(self):
-        return (float(self.span), float(self.rise))
+    def _y(self, x):
+        return self.rise - 2.0 * self._c * np.sinh(0.5 * x / self._c) ** 2
 
-    def _u_breaks(self):
-        return np.array([-0.5 * self.span, 0.5 * self.span])
+    def _dy(self, x):
+        return -np.sinh(x / self._c)
 
-    def _r(self, u):
-        u = np.asarray(u, float)
-        c = self._c
-        return np.array([u, self.rise - 2.0 * c * np.sinh(0.5 * u / c) ** 2])
-
-    def _dr(self, u):
-        u = np.asarray(u, float)
-        return np.array([np.ones_like(u), -np.sinh(u / self._c)])
-
-    def _ddr(self, u):
-        u = np.asarray(u, float)
-        return np.array([np.zeros_like(u), -np.cosh(u / self._c) / self._c])
+    def _ddy(self, x):
+        return -np.cosh(x / self._c) / self._c
 
     def _describe_geometry(self) -> dict:
         return {"span": self.span, "rise": self.rise, "catenary_parameter": self._c}

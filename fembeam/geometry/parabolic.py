@@ -6,14 +6,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .arch import SymmetricArch
-from .parametric import ParametricCurve
+from .graph import GraphArch
 
 __all__ = ["ParabolicArch"]
 
 
 @dataclass(frozen=True)
-class ParabolicArch(ParametricCurve, SymmetricArch):
+class ParabolicArch(GraphArch):
     """Parabola ``y = H (1 - (2x/L)^2)`` for ``x`` in ``[-L/2, L/2]`` (``L = span``,
     ``H = rise``, m), parametrised by ``x``; the springing tangents have slope
     ``-+4H/L``.  Arc length computed numerically (closed form ``L/2 sqrt(1 + q^2) +
@@ -25,20 +24,11 @@ class ParabolicArch(ParametricCurve, SymmetricArch):
     def _build(self) -> None:
         self._setup_arc_length()
 
-    def _geometry_key(self):
-        return (float(self.span), float(self.rise))
+    def _y(self, x):
+        return self.rise * (1.0 - (2.0 * x / self.span) ** 2)
 
-    def _u_breaks(self):
-        return np.array([-0.5 * self.span, 0.5 * self.span])
+    def _dy(self, x):
+        return -8.0 * self.rise * x / self.span**2
 
-    def _r(self, u):
-        u = np.asarray(u, float)
-        return np.array([u, self.rise * (1.0 - (2.0 * u / self.span) ** 2)])
-
-    def _dr(self, u):
-        u = np.asarray(u, float)
-        return np.array([np.ones_like(u), -8.0 * self.rise * u / self.span**2])
-
-    def _ddr(self, u):
-        u = np.asarray(u, float)
-        return np.array([np.zeros_like(u), np.full(u.shape, -8.0 * self.rise / self.span**2)])
+    def _ddy(self, x):
+        return np.full(x.shape, -8.0 * self.rise / self.span**2)
