@@ -117,3 +117,18 @@ def test_ex04_el_centro_rocking(tmp_path, monkeypatch, capsys):
     assert [ln.split(":")[1].split(";")[0].split()[0] for ln in lines] == ["rest", "rest", "rest", "overturned"]
     png = tmp_path / "ex04.png"
     assert png.stat().st_size > 10_000 and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_ex05_friction(tmp_path, monkeypatch, capsys):
+    """The table of docs/friction.md is what the example prints; the anchors of Cocchetti &
+    Rizzi (2020) and the true-centroid value to their six printed digits."""
+    out = run_script("ex05_friction", tmp_path, monkeypatch, capsys)
+    doc = (EXAMPLES.parent / "docs" / "friction.md").read_text()
+    assert "\n".join(out.splitlines()) in doc
+    rows = [ln.split(" | ") for ln in out.splitlines() if ln.startswith("| ") and not ln.startswith("| case")]
+    for r in rows:
+        for got, ref in ((r[1], r[2]), (r[3], r[4]), (r[5], r[6]), (r[7], r[8])):
+            if ref.strip(" |") != "-":
+                d = len(ref.strip(" |").split(".")[1])
+                assert abs(float(got) - float(ref.strip(" |"))) <= 1.5 * 10.0 ** -min(d, len(got.split(".")[1]))
+    assert "mu_min = 0.309215" in out

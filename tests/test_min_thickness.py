@@ -202,3 +202,18 @@ def test_minimum_thickness_against_an_independent_thrust_line(shape):
     got = minimum_thickness(arch, elements=40, tol=1e-10)
     t = arch.describe()["thickness"] * got.scale
     assert t == pytest.approx(ref, rel=1e-9)
+
+
+def test_friction_options(capsys):
+    """Large mu: the frictionless answer; mu = 0.31: a thicker arch whose collapse slides at a
+    springing (hinges and slides in the JSON); mu = 0.30: below the smallest coefficient that
+    lets a semicircle stand (0.3092 for the mid-curve load model), never stands."""
+    free = minimum_thickness(CircularArch.from_ratio(180, 0.15), elements=40, tol=1e-8)
+    code, out, _ = _run(capsys, "--embrace", "180", "--elements", "40", "--friction", "10", "--tol", "1e-8", "--json")
+    assert code == 0 and json.loads(out)["thickness_scale"] == pytest.approx(free.scale, rel=1e-8)
+    code, out, _ = _run(capsys, "--embrace", "180", "--elements", "40", "--friction", "0.31", "--json")
+    d = json.loads(out)
+    assert code == 0 and d["outcome"] == "ok" and d["t_min_over_R"] > 0.18 and d["friction"] == 0.31
+    assert d["slides"] and d["slides"][0]["angle_deg"] in (0.0, 180.0) and len(d["hinges"]) >= 3
+    code, out, _ = _run(capsys, "--embrace", "180", "--elements", "40", "--friction", "0.3")
+    assert code == 0 and "never stands" in out and "|S| <= 0.3 N" in out

@@ -24,6 +24,11 @@ Outcomes, each with its certificate, checked before it is returned:
   self-stress plus horizontal load (``N(x0 + lambda dx, lambda) >= 0`` for every
   ``lambda >= 0``): no horizontal acceleration turns the member into a mechanism.
 
+With a finite Coulomb coefficient ``friction = mu`` every joint also gets the rows
+``mu (N+ + N-) -+ S >= 0`` (:mod:`~fembeam.analysis.friction`); the duals then give a
+mechanism that may slide, with the associative dilatancy ``mu |gamma|`` at both fibres,
+and the same certificates hold (the jumps lie in the dual cone of the admissible forces).
+
 Forces are reported per unit g (multiply by g for newtons per unit depth).
 """
 from __future__ import annotations
@@ -35,7 +40,8 @@ import numpy as np
 
 from ..errors import CannotStandError, InputError, SolverError
 from ..fem import Discretization
-from ..mechanisms.hinge import Hinge, find_hinges
+from ..mechanisms.hinge import Hinge
+from . import friction as fr
 from .lp import FEAS_TOL, maximise
 from .statics import Statics, section_forces, statics
 from .verification import check
@@ -45,6 +51,7 @@ __all__ = ["LimitResult", "limit_analysis", "joint_rows", "stand_lp", "main_lp",
 BOX = 1e6          # bound on lambda (g): beyond it, look for a no-mechanism certificate
 XBOX = 1e3         # bound on the redundants (units of the weight)
 STAND_TOL = 1e-12  # margin (units of weight) below which the member does not stand
+FRICTION_TOL = 1e-6  # friction_excess above which a result with friction fails its check
 
 
 @dataclass
@@ -59,6 +66,8 @@ class LimitResult:
     N: np.ndarray | None = None            # (2, J) fibre forces intrados/extrados, per g (>= 0: compression)
     S: np.ndarray | None = None            # (J,) shear forces, per g
     hinges: list[Hinge] = field(default_factory=list)
+    friction: float | None = None          # Coulomb coefficient of the joints (None: no sliding)
+    slides: list[dict] = field(default_factory=list)   # sliding joints of the mechanism (friction only)
     margin: float = float("nan")           # max_x min_j N(x, 0) / (m g): > 0 stands under gravity
     verification: dict = field(default_factory=dict)
     solve_time: float = 0.0
@@ -73,12 +82,13 @@ class LimitResult:
             return np.where(Nt > 1e-12 * np.max(Nt), 0.5 * t * (self.N[0] - self.N[1]) / Nt, np.nan)
 
 
-def joint_rows(st: Statics, direction: int) -> np.ndarray:
+def joint_rows(st: Statics, direction: int, friction: float | None = None) -> np.ndarray:
     """``(2 J, k + 2)``: fibre forces ``N+`` then ``N-`` of every joint as rows acting on
-    ``(x, lambda, 1)`` (units of weight; lambda along ``direction``)."""
-    k = st.k
-    return np.concatenate([np.concatenate([st.G_x[i], direction * st.G_lambda[i][:, None], st.G0[i][:, None]], 1)
-                           for i in (1, 2)])
+    ``(x, lambda, 1)`` (units of weight; lambda along ``direction``); with ``friction``
+    ``(4 J, k + 2)``: then the friction rows of :func:`~fembeam.analysis.friction.friction_rows`."""
+    R = np.concatenate([np.concatenate([st.G_x[i], direction * st.G_lambda[i][:, None], st.G0[i][:, None]], 1)
+                        for i in (1, 2)])
+    return R if friction is None else np.concatenate([R, fr.friction_rows(st, direction, friction)])
 
 
 def stand_lp(R: np.ndarray, k: int, xbox: float = XBOX):
@@ -118,94 +128,111 @@ def _check_direction(direction) -> int:
 
 
 def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = False,
-                   verify: bool = True) -> LimitResult:
+                   verify: bool = True, friction: float | None = None) -> LimitResult:
     """Static LP on the joints of ``disc`` for a horizontal acceleration along
     ``direction`` (+1: +x); its certificate is checked (``verify``) and a failed check
     raises :class:`SolverError`.  With ``strict`` a member that cannot stand raises
-    :class:`CannotStandError` instead of returning ``status == "cannot_stand"``."""
+    :class:`CannotStandError` instead of returning ``status == "cannot_stand"``.
+    ``friction``: Coulomb coefficient ``mu >= 0`` of every joint (None: no sliding)."""
     if not isinstance(disc, Discretization):
         raise InputError(f"limit_analysis needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
     direction = _check_direction(direction)
+    mu = fr.check_friction(friction)
     t0 = time.perf_counter()
     st = statics(disc)
     k, J = st.k, disc.n_joints
-    R = joint_rows(st, direction)
+    R = joint_rows(st, direction, mu)
     stand = _unboxed(stand_lp, R, k)
     margin = stand.value
     if margin < -STAND_TOL:
-        res = _cannot_stand(st, direction, stand)
+        res = _cannot_stand(st, direction, stand, R, mu)
     else:
         main = _unboxed(main_lp, R, k)
         if main.at_bound[k]:      # lambda held by its bound: look for the no-mechanism certificate
-            res = _no_mechanism(st, direction, stand, R)
+            res = _no_mechanism(st, direction, stand, R, mu)
         else:
-            res = _ok(st, direction, main)
+            res = _ok(st, direction, main, R, mu)
         res.lp_rounds = stand.rounds + main.rounds
     res.margin = margin
+    res.friction = mu
     res.solve_time = time.perf_counter() - t0
     if verify:
         check(res.verification, f"limit analysis ({res.status})")
+        excess = res.verification.get("friction_excess", 0.0)
+        if not excess <= FRICTION_TOL:
+            raise SolverError(f"limit analysis ({res.status}): solution failed verification "
+                              f"(friction_excess = {excess:.2e} > {FRICTION_TOL:.0e})")
     if strict and res.status == "cannot_stand":
         raise CannotStandError("the member cannot stand under its own weight: no thrust line fits inside it "
                                "(see fembeam.minimum_thickness)")
     return res
 
 
-def _eps(y: np.ndarray, st: Statics) -> np.ndarray:
-    """Opening rates ``(2, J)`` from the row duals ``y``, made exactly compatible: on the
-    support of ``y`` (the hinges) the closure conditions ``G_x^T eps = 0`` are solved to
-    round-off (null space by SVD) instead of to the LP's dual tolerance, which matters for
-    very thin members whose rows are large."""
-    J, k = st.disc.n_joints, st.k
+def _duals(y: np.ndarray, R: np.ndarray, k: int) -> np.ndarray:
+    """The row duals ``y`` made exactly compatible: on their support (the hinges and
+    slides) the closure conditions ``R_x^T y = 0`` are solved to round-off (null space by
+    SVD) instead of to the LP's dual tolerance, which matters for very thin members whose
+    rows are large."""
     y = np.asarray(y, float)
     S = np.flatnonzero(y > 1e-9 * np.max(y))
     if k == 0 or S.size <= k:
-        return y.reshape(2, J)
-    Gx = np.concatenate([st.G_x[1], st.G_x[2]])[S]          # (|S|, k)
-    _, sv, Vt = np.linalg.svd(Gx.T)
+        return y
+    _, sv, Vt = np.linalg.svd(R[S, :k].T)
     null = Vt[-(S.size - k):] if S.size - k > 0 else Vt[-1:]
     e = null.T @ (null @ y[S])                              # projection of y[S] on the null space
     if np.all(e > 0):
         out = np.zeros_like(y)
         out[S] = e
-        return out.reshape(2, J)
-    return y.reshape(2, J)
+        return out
+    return y
 
 
-def _incompatibility(disc, u, eps, closure) -> float:
-    e = disc.B_open @ u
-    scale = max(np.max(np.abs(e)), 1e-300)
-    return float(max(closure, -np.min(e) / scale, np.max(np.abs(disc.B_slide @ u)) / scale))
+def _incompatibility(disc, u, closure, mu: float | None = None) -> float:
+    """Closure misfit and distance of the jumps of ``u`` from the compatible cone
+    ``eps+- >= mu |gamma|`` (``gamma = 0`` without friction), relative to the largest jump."""
+    e, g = disc.B_open @ u, disc.B_slide @ u
+    scale = max(np.max(np.abs(e)), np.max(np.abs(g)) if mu is not None else 0.0, 1e-300)
+    if mu is None:
+        return float(max(closure, -np.min(e) / scale, np.max(np.abs(g)) / scale))
+    return float(max(closure, -np.min(e - mu * np.tile(np.abs(g), 2)) / scale))
 
 
-def _ok(st: Statics, direction: int, lp) -> LimitResult:
+def _kinematics(st: Statics, y: np.ndarray, R: np.ndarray, mu: float | None):
+    """Mechanism of the row duals ``y``: jumps ``c`` (3, J), velocities ``u``, closure."""
+    yc = _duals(y, R, st.k)
+    c = fr.jumps(yc, st.disc.n_joints, mu)
+    u, closure = fr.mechanism(st, c)
+    return yc, c, u, closure
+
+
+def _ok(st: Statics, direction: int, lp, R: np.ndarray, mu: float | None = None) -> LimitResult:
     disc, m, k, J = st.disc, st.mass, st.k, st.disc.n_joints
     x, lam = lp.z[:k], float(lp.z[k])
     if -1e-9 < lam < 0:   # a member at its minimum thickness: A_L = 0 to the LP's tolerance
         lam = 0.0
-    eps = _eps(lp.y, st)
-    u, closure = st.mechanism(eps)
+    y, c, u, closure = _kinematics(st, lp.y, R, mu)
     fx, fy = disc.load_vectors()
     power = direction * float(fx @ u)
     if not power > 0:
         raise SolverError("limit LP: the dual mechanism does no work against the horizontal load")
     u *= m / power
     g = st.forces(x, direction * lam)
-    out = LimitResult("ok", disc, direction, lam, u, m * g[1:], m * g[0], find_hinges(disc, u))
+    hinges, slides = fr.hinges_and_slides(disc, u, mu)
+    out = LimitResult("ok", disc, direction, lam, u, m * g[1:], m * g[0], hinges, slides=slides)
     lam_k = float(fy @ u) / m
-    out.verification = _static_figures(st, x, direction * lam, g, fy - direction * lam * fx)
-    opening = disc.B_open @ u
+    out.verification = _static_figures(st, x, direction * lam, g, fy - direction * lam * fx, mu)
+    rows = R @ np.r_[x, lam, 1.0]          # every row at the optimum (>= 0), units of weight
     out.verification.update({
         "duality_gap": abs(lam_k - lam) / (1.0 + abs(lam)),
-        "complementarity": float(np.max(np.abs(g[1:].ravel() * opening))
-                                 / (np.max(g[1:]) * max(np.max(np.abs(opening)), 1e-300))),
-        "incompatibility": _incompatibility(disc, u, eps, closure),
+        # each row times its dual (the work of that row's force on its jump), relative
+        "complementarity": float(np.max(np.abs(rows * y)) / (np.max(np.abs(g)) * max(np.max(np.abs(y)), 1e-300))),
+        "incompatibility": _incompatibility(disc, u, closure, mu),
         "max_shear_ratio": _shear_ratio(g),
     })
     return out
 
 
-def _static_figures(st: Statics, x, lam_signed, g, p) -> dict:
+def _static_figures(st: Statics, x, lam_signed, g, p, mu: float | None = None) -> dict:
     """Equilibrium with the sparse operators, the joint forces recomputed from the
     equilibrium of the part left of each joint, and the thrust line from the latter."""
     disc, m = st.disc, st.mass
@@ -226,6 +253,8 @@ def _static_figures(st: Statics, x, lam_signed, g, p) -> dict:
     }
     if disc.element != "rigid":   # no second route: say so rather than report a zero
         del out["statics_mismatch"]
+    if mu is not None:            # shear beyond the Coulomb cone, from the same forces
+        out["friction_excess"] = float(max(0.0, np.max(np.abs(gs[0]) - mu * Ns)) / gmax)
     return out
 
 
@@ -235,24 +264,24 @@ def _shear_ratio(g) -> float:
     return float(np.max(np.abs(g[0][carried]) / Nt[carried], initial=0.0))
 
 
-def _cannot_stand(st: Statics, direction: int, lp) -> LimitResult:
+def _cannot_stand(st: Statics, direction: int, lp, R: np.ndarray, mu: float | None = None) -> LimitResult:
     """Certificate: the margin LP's duals, a compatible mechanism that gravity drives."""
     disc, m, J = st.disc, st.mass, st.disc.n_joints
-    eps = _eps(lp.y, st)
-    u, closure = st.mechanism(eps)
+    _, _, u, closure = _kinematics(st, lp.y, R, mu)
     fx, fy = disc.load_vectors()
     lift = float(fy @ u)
     if not lift < 0:
         raise SolverError("cannot-stand certificate failed: gravity does no work on the margin LP's mechanism")
     u *= m / -lift
-    out = LimitResult("cannot_stand", disc, direction, u=u, hinges=find_hinges(disc, u))
+    hinges, slides = fr.hinges_and_slides(disc, u, mu)
+    out = LimitResult("cannot_stand", disc, direction, u=u, hinges=hinges, slides=slides)
     rms = np.sqrt(float(u @ disc.M @ u) / m)
-    out.verification = {"incompatibility": _incompatibility(disc, u, eps, closure),
+    out.verification = {"incompatibility": _incompatibility(disc, u, closure, mu),
                         "gravity_power": float(fy @ u) / (m * rms)}   # < 0: the weight descends along u
     return out
 
 
-def _no_mechanism(st: Statics, direction: int, stand, R) -> LimitResult:
+def _no_mechanism(st: Statics, direction: int, stand, R, mu: float | None = None) -> LimitResult:
     """Certificate: an admissible state at lambda = 0 and an admissible ray of
     (self-stress, horizontal load)."""
     disc, m, k = st.disc, st.mass, st.k
@@ -265,7 +294,8 @@ def _no_mechanism(st: Statics, direction: int, stand, R) -> LimitResult:
     fx, fy = disc.load_vectors()
     B = disc.B_open.T @ gr[1:].ravel() + disc.B_slide.T @ gr[0]
     out = LimitResult("no_mechanism", disc, direction, A_L=float("inf"), N=m * g0[1:], S=m * g0[0])
-    out.verification = _static_figures(st, stand.z[:k], 0.0, g0, fy)
+    out.verification = _static_figures(st, stand.z[:k], 0.0, g0, fy, mu)
+    ray_rows = R[:, :k] @ dx + R[:, k]      # fibre (and friction) rows of the ray, >= 0
     out.verification["ray_residual"] = float(max(np.linalg.norm(m * B + direction * fx) / np.linalg.norm(fx),
-                                                 max(0.0, -np.min(gr[1:])) / max(np.max(np.abs(gr)), 1e-300)))
+                                                 max(0.0, -np.min(ray_rows)) / max(np.max(np.abs(gr)), 1e-300)))
     return out

@@ -14,6 +14,14 @@ Physical outcomes are reported in ``outcome``, not raised: ``"rocking"`` (r > 0)
 ``"arrested"`` (r = 0, the arch stops dead), ``"cannot_stand"`` (no thrust line under
 gravity fits: the minimum thickness of the analysed arch is reported) and
 ``"no_mechanism"`` (no horizontal acceleration turns the arch into a mechanism).
+
+With a Coulomb coefficient ``friction`` the limit analysis keeps every joint force inside
+the friction cone (:mod:`~fembeam.analysis.friction`; on the continuous arch the fibre
+rows are checked between the joints, the friction rows at the joints of the mesh refined
+through the hinges and slides).  When its mechanism slides the outcome is ``"sliding"``
+and no impact follows (the impact model is of a rocking, frictionless arch).  Every
+result reports the friction coefficient the joints need, at the limit state and at the
+impact (:meth:`AnalysisResult.required_friction`).
 """
 from __future__ import annotations
 
@@ -27,6 +35,7 @@ from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms.hinge import merge_adjacent
 from .continuum import ContinuumLimit, continuum_limit
+from .friction import check_friction, continuum_support, required_friction
 from .impact import ImpactResult, impact
 from .limit import LimitResult, _check_direction, limit_analysis
 from .thickness import MinimumThickness, thickness_on
@@ -58,6 +67,7 @@ class AnalysisResult:
     continuum: ContinuumLimit | None = None
     verification: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
+    friction: float | None = None   # Coulomb coefficient of the limit analysis (None: no sliding)
 
     @property
     def t_min_over_R(self) -> float | None:
@@ -72,7 +82,35 @@ class AnalysisResult:
     @property
     def hinges_before(self):
         """Hinges of the incipient mechanism (none unless the arch rocks or is arrested)."""
-        return self.limit.hinges if self.outcome in ("rocking", "arrested") else []
+        return self.limit.hinges if self.outcome in ("rocking", "arrested", "sliding") else []
+
+    def required_friction(self, mu: float | None = None) -> dict:
+        """Friction coefficient the joints need: ``"limit"``: ``|S| / N`` of the limit state,
+        ``"impact"``: ``|I_n| / |I_t|`` of the impulses (shear over normal at each joint);
+        each ``{"max", "at_deg", "at_s", "joint"}`` (None with a ``reason`` where undefined)
+        and, with :attr:`friction` (or ``mu``), the joints needing more (``above``)."""
+        mu = self.friction if mu is None else mu
+        lim, imp = self.limit, self.impact
+        if lim is not None and lim.status == "ok":
+            d = lim.disc
+            limit = required_friction(d.joint_angle_deg, d.joint_s, lim.S, lim.N[0] + lim.N[1], mu, "force")
+        else:
+            limit = {"max": None, "reason": f"no limit state (outcome {self.outcome})"}
+        if imp is not None:
+            d = imp.disc
+            impact = required_friction(d.joint_angle_deg, d.joint_s, imp.I_n, -imp.I_t, mu, "impulse")
+        else:
+            impact = {"max": None, "reason": f"no impact (outcome {self.outcome})"}
+        return {"limit": limit, "impact": impact}
+
+    @property
+    def sliding_risk(self) -> bool | None:
+        """With :attr:`friction`: whether a joint slides in the mechanism or needs more
+        friction than it has, at the limit state or at the impact (None without friction)."""
+        if self.friction is None:
+            return None
+        rf = self.required_friction()
+        return bool(self.outcome == "sliding" or any(rf[k].get("above") for k in rf))
 
     @property
     def hinges_after(self):
@@ -105,6 +143,10 @@ class AnalysisResult:
                              if self.continuum is not None and self.outcome in ("rocking", "arrested") else None),
             "t_min_over_R": num(self.t_min_over_R),
             "minimum_thickness": self.thickness.to_dict() if self.thickness is not None else None,
+            "friction": self.friction,
+            "required_friction": self.required_friction(),
+            "sliding_risk": self.sliding_risk,
+            "sliding_before": list(self.limit.slides) if self.limit is not None else [],
             "backend": self.backend,
             "solver_iterations": self.impact.iterations if self.impact else None,
             # the impact's figures at the top level, and by group
@@ -135,28 +177,41 @@ def _count(n, name: str, lowest: int) -> int:
 
 def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
             direction: int = 1, backend: str = "clarabel", refine_hinges: bool = True,
-            verify: bool = True, tmin_tol: float = 1e-6) -> AnalysisResult:
-    """Limit analysis and impact of ``curve`` (see the module docstring)."""
+            verify: bool = True, tmin_tol: float = 1e-6, friction: float | None = None) -> AnalysisResult:
+    """Limit analysis and impact of ``curve`` (see the module docstring); ``friction``:
+    Coulomb coefficient ``mu >= 0`` of the joints in the limit analysis (None: no sliding)."""
     if not isinstance(curve, MidCurve):
         raise InputError(f"analyze needs a member (e.g. fembeam.CircularArch), got {type(curve).__name__}")
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
     direction = _check_direction(direction)
+    mu = check_friction(friction)
     mode = "voussoirs" if voussoirs is not None else "continuous"
     n = (_count(voussoirs, "voussoirs", 1) if mode == "voussoirs"
          else _count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS))
     continuum = mode == "continuous" and refine_hinges
     desc = curve.describe() if hasattr(curve, "describe") else {}
-    res = AnalysisResult(desc, mode, n, direction, backend, "rocking")
+    res = AnalysisResult(desc, mode, n, direction, backend, "rocking", friction=mu)
     clock = time.perf_counter()
 
     nodes = uniform_nodes(curve, n)
     disc = discretize(curve, nodes)
-    lim = limit_analysis(disc, direction, verify=verify)
+    lim = limit_analysis(disc, direction, verify=verify, friction=mu)
     res.A_L_mesh = lim.A_L
     res.verification["limit_uniform_mesh"] = lim.verification
     res.timings["limit"] = time.perf_counter() - clock
-    if continuum and lim.status != "no_mechanism":
+    if continuum and lim.status != "no_mechanism" and mu is not None:
+        t0 = time.perf_counter()
+        status, lam, support = continuum_support(disc, direction, mu)
+        disc = discretize(curve, nodes_through(nodes, support, keep=curve.kinks))
+        lim = limit_analysis(disc, direction, verify=verify, friction=mu)
+        if lim.status != status:
+            raise SolverError(f"limit analysis with friction: the continuum says {status}, the mesh through its "
+                              f"hinges says {lim.status}")
+        if status == "ok":   # reported, not checked: friction is imposed at the joints only
+            res.verification["friction_refinement_gap"] = abs(lim.A_L - lam) / max(abs(lam), 1e-300)
+        res.timings["continuum"] = time.perf_counter() - t0
+    elif continuum and lim.status != "no_mechanism":
         t0 = time.perf_counter()
         cont = continuum_limit(disc, direction)
         res.continuum = cont
@@ -181,10 +236,14 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
     res.verification["limit"] = lim.verification
     if verify:
         check(res.verification, "limit analysis of the continuum")
+    if lim.status == "ok" and lim.slides:
+        res.outcome = "sliding"    # the arch starts to slide: no rocking impact follows
+        res.timings["total"] = time.perf_counter() - clock
+        return res
     if lim.status != "ok":
         res.outcome = lim.status
         if lim.status == "cannot_stand":
-            res.thickness = thickness_on(curve, nodes, continuum, tmin_tol)
+            res.thickness = thickness_on(curve, nodes, continuum, tmin_tol, friction=mu)
         res.timings["total"] = time.perf_counter() - clock
         return res
 

@@ -1,7 +1,9 @@
 """``fembeam analyze``: limit analysis and impact of an arch (any shape of :func:`.args.add_arch`)."""
 from __future__ import annotations
 
+import argparse
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -16,10 +18,27 @@ def register(sub) -> None:
                                    "QP (restitution coefficient r, post-impact hinges, impulse line).")
     add_arch(p)
     add_solver(p)
+    add_friction(p, "limit analysis with Coulomb friction MU >= 0 at the joints (associative: an equilibrium "
+                    "bound, docs/friction.md); joints needing more friction are flagged (default: no sliding)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--fields", action="store_true", help="with --json: add the impulse and thrust lines")
     add_picture_options(p)
     p.set_defaults(func=run)
+
+
+def friction_coefficient(text: str) -> float:
+    """A finite Coulomb coefficient >= 0 (argparse type: exit 2 with one line otherwise)."""
+    try:
+        mu = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number >= 0), got {text!r}") from None
+    if not math.isfinite(mu) or mu < 0:
+        raise argparse.ArgumentTypeError(f"the friction coefficient must be a finite number >= 0, got {text!r}")
+    return mu
+
+
+def add_friction(p, help_text: str) -> None:
+    p.add_argument("--friction", type=friction_coefficient, default=None, metavar="MU", help=help_text)
 
 
 def add_picture_options(p) -> None:
@@ -79,7 +98,8 @@ def write_pictures(res, args) -> list[str]:
 def run(args) -> int:
     check_picture_options(args)
     res = analyze(arch_from(args), elements=args.elements, voussoirs=args.voussoirs,
-                  direction=args.direction, backend=args.backend, refine_hinges=not args.no_refine)
+                  direction=args.direction, backend=args.backend, refine_hinges=not args.no_refine,
+                  friction=args.friction)
     written = write_pictures(res, args)
     if args.json:  # stdout carries the JSON object only
         print(json.dumps(res.to_dict(fields=args.fields), allow_nan=False))
@@ -94,10 +114,33 @@ def _hinges(hs) -> str:
     return ", ".join(f"{h.angle_deg:.2f} deg {h.side}" for h in hs) or "none"
 
 
+def friction_lines(rf: dict, mu: float | None, names: dict) -> list[str]:
+    """Text of :meth:`AnalysisResult.required_friction`-like dicts: the friction each stage
+    needs and, with ``mu``, the joints needing more (flagged, never silently)."""
+    lines = []
+    for stage, ratio in names.items():
+        d = rf.get(stage)
+        label = {"impact_qp": "impact (general QP)"}.get(stage, stage)
+        if d is None:
+            continue
+        if d.get("max") is None:
+            lines.append(f"  friction needed at the {label}: n/a ({d.get('reason', 'undefined')})")
+            continue
+        lines.append(f"  friction needed at the {label}: max {ratio} = {d['max']:.4f} at {d['at_deg']:.2f} deg")
+        above = d.get("above") or []
+        if mu is not None and "above" in d and not above:
+            lines[-1] += f" (within mu = {mu:g})"
+        if mu is not None and above:
+            where = ", ".join(f"{a['angle_deg']:.2f}" for a in above[:8]) + (" ..." if len(above) > 8 else "")
+            lines.append(f"    SLIDING RISK: {len(above)} joint(s) need more than mu = {mu:g}, at {where} deg")
+    return lines
+
+
 def summary(res: AnalysisResult) -> str:
     lines = [f"fembeam analyze: {arch_title(res.geometry)}",
              f"  mesh: {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
-             f" ({res.mode}), load direction {res.direction:+d}"]
+             f" ({res.mode}), load direction {res.direction:+d}"
+             + ("" if res.friction is None else f", Coulomb friction mu = {res.friction:g} at the joints")]
     if res.outcome == "cannot_stand":
         lines.append("  outcome: the arch CANNOT STAND under its own weight: no thrust line fits inside it")
         lines.append(f"  collapse mechanism under gravity alone: {_hinges(res.limit.hinges)}")
@@ -119,6 +162,13 @@ def summary(res: AnalysisResult) -> str:
     if res.outcome == "no_mechanism":
         lines.append("  outcome: NO MECHANISM: no horizontal acceleration can turn this arch into a mechanism")
         return "\n".join(lines)
+    if res.outcome == "sliding":
+        slides = ", ".join(f"{d['angle_deg']:.2f} deg" for d in res.limit.slides)
+        lines += [f"  A_L = {res.A_L:.6f} g   (uniform-mesh LP: {res.A_L_mesh:.6f} g; associative friction)",
+                  f"  outcome: SLIDING: the incipient mechanism slides at {slides} "
+                  f"(hinges: {_hinges(res.hinges_before)}); no rocking impact is computed"]
+        lines += friction_lines(res.required_friction(), res.friction, {"limit": "|S|/N"})
+        return "\n".join(lines)
     bounds = ""
     if res.continuum is not None and res.continuum.status == "ok":
         bounds = f", continuum bounds [{res.A_L_lower:.9f}, {res.A_L:.9f}]"
@@ -129,6 +179,7 @@ def summary(res: AnalysisResult) -> str:
     else:
         lines += [f"  r = K'/K = {res.r:.6f}",
                   f"  hinges after impact:  {_hinges(res.hinges_after)}"]
+    lines += friction_lines(res.required_friction(), res.friction, {"limit": "|S|/N", "impact": "|I_n|/|I_t|"})
     v = res.verification.get("impact", {})
     lines.append("  verification (relative; thresholds in docs/verification.md):")
     for k, x in v.items():

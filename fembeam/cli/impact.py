@@ -20,7 +20,8 @@ from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, FourHingeImpact, 
 from ..mechanisms.hinge import ROCKING_SIDES
 from ..geometry import CircularArch
 from .args import add_arch, arch_from, arch_title, int_list
-from .analyze import add_picture_options, check_picture_options
+from ..analysis.friction import required_friction
+from .analyze import add_friction, add_picture_options, check_picture_options, friction_lines
 
 SIDE_CODES = {**{k[0]: k for k in ROCKING_SIDES}, **{k: k for k in ROCKING_SIDES}}
 
@@ -73,6 +74,8 @@ def register(sub) -> None:
                    help="instead: discrete -> continuous table of A_L, r_max, r_4hinge for these voussoir counts")
     p.add_argument("--exhaustive-max", type=int, default=31, metavar="N",
                    help="with --series: exhaustive r_4hinge up to N voussoirs (default 31; 63 takes ~12 s)")
+    add_friction(p, "Coulomb coefficient MU >= 0 of the joints: the sections whose impulses (or limit-state "
+                    "forces) need more friction are flagged; the impact itself stays frictionless (default: none)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--fields", action="store_true", help="with --json: add the impulse line at every section")
     add_picture_options(p)
@@ -107,6 +110,20 @@ def write_pictures(result: FourHingeImpact, args) -> list[str]:
     return written
 
 
+def friction_report(result: FourHingeImpact, mu: float | None) -> dict:
+    """JSON keys ``friction``, ``required_friction`` (``"impact"``: ``|I_n| / |I_t|`` along the
+    four-hinge impulse line, at its sections; ``"impact_qp"``: at the joints of the general
+    QP; ``"limit"``: ``|S| / N`` of the limit state) and ``sliding_risk`` (None without ``mu``)."""
+    res = result.analysis
+    rf = res.required_friction(mu)
+    rf = {"limit": rf["limit"], "impact_qp": rf["impact"]}
+    line = result.line
+    rf["impact"] = (required_friction(line.angle_deg, line.s, line.I_n, -line.I_t, mu, "impulse")
+                    if line is not None else {"max": None, "reason": f"no impact (outcome {res.outcome})"})
+    risk = None if mu is None else bool(any(d.get("above") for d in rf.values()))
+    return {"friction": mu, "required_friction": rf, "sliding_risk": risk}
+
+
 def run(args) -> int:
     if args.series is not None:
         return run_series(args)
@@ -114,8 +131,9 @@ def run(args) -> int:
     result = compute(args)
     written = write_pictures(result, args)
     out = result.to_dict(fields=args.fields)
+    out.update(friction_report(result, args.friction))
     if args.json:
-        print(json.dumps(out))
+        print(json.dumps(out, allow_nan=False))
         return 0
     print(summary(out))
     for line in written:
@@ -168,4 +186,6 @@ def summary(o: dict) -> str:
         where = (f"{f['from_deg']:.2f}-{f['to_deg']:.2f} deg ({f['sections']} sections, worst at {f['angle_deg']:.2f})"
                  if f.get("sections", 1) > 1 else f"{f['angle_deg']:.2f} deg")
         lines.append(f"    fails at {where}: {what}")
+    lines += friction_lines(o.get("required_friction", {}), o.get("friction"),
+                            {"limit": "|S|/N", "impact": "|I_n|/|I_t|", "impact_qp": "|I_n|/|I_t|"})
     return "\n".join(lines)

@@ -9,11 +9,11 @@ below it: the compatible motion on which gravity does positive work.  Its invers
 """
 from __future__ import annotations
 
-import inspect
 import json
 
 from ..analysis import minimum_thickness
 from ..analysis.continuum import continuum_limit
+from ..analysis.friction import continuum_support
 from ..analysis.limit import limit_analysis
 from ..errors import InputError
 from ..fem import discretize, nodes_through, uniform_nodes
@@ -48,34 +48,33 @@ def _check(args) -> None:
             raise InputError(f"--{opt} must be >= {4 if opt == 'elements' else 1}, got {n}")
     if not 1e-12 <= args.tol <= 0.1:
         raise InputError(f"--tol must be in [1e-12, 0.1], got {args.tol:g}")
-    if args.friction is not None and not args.friction > 0:
-        raise InputError(f"--friction must be a positive number, got {args.friction:g}")
+    if args.friction is not None and not args.friction >= 0:
+        raise InputError(f"--friction must be a number >= 0, got {args.friction:g}")
 
 
 def collapse_mechanism(curve: MidCurve, nodes, continuum: bool, friction: float | None = None):
     """The limit analysis of ``curve`` (which cannot stand) with its collapse certificate;
     on the continuous arch the mesh is refined through the continuum's hinges."""
-    kw = {} if friction is None else {"friction": friction}
     disc = discretize(curve, nodes)
-    if continuum and friction is None:
-        cont = continuum_limit(disc, 1)
-        if cont.status == "cannot_stand":
-            disc = discretize(curve, nodes_through(nodes, cont.hinge_s, keep=curve.kinks))
-    return limit_analysis(disc, 1, **kw)
+    if continuum:
+        if friction is None:
+            status, sections = (cont := continuum_limit(disc, 1)).status, cont.hinge_s
+        else:
+            status, _, sections = continuum_support(disc, 1, friction)
+        if status == "cannot_stand":
+            disc = discretize(curve, nodes_through(nodes, sections, keep=curve.kinks))
+    return limit_analysis(disc, 1, friction=friction)
 
 
 def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
                   tol: float = 1e-6, friction: float | None = None) -> dict:
     """Everything ``min-thickness --json`` prints (see :func:`run`)."""
-    kw = {} if friction is None else {"friction": friction}
-    if friction is not None and "friction" not in inspect.signature(minimum_thickness).parameters:
-        raise InputError("--friction is not available in this version")
-    th = minimum_thickness(curve, elements=elements, voussoirs=voussoirs, tol=tol, **kw)
+    th = minimum_thickness(curve, elements=elements, voussoirs=voussoirs, tol=tol, friction=friction)
     desc = curve.describe() if hasattr(curve, "describe") else {}
     n = voussoirs if voussoirs is not None else (elements or 200)
     out = {"geometry": desc, "mode": "voussoirs" if voussoirs is not None else "continuous", "elements": n,
            "friction": friction, **th.to_dict(), "thickness_min": None, "geometric_safety_factor": None,
-           "hinges": [], "explanation": None}
+           "hinges": [], "slides": [], "explanation": None}
     law = _law(desc)
     if th.outcome == "ok":
         out["thickness_min"] = {k: th.scale * v for k, v in law.items()}
@@ -88,6 +87,7 @@ def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int |
         lim = collapse_mechanism(below, nodes, voussoirs is None, friction)
         if lim.status == "cannot_stand":
             out["hinges"] = [h.to_dict() for h in lim.hinges]
+            out["slides"] = list(lim.slides)
     elif th.outcome == "stands_at_any_thickness":
         floor = curve.min_thickness_scale
         out["thickness_min"] = {k: 0.0 for k in law}
@@ -100,7 +100,8 @@ def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int |
                               "inside the half-thickness t/2 for every small t; the minimum thickness is zero")
     else:
         out["explanation"] = (f"no thickness up to {th.curve.max_thickness_scale:.6g} times the given law (where "
-                              "the intrados folds, t |curvature| = 2) admits a thrust line")
+                              "the intrados folds, t |curvature| = 2) admits a thrust line"
+                              + ("" if friction is None else f" with |S| <= {friction:g} N at every joint"))
     return out
 
 
@@ -137,6 +138,8 @@ def summary(out: dict) -> str:
         lines.append(f"  geometric factor of safety of the arch as given: {out['geometric_safety_factor']:.4f}")
         hs = ", ".join(f"{h['angle_deg']:.2f} deg {h['side']}" for h in out["hinges"]) or "none found"
         lines.append(f"  collapse mechanism just below it: {hs}")
+        if out.get("slides"):
+            lines.append("    sliding at " + ", ".join(f"{sl['angle_deg']:.2f} deg" for sl in out["slides"]))
     elif out["outcome"] == "stands_at_any_thickness":
         lines.append("  minimum thickness: 0 (stands at any thickness)")
         lines.append(f"  why: {out['explanation']}")

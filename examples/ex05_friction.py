@@ -1,0 +1,103 @@
+"""Minimum thickness of the semicircular arch with Coulomb friction at radial joints,
+against Cocchetti & Rizzi (2020), who put the weight of each voussoir on the mid-curve
+(Heyman's simplification); then the same arch with the true centroids of the voussoirs.
+
+Run: ``python examples/ex05_friction.py``; the table is the one of docs/friction.md.
+"""
+import numpy as np
+
+from fembeam import CircularArch
+from fembeam.analysis.continuum import _stand
+from fembeam.analysis.friction import mass_on_midcurve
+from fembeam.analysis.limit import joint_rows
+from fembeam.analysis.statics import section_force_rows, statics
+from fembeam.analysis.thickness import _stands, thickness_on
+from fembeam.fem import discretize, uniform_nodes
+
+ELEMENTS = 400
+FINE = 3200
+CONVERGENCE = (400, 800, 1600)
+HEYMAN = mass_on_midcurve(CircularArch.from_ratio(180.0, 0.15))
+TRUE = CircularArch.from_ratio(180.0, 0.15)
+
+
+def mu_min(curve, n: int, tol: float = 1e-9) -> float:
+    """Smallest friction coefficient at which a very thick arch stands (with the weight on
+    the mid-curve the loads do not depend on the thickness, so no thinner arch does)."""
+    thick, nodes = curve.with_thickness_scaled(1.0 / curve.t_over_r), uniform_nodes(curve, n)
+    lo, hi = 0.0, 1.0
+    while hi - lo > tol * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if _stands(thick, nodes, False, mid) else (mid, hi)   # fibres slack: joints only
+    return hi
+
+
+def state(curve, n: int, mu=None):
+    """Thrust ``h = H / (w r)``, and the angles from the crown (deg) of the intrados hinge
+    and of the section needing the most friction (springing excluded), of the most central
+    state of ``curve`` (at its minimum thickness: the limit state)."""
+    st = statics(discretize(curve, uniform_nodes(curve, n)))
+    stand, *_ = _stand(st, 1, joint_rows(st, 1, mu), np.empty(0), np.empty(0, int), 1e-10, 50)
+    z = np.r_[stand.z[:st.k], 0.0, 1.0]
+    s = np.linspace(0.0, 0.5 * curve.length, 90_001)[1:]
+    S, Np, Nm = section_force_rows(st, s) @ z
+    h = np.pi * (Np[-1] + Nm[-1])                         # N at the crown in units of w pi r
+    phi = 90.0 - np.degrees(s / curve.radius)
+
+    def where(f):                                        # parabola through the extreme sample
+        i = int(np.clip(np.argmin(f), 1, f.size - 2))
+        a, b, c = f[i - 1], f[i], f[i + 1]
+        if not np.isfinite([a, b, c]).all() or a - 2 * b + c <= 0:
+            return phi[i]
+        return phi[i] - 0.5 * (phi[i + 1] - phi[i - 1]) / 2 * (c - a) / (a - 2 * b + c)
+
+    inner = phi > 1.0
+    hinge = where(np.where(inner & (phi < 89.0), Nm, np.inf))   # thrust line on the intrados: N- = 0
+    slide = None if mu is None else where(np.where(inner & (phi < 89.0), -np.abs(S) / (Np + Nm), np.inf))
+    return h, hinge, slide
+
+
+def t_min(curve, n: int, mu=None, tol: float = 1e-10) -> float:
+    return thickness_on(curve, uniform_nodes(curve, n), True, tol, friction=mu).t_over_R
+
+
+def table(n: int = ELEMENTS, n_fine: int = FINE) -> list[tuple]:
+    """Rows ``(case, fembeam t/r, reference t/r, fembeam h, reference h, hinge, ref., slide, ref.)``.
+    The limiting ``mu`` is governed by a section between the joints, so it is found on the
+    ``n_fine`` mesh (friction is imposed at the joints; the fibres at every section)."""
+    rows = []
+    t0 = t_min(HEYMAN, n)
+    h, hinge, _ = state(HEYMAN.with_thickness_scaled(t0 / HEYMAN.t_over_r), n)
+    rows.append(("no sliding, weight on the mid-curve", t0, 0.107426, h, 0.621772, hinge, 54.4963))
+    mu = 0.35
+    t1 = t_min(HEYMAN, n, mu)
+    h, hinge, _ = state(HEYMAN.with_thickness_scaled(t1 / HEYMAN.t_over_r), n, mu)
+    rows.append((f"mu = {mu}, weight on the mid-curve", t1, None, h, 0.5 * np.pi * mu, hinge, None))
+    m = mu_min(HEYMAN, n_fine)
+    t2 = t_min(HEYMAN, n_fine, m * (1 + 1e-8))
+    h, hinge, slide = state(HEYMAN.with_thickness_scaled(t2 / HEYMAN.t_over_r), n_fine, m * (1 + 1e-8))
+    rows.append((f"mu = mu_min = {m:.6f} (ref. 0.309215)", t2, 0.200637, h, 0.485714, hinge, 60.5134, slide, 28.6362))
+    t3 = t_min(TRUE, n)
+    h, hinge, _ = state(TRUE.with_thickness_scaled(t3 / TRUE.t_over_r), n)
+    rows.append(("no sliding, true centroids", t3, 0.107478, h, None, hinge, None))
+    return rows
+
+
+def fmt(x, d=6):
+    return "-" if x is None else f"{x:.{d}f}"
+
+
+def main() -> None:
+    print(f"semicircular arch, radial joints: {ELEMENTS} elements ({FINE} at mu_min), fibres checked at every "
+          "section, friction at the joints")
+    print("| case | t/r | ref. | h = H/(w r) | ref. | hinge (deg from crown) | ref. | sliding (deg) | ref. |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in table():
+        r = tuple(r) + (None,) * (9 - len(r))
+        print(f"| {r[0]} | {fmt(r[1])} | {fmt(r[2])} | {fmt(r[3])} | {fmt(r[4])} | {fmt(r[5], 3)} | {fmt(r[6], 4)} "
+              f"| {fmt(r[7], 3)} | {fmt(r[8], 4)} |")
+    print("mu_min against the mesh: " + ", ".join(f"{n} elements {mu_min(HEYMAN, n):.7f}" for n in CONVERGENCE))
+
+
+if __name__ == "__main__":
+    main()

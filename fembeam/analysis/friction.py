@@ -1,0 +1,184 @@
+"""Coulomb friction at the joints: the rows of the static problem, the kinematics of its
+duals (sliding with associative dilatancy) and the friction each joint requires.
+
+Joint forces ``g_j = (S_j, N+_j, N-_j)`` (:mod:`~fembeam.analysis.statics`; shear and
+fibre forces, compression positive, units of the total weight).  With a finite
+coefficient ``mu`` the admissible forces of a joint form the cone
+
+    N+ >= 0,   N- >= 0,   |S| <= mu (N+ + N-),
+
+written as the fibre rows and two friction rows ``(mu (N+ + N-) -+ S) / (1 + mu)``
+(divided by ``1 + mu`` so that they tend to the normal force, not to infinity, for
+large ``mu``).  A row ``r`` is ``l_r . g_j``; the duals ``y_r >= 0`` of the rows give
+the jump of the velocity field at the joint, ``c_j = sum_r y_r l_r``, i.e. with the duals
+``a, b`` of the friction rows::
+
+    sliding  gamma = B_slide u = (b - a) / (1 + mu)
+    openings eps+- = B_open u  = y+- + mu (a + b) / (1 + mu)   (>= mu |gamma|)
+
+the associative flow rule: a joint that slides at rate ``gamma`` opens by ``mu |gamma|``
+at both fibres (dilatancy).  These jumps lie in the dual cone ``eps+- >= mu |gamma|``
+of the admissible forces, on which every admissible force does non-negative work, so
+the kinematic theorem holds and the static and kinematic load factors of the optimum
+must agree (the duality check of :mod:`~fembeam.analysis.limit`).  Real masonry does not
+dilate: with friction the load factor is an equilibrium (lower) bound, not a proof of
+collapse (docs/friction.md).
+"""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+
+from ..errors import InputError
+from ..fem import Discretization, dof_scaling
+from ..geometry import MidCurve
+from ..mechanisms.hinge import HINGE_REL_TOL, Hinge
+
+__all__ = ["check_friction", "friction_rows", "jumps", "mechanism", "hinges_and_slides", "required_friction",
+           "mass_on_midcurve"]
+
+
+def check_friction(mu) -> float | None:
+    """``None`` (no sliding) or a finite Coulomb coefficient ``mu >= 0``; InputError otherwise."""
+    if mu is None:
+        return None
+    if isinstance(mu, bool) or not isinstance(mu, (int, float, np.integer, np.floating)) \
+            or not math.isfinite(mu) or mu < 0:
+        raise InputError(f"the friction coefficient must be a finite number >= 0, got {mu!r}")
+    return float(mu)
+
+
+def friction_rows(st, direction: int, mu: float) -> np.ndarray:
+    """``(2 J, k + 2)``: rows ``(mu N -+ S) / (1 + mu)`` (``N = N+ + N-``) of every joint
+    acting on ``(x, lambda, 1)``, ``-S`` rows first (units of weight)."""
+    def rows(i):
+        return np.concatenate([st.G_x[i], direction * st.G_lambda[i][:, None], st.G0[i][:, None]], 1)
+
+    N, S = rows(1) + rows(2), rows(0)
+    return np.concatenate([mu * N - S, mu * N + S]) / (1.0 + mu)
+
+
+def jumps(y: np.ndarray, J: int, mu: float | None) -> np.ndarray:
+    """Jumps ``(3, J)`` (sliding, intrados and extrados opening rates) conjugate to the row
+    duals ``y`` (fibre rows ``N+``, ``N-``, then with ``mu`` the friction rows)."""
+    y = np.asarray(y, float).reshape(-1, J)
+    c = np.zeros((3, J))
+    c[1:] = y[:2]
+    if mu is not None:
+        a, b = y[2], y[3]
+        c[0] = (b - a) / (1.0 + mu)
+        c[1:] += mu * (a + b) / (1.0 + mu)
+    return c
+
+
+def mechanism(st, c: np.ndarray) -> tuple[np.ndarray, float]:
+    """Element velocities ``u`` with jumps ``c`` (3, J) at the joints (``K^T u = c`` on all
+    joints but the first ``k`` rows), and the closure misfit of those rows relative to
+    ``max |c|`` (zero when ``c`` comes from the duals of a limit LP)."""
+    disc = st.disc
+    cj = np.asarray(c, float).T.ravel()                   # joint-major (S, N+, N-)
+    u = dof_scaling(disc) @ st.solve(cj[st.k:], trans="T")
+    got = np.concatenate([disc.B_slide @ u, disc.B_open @ u])
+    want = np.concatenate([c[0], c[1], c[2]])
+    return u, float(np.max(np.abs(got - want)) / max(np.max(np.abs(c)), 1e-300))
+
+
+def hinges_and_slides(disc: Discretization, u: np.ndarray, mu: float | None,
+                      rel_tol: float = HINGE_REL_TOL) -> tuple[list[Hinge], list[dict]]:
+    """Hinges (rotation part of the openings, ``eps+- - mu |gamma|``) and sliding joints
+    (``|gamma|`` above ``rel_tol`` of the largest jump) of the field ``u``.  A slide is
+    ``{"angle_deg", "s", "rate"}`` (``rate``: sliding velocity ``gamma``, m/s, + along ``n``)."""
+    J = disc.n_joints
+    gam = disc.B_slide @ u
+    eps = (disc.B_open @ u).reshape(2, J) - (0.0 if mu is None else mu) * np.abs(gam)
+    scale = max(np.max(np.abs(eps)), np.max(np.abs(gam)), 1e-300)
+    oi, oe = eps[0] > rel_tol * scale, eps[1] > rel_tol * scale
+    rot = (eps[0] - eps[1]) / disc.joint_thickness
+    j = np.flatnonzero(oi | oe)
+    side = np.where(oi[j] & oe[j], "separated", np.where(oe[j], "intrados", "extrados"))
+    hinges = [Hinge(float(disc.joint_s[k]), float(disc.joint_angle_deg[k]), str(sd), float(rot[k]), (int(k),))
+              for k, sd in zip(j, side)]
+    sl = np.flatnonzero(np.abs(gam) > rel_tol * scale)
+    slides = [{"angle_deg": round(float(disc.joint_angle_deg[k]), 6), "s": float(disc.joint_s[k]),
+               "rate": float(gam[k])} for k in sl]
+    return hinges, slides
+
+
+def required_friction(angle_deg: np.ndarray, s: np.ndarray, shear: np.ndarray, normal: np.ndarray,
+                      mu: float | None = None, what: str = "force") -> dict:
+    """The friction coefficient each joint (section) needs, ``|shear| / normal``
+    (``normal``: the compressive normal force or impulse, >= 0), over the joints carrying
+    more than 1e-9 of the largest: its ``max`` and where (``at_deg``: reporting angle,
+    ``at_s``: arc length, m; ``joint``: index), and with ``mu`` the joints needing more
+    (``above``).  ``max`` is None, with a ``reason``, when no joint carries a ``what``."""
+    shear, normal = np.asarray(shear, float), np.asarray(normal, float)
+    angle_deg, s = np.asarray(angle_deg, float), np.asarray(s, float)
+    carried = normal > 1e-9 * max(np.max(np.abs(normal), initial=0.0), 1e-300)
+    out: dict = {"max": None, "at_deg": None, "at_s": None, "joint": None}
+    if not carried.any():
+        out["reason"] = f"no joint carries a compressive normal {what}"
+    else:
+        ratio = np.full(normal.shape, -np.inf)
+        ratio[carried] = np.abs(shear[carried]) / normal[carried]
+        j = int(np.argmax(ratio))
+        out.update({"max": float(ratio[j]), "at_deg": round(float(angle_deg[j]), 6), "at_s": float(s[j]),
+                    "joint": j})
+    if mu is not None:
+        above = np.flatnonzero(carried & (np.abs(shear) > mu * (1 + 1e-9) * normal))
+        out["above"] = [{"angle_deg": round(float(angle_deg[k]), 6), "s": float(s[k]),
+                         "ratio": float(abs(shear[k]) / normal[k])} for k in above]
+    return out
+
+
+def mass_on_midcurve(curve: MidCurve) -> MidCurve:
+    """A copy of ``curve`` whose weight acts on the mid-curve (the first moment of every
+    slice is ``rho t X`` instead of ``rho (t X - kappa t^3/12 n)``): the simplification
+    of Heyman and of much of the literature on minimum thickness, for comparisons.  The
+    mass per unit length and the rotary inertia are unchanged; the copy keeps the load
+    model when its thickness is scaled."""
+    base = type(curve)
+
+    def inertia_densities(self, s):
+        mu0, _, mu2 = base.inertia_densities(self, s)
+        return mu0, self.density * self.thickness_at(s) * self.position(s), mu2
+
+    cls = type(f"{base.__name__}MassOnMidCurve", (base,), {"inertia_densities": inertia_densities,
+                                                            "__module__": __name__})
+    out = copy.copy(curve)
+    object.__setattr__(out, "__class__", cls)   # frozen dataclasses: bypass their __setattr__
+    return out
+
+
+def continuum_support(disc: Discretization, direction: int, mu: float, tol: float = 1e-10,
+                      max_rounds: int = 50) -> tuple[str, float, np.ndarray]:
+    """Limit LP of the continuous member meshed by ``disc`` with friction ``mu``: the fibre
+    rows at the joints and, round after round, at the weakest sections between them
+    (:func:`~fembeam.analysis.continuum.weakest_sections`), the friction rows at the joints.
+    Returns the status (as :class:`~fembeam.analysis.limit.LimitResult`), the load factor
+    (g; NaN unless ``"ok"``) and the sections (m) carrying the duals: the hinges and
+    slides, where the mesh needs nodes."""
+    from .continuum import _rows, _stand, weakest_sections
+    from .limit import STAND_TOL, _unboxed, joint_rows, main_lp
+    from .statics import statics
+
+    st = statics(disc)
+    k, J = st.k, disc.n_joints
+    R = joint_rows(st, direction, mu)
+    stand, margin, cuts, fib, _ = _stand(st, direction, R, np.empty(0), np.empty(0, int), tol, max_rounds)
+    lp, status, lam = stand, "cannot_stand", float("nan")
+    if stand.value >= -STAND_TOL:
+        for _ in range(max_rounds):
+            lp = _unboxed(main_lp, _rows(st, direction, R, cuts, fib), k)
+            if lp.at_bound[k]:
+                return "no_mechanism", float("inf"), np.empty(0)
+            s_new, f_new, v = weakest_sections(st, np.r_[lp.z[:k], direction * lp.z[k], 1.0])
+            keep = v < -tol
+            if not keep.any():
+                break
+            cuts, fib = np.concatenate([cuts, s_new[keep]]), np.concatenate([fib, f_new[keep]])
+        status, lam = "ok", float(lp.z[k])
+    s_all = np.concatenate([np.tile(disc.joint_s, R.shape[0] // J), cuts])
+    w = np.abs(lp.y)
+    return status, lam, np.unique(s_all[w > 1e-6 * max(np.max(w), 1e-300)])
