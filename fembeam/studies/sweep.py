@@ -1,14 +1,21 @@
-"""Parametric study of circular arches (paper Fig. 13): r_max against t/R per beta.
+"""Parametric study of arches (paper Fig. 13): r_max against the thickness, one curve per arch.
 
-Every (beta, t/R) case is one independent ``analyze`` run (continuous arch, hinge
+A sweep runs over a :class:`Family` of arches, ``make(a, b)``: circular arches (``a`` the
+embrace angle beta in degrees, ``b = t/R``; the paper's Fig. 13) or the pointed,
+elliptical, parabolic or catenary arches of span 1 m (``a = rise/span``, ``b = t/span``,
+constant thickness); A_L (in g), r and these ratios do not depend on the scale.
+
+Every (a, b) case is one independent ``analyze`` run (continuous arch, hinge
 refinement on) whose *outcome* is always reported: ``rocking`` (r > 0), ``arrested``
-(r = 0), ``cannot_stand`` (A_L <= 0, with the t/R it would need), ``no_mechanism`` or
+(r = 0), ``cannot_stand`` (A_L <= 0, with the thickness it would need), ``no_mechanism`` or
 ``solver_error`` (the message is kept).  The minimum-thickness envelope has, for each
-beta, t_min/R (bisection on the LP on ``tmin_elements`` elements) and r_max of the arch
-just above it, at t/R = t_min (1 + ``above``).
+``a``, t_min (bisection on the LP on ``tmin_elements`` elements) and r_max of the arch
+just above it, at t = t_min (1 + ``above``); an arch that stands at every thickness (the
+uniform catenary, the funicular of its weight: t_min = 0) or at none is reported with
+that outcome (``stands_at_any_thickness``, t_min 0; ``never_stands``, t_min None) and no r.
 
 Cases run in parallel (:mod:`fembeam.studies.parallel`: local processes or Dask), the envelope
-first.  Reuse that pays: t_min is computed once per beta and handed to the cases thinner
+first.  Reuse that pays: t_min is computed once per ``a`` and handed to the cases thinner
 than it, which then need one LP instead of ``analyze``'s own bisection.  Warm starts do not: the impact QP takes 2-5 %
 of a case (``timing`` in the result says how much), Clarabel cannot warm-start and the
 HiGHS LP is not warm-startable through scipy.
@@ -22,80 +29,169 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..analysis import DEFAULT_ELEMENTS, analyze, minimum_thickness
-from ..errors import FembeamError, SolverError
+from ..analysis.thickness import MinimumThickness
+from ..errors import FembeamError, InputError, SolverError
 from ..fem import discretize, uniform_nodes
-from ..geometry import CircularArch
+from ..geometry import CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch
+from ..geometry.arch import MIN_T_OVER_SPAN
 from ..analysis import limit_analysis
 from .parallel import default_workers, run_tasks
 
-__all__ = ["sweep_case", "envelope_case", "SweepResult", "sweep", "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
+__all__ = ["Family", "FAMILIES", "family", "sweep_case", "envelope_case", "SweepResult", "sweep", "sweep_shape",
+           "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
 
 FIG13_EMBRACE = [80.0, 100.0, 120.0, 140.0, 160.0, 180.0]
 FIG13_T_OVER_R = [round(0.10 + 0.01 * i, 2) for i in range(21)]
+
+_SHAPE_CLASSES = {"pointed": PointedArch, "elliptical": EllipticalArch, "parabolic": ParabolicArch,
+                  "catenary": CatenaryArch}
 
 
 def _num(x):
     return None if x is None or not np.isfinite(x) else float(x)
 
 
+@dataclass(frozen=True)
+class Family:
+    """Arches ``make(a, b)`` of a sweep, with the keys and labels of ``a`` (the curve) and
+    ``b`` (the thickness ratio): circular (beta in deg, t/R) or a shape of span 1 m
+    (rise/span, t/span)."""
+
+    shape: str
+    a_key: str        # JSON/CSV key of a
+    b_key: str        # ... of b
+    tmin_key: str     # ... of the minimum thickness, in the units of b
+    a_label: str      # table and legend
+    b_label: str
+    a_name: str       # "embrace angle" | "rise/span value"
+    a_unit: str = ""
+
+    @property
+    def ident(self) -> dict:
+        """What rows and results add to name the shape (nothing for the circle, whose keys say it)."""
+        return {} if self.shape == "circular" else {"shape": self.shape}
+
+    def make(self, a: float, b: float) -> MidCurve:
+        """The arch ``a``, ``b`` (InputError if it cannot be built)."""
+        if self.shape == "circular":
+            return CircularArch.from_ratio(a, b)
+        if not (a > 0 and b > 0):
+            raise InputError(f"{self.a_label} and {self.b_label} must be positive")
+        return _SHAPE_CLASSES[self.shape](span=1.0, rise=a, thickness=b)
+
+    def base(self, a: float) -> float:
+        """Thickness ratio at which the minimum-thickness bisection starts: t/R = 0.5, or
+        t/span = rise/span / 2 (the same arch for the semicircle), at most half the
+        thickness at which the intrados folds."""
+        if self.shape == "circular":
+            return 0.5
+        fold = MIN_T_OVER_SPAN * self.make(a, MIN_T_OVER_SPAN).max_thickness_scale
+        return min(0.5 * a, 0.5 * fold)
+
+    def t_min(self, th: MinimumThickness | None, b: float) -> float | None:
+        """Minimum thickness in the units of ``b`` of the arch ``th`` was computed on at ``b``:
+        0 if it stands at any thickness, None if at none (or not computed)."""
+        return None if th is None else _num(th.scale * b)
+
+    def check(self, a_values: list[float], b_values: list[float]) -> None:
+        """InputError, once and naming the case, if an arch of the grid cannot be built."""
+        bs = sorted(set(b_values))
+        for a in a_values:
+            for b in (bs[0], bs[-1]) if bs else ():
+                try:
+                    self.make(a, b)
+                except InputError as e:
+                    raise InputError(f"{self.a_label} = {a:g}, {self.b_label} = {b:g}: {e}") from None
+
+
+FAMILIES = {"circular": Family("circular", "embrace_deg", "t_over_R", "t_min_over_R", "beta", "t/R",
+                               "embrace angle", " deg"),
+            **{s: Family(s, "rise_over_span", "t_over_span", "t_min_over_span", "rise/span", "t/span",
+                         "rise/span value") for s in _SHAPE_CLASSES}}
+
+
+def family(shape: str) -> Family:
+    """The :class:`Family` of ``shape`` (circular, pointed, elliptical, parabolic, catenary)."""
+    try:
+        return FAMILIES[shape]
+    except KeyError:
+        raise InputError(f"unknown shape {shape!r}: one of {', '.join(FAMILIES)}") from None
+
+
 def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEMENTS, backend: str = "clarabel",
-               direction: int = 1, t_min_over_r: float | None = None) -> dict:
+               direction: int = 1, t_min_over_r: float | None = None, shape: str = "circular") -> dict:
     """One case of the sweep as a flat dict (never raises on solver trouble: the outcome
-    is ``"solver_error"`` with the message in ``error``).
+    is ``"solver_error"`` with the message in ``error``).  For a ``shape`` other than the
+    circle, ``embrace_deg`` and ``t_over_r`` are its rise/span and t/span.
 
     ``t_min_over_r``: the minimum thickness if already known (envelope).  Below it the
     uniform-mesh LP is tried first and, if the arch cannot stand, that is reported with
     this t_min, saving ``analyze`` its own bisection (0.3-0.5 s)."""
+    fam = family(shape)
+    a, b = float(embrace_deg), float(t_over_r)
     t0 = time.perf_counter()
-    row = {"kind": "case", "embrace_deg": float(embrace_deg), "t_over_R": float(t_over_r)}
-    arch = CircularArch.from_ratio(embrace_deg, t_over_r)
+    row = {"kind": "case", **fam.ident, fam.a_key: a, fam.b_key: b}
+    arch = fam.make(a, b)
     try:
-        if t_min_over_r is not None and t_over_r < t_min_over_r:
+        if t_min_over_r is not None and b < t_min_over_r:
             lim = limit_analysis(discretize(arch, uniform_nodes(arch, elements)), direction)
             if lim.status == "cannot_stand":
-                row.update(outcome="cannot_stand", A_L=None, A_L_mesh=None, r=None, t_min_over_R=float(t_min_over_r),
-                           hinges_before=[], hinges_after=[], time_s=time.perf_counter() - t0,
-                           time_lp_s=time.perf_counter() - t0, error=None)
+                row.update({"outcome": "cannot_stand", "A_L": None, "A_L_mesh": None, "r": None,
+                            fam.tmin_key: float(t_min_over_r), "hinges_before": [], "hinges_after": [],
+                            "time_s": time.perf_counter() - t0, "time_lp_s": time.perf_counter() - t0,
+                            "error": None})
                 return row
         res = analyze(arch, elements=elements, backend=backend, direction=direction)
     except FembeamError as e:
         row.update(outcome="solver_error", error=f"{type(e).__name__}: {e}", time_s=time.perf_counter() - t0)
         return row
     v = res.verification.get("impact", {})
-    row.update(outcome=res.outcome, A_L=_num(res.A_L), A_L_mesh=_num(res.A_L_mesh), r=_num(res.r),
-               t_min_over_R=res.t_min_over_R,
-               hinges_before=[h.to_dict() for h in res.hinges_before],
-               hinges_after=[h.to_dict() for h in res.hinges_after],
-               qp_equilibrium_residual=_num(v.get("equilibrium_residual", float("nan"))),
-               impulse_line_outside=_num(v.get("impulse_line_outside", float("nan"))),
-               time_s=time.perf_counter() - t0,
-               time_lp_s=res.timings.get("limit", 0.0), time_refine_s=res.timings.get("continuum", 0.0),
-               time_qp_s=res.timings.get("impact", 0.0), error=None)
+    row.update({"outcome": res.outcome, "A_L": _num(res.A_L), "A_L_mesh": _num(res.A_L_mesh), "r": _num(res.r),
+                fam.tmin_key: fam.t_min(res.thickness, b),
+                "hinges_before": [h.to_dict() for h in res.hinges_before],
+                "hinges_after": [h.to_dict() for h in res.hinges_after],
+                "qp_equilibrium_residual": _num(v.get("equilibrium_residual", float("nan"))),
+                "impulse_line_outside": _num(v.get("impulse_line_outside", float("nan"))),
+                "time_s": time.perf_counter() - t0,
+                "time_lp_s": res.timings.get("limit", 0.0), "time_refine_s": res.timings.get("continuum", 0.0),
+                "time_qp_s": res.timings.get("impact", 0.0), "error": None})
     return row
 
 
 def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_elements: int = 400,
                   tmin_tol: float = 1e-6, above: float = 1e-3, backend: str = "clarabel",
-                  direction: int = 1) -> dict:
-    """Minimum thickness t_min/R of ``embrace_deg`` and the case at t_min (1 + above).
+                  direction: int = 1, shape: str = "circular") -> dict:
+    """Minimum thickness of the arch ``embrace_deg`` (rise/span for a ``shape``) and the
+    case at t_min (1 + above); without a t_min > 0 the outcome of the bisection
+    (``stands_at_any_thickness``: t_min 0, ``never_stands``: None) and no case.
 
     t_min from the LP on ``tmin_elements`` elements is >= the value on any coarser
     mesh whose nodes it contains, so the arch analysed just above it stands on
     ``elements`` elements too."""
+    fam = family(shape)
+    a = float(embrace_deg)
     t0 = time.perf_counter()
+    head = {"kind": "envelope", **fam.ident, fam.a_key: a, fam.b_key: None}
     try:
-        tmin = minimum_thickness(CircularArch.from_ratio(embrace_deg, 0.5), elements=tmin_elements, tol=tmin_tol).t_over_R
+        base = fam.base(a)
+        th = minimum_thickness(fam.make(a, base), elements=tmin_elements, tol=tmin_tol)
     except FembeamError as e:
-        return {"kind": "envelope", "embrace_deg": float(embrace_deg), "t_over_R": None, "outcome": "solver_error",
-                "error": f"{type(e).__name__}: {e}", "time_s": time.perf_counter() - t0}
-    row = sweep_case(embrace_deg, tmin * (1.0 + above), elements, backend, direction)
-    row.update(kind="envelope", t_min_over_R=float(tmin), time_s=time.perf_counter() - t0)
+        return {**head, "outcome": "solver_error", "error": f"{type(e).__name__}: {e}",
+                "time_s": time.perf_counter() - t0}
+    tmin = fam.t_min(th, base)
+    if th.outcome != "ok":
+        return {**head, "outcome": th.outcome, "A_L": None, "r": None, fam.tmin_key: tmin, "error": None,
+                "time_s": time.perf_counter() - t0}
+    row = sweep_case(a, tmin * (1.0 + above), elements, backend, direction, shape=shape)
+    row.update({"kind": "envelope", fam.tmin_key: float(tmin), "time_s": time.perf_counter() - t0})
     return row
 
 
 @dataclass
 class SweepResult:
-    """Cases (``kind = "case"``) and envelope points (``kind = "envelope"``)."""
+    """Cases (``kind = "case"``) and envelope points (``kind = "envelope"``).  ``embrace``
+    and ``t_over_r``: the grid's ``a`` and ``b`` values (rise/span and t/span for a
+    ``shape`` other than the circle)."""
 
     embrace: list[float]
     t_over_r: list[float]
@@ -104,10 +200,17 @@ class SweepResult:
     settings: dict
     wall_time: float = 0.0
     timing: dict = field(default_factory=dict)
+    shape: str = "circular"
+
+    @property
+    def family(self) -> Family:
+        return family(self.shape)
 
     def case(self, embrace_deg: float, t_over_r: float) -> dict:
+        """The case at ``a``, ``b`` (beta and t/R, or rise/span and t/span)."""
+        fam = self.family
         for c in self.cases:
-            if math.isclose(c["embrace_deg"], embrace_deg) and math.isclose(c["t_over_R"], t_over_r):
+            if math.isclose(c[fam.a_key], embrace_deg) and math.isclose(c[fam.b_key], t_over_r):
                 return c
         raise KeyError((embrace_deg, t_over_r))
 
@@ -118,12 +221,14 @@ class SweepResult:
         return out
 
     def to_dict(self) -> dict:
-        return {"study": "sweep", "embrace_deg": self.embrace, "t_over_R": self.t_over_r,
+        fam = self.family
+        return {"study": "sweep", **fam.ident, fam.a_key: self.embrace, fam.b_key: self.t_over_r,
                 "settings": self.settings, "outcomes": self.outcomes(), "cases": self.cases,
                 "envelope": self.envelope, "wall_time_s": round(self.wall_time, 3), "timing_s": self.timing}
 
     def csv_rows(self) -> list[dict]:
-        cols = ["kind", "embrace_deg", "t_over_R", "outcome", "r", "A_L", "A_L_mesh", "t_min_over_R",
+        fam = self.family
+        cols = ["kind", *fam.ident, fam.a_key, fam.b_key, "outcome", "r", "A_L", "A_L_mesh", fam.tmin_key,
                 "hinges_before_deg", "hinges_before_side", "hinges_after_deg", "hinges_after_side",
                 "qp_equilibrium_residual", "impulse_line_outside", "time_s", "error"]
         out = []
@@ -141,15 +246,14 @@ class SweepResult:
 def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_ELEMENTS, backend: str = "clarabel",
           direction: int = 1, envelope: bool = True, envelope_embrace: list[float] | None = None,
           tmin_elements: int = 400, tmin_tol: float = 1e-6, above: float = 1e-3, workers: int | None = None,
-          scheduler=None, progress: bool = True) -> SweepResult:
+          scheduler=None, progress: bool = True, shape: str = "circular") -> SweepResult:
     """Every (beta, t/R) case plus, per beta of ``envelope_embrace`` (default
-    ``embrace``), the minimum-thickness envelope point; see the module docstring."""
-    for b in embrace + (envelope_embrace or []):
-        CircularArch.from_ratio(b, 0.1)  # bad input fails here, once, with InputError
-    for t in t_over_r:
-        CircularArch.from_ratio(90.0, t)
-    env_betas = list(envelope_embrace or embrace) if envelope else []
-    common = {"elements": elements, "backend": backend, "direction": direction}
+    ``embrace``), the minimum-thickness envelope point; see the module docstring.  For a
+    ``shape`` other than the circle the values are rise/span and t/span (:func:`sweep_shape`)."""
+    fam = family(shape)
+    fam.check(list(embrace) + list(envelope_embrace or []), list(t_over_r))  # bad input fails here, once
+    env_as = list(envelope_embrace or embrace) if envelope else []
+    common = {"elements": elements, "backend": backend, "direction": direction, "shape": shape}
     clock = time.perf_counter()
     client = None
     if isinstance(scheduler, str):  # one connection for both phases
@@ -160,12 +264,12 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
             raise SolverError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
         scheduler = client
     try:
-        env = run_tasks([(envelope_case, {"embrace_deg": b, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
-                                          "above": above, **common}) for b in env_betas],
+        env = run_tasks([(envelope_case, {"embrace_deg": a, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
+                                          "above": above, **common}) for a in env_as],
                         workers=workers, scheduler=scheduler, progress=progress, desc="sweep: t_min envelope")
-        tmin = {e["embrace_deg"]: e.get("t_min_over_R") for e in env}
-        cases = run_tasks([(sweep_case, {"embrace_deg": b, "t_over_r": t, "t_min_over_r": tmin.get(float(b)),
-                                         **common}) for b in embrace for t in t_over_r],
+        tmin = {e[fam.a_key]: e.get(fam.tmin_key) for e in env}
+        cases = run_tasks([(sweep_case, {"embrace_deg": a, "t_over_r": b, "t_min_over_r": tmin.get(float(a)),
+                                         **common}) for a in embrace for b in t_over_r],
                           workers=workers, scheduler=scheduler, progress=progress, desc="sweep: cases")
     finally:
         if client is not None:
@@ -177,44 +281,55 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
               "lp": round(sum(c.get("time_lp_s", 0.0) for c in cases), 3),
               "hinge_refinement": round(sum(c.get("time_refine_s", 0.0) for c in cases), 3),
               "qp": round(sum(c.get("time_qp_s", 0.0) for c in cases), 3)}
-    settings = {"elements": elements, "backend": backend, "direction": direction, "tmin_elements": tmin_elements,
-                "tmin_tol": tmin_tol, "above": above,
+    settings = {**fam.ident, "elements": elements, "backend": backend, "direction": direction,
+                "tmin_elements": tmin_elements, "tmin_tol": tmin_tol, "above": above,
                 "executor": ("dask" if scheduler is not None else
                              f"local ({workers or default_workers()} workers)")}
-    return SweepResult(list(embrace), list(t_over_r), cases, env, settings, wall, timing)
+    return SweepResult(list(embrace), list(t_over_r), cases, env, settings, wall, timing, shape)
+
+
+def sweep_shape(shape: str, rise_over_span: list[float], t_over_span: list[float],
+                envelope_rise_over_span: list[float] | None = None, **kwargs) -> SweepResult:
+    """:func:`sweep` over the arches ``shape`` (pointed, elliptical, parabolic, catenary) of
+    span 1 m, rise ``rise_over_span`` and constant thickness ``t_over_span``."""
+    return sweep(rise_over_span, t_over_span, envelope_embrace=envelope_rise_over_span, shape=shape, **kwargs)
 
 
 OUTCOME_MARKERS = {"arrested": ("x", "arrested (r = 0)"), "cannot_stand": ("v", "cannot stand"),
                    "no_mechanism": ("s", "no mechanism"), "solver_error": ("*", "solver error")}
+ENVELOPE_NOTES = {"stands_at_any_thickness": " (stands at any thickness)", "never_stands": " (never stands)"}
 
 
 def plot_sweep(result: SweepResult, path: str) -> None:
-    """Fig. 13: r_max against t/R per beta, the other outcomes as markers on r = 0,
-    and the minimum-thickness envelope (PNG at ``path``)."""
+    """Fig. 13: r_max against the thickness ratio per arch, the other outcomes as markers
+    on r = 0, and the minimum-thickness envelope (PNG at ``path``)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    fam = result.family
+    a_key, b_key = fam.a_key, fam.b_key
     fig, ax = plt.subplots(figsize=(9.6, 5.2))
     colors = plt.cm.viridis(np.linspace(0.0, 0.85, len(result.embrace)))
     seen = set()
-    for b, col in zip(result.embrace, colors):
-        cs = sorted((c for c in result.cases if c["embrace_deg"] == b), key=lambda c: c["t_over_R"])
-        t = np.array([c["t_over_R"] for c in cs])
+    for a, col in zip(result.embrace, colors):
+        cs = sorted((c for c in result.cases if c[a_key] == a), key=lambda c: c[b_key])
+        t = np.array([c[b_key] for c in cs])
         r = np.array([c["r"] if c["outcome"] in ("rocking", "arrested") else np.nan for c in cs], float)
-        ax.plot(t, r, "o-", color=col, ms=3.5, lw=1.4, label=f"beta = {b:g} deg")
+        note = "".join(ENVELOPE_NOTES.get(e["outcome"], "") for e in result.envelope if e[a_key] == a)
+        ax.plot(t, r, "o-", color=col, ms=3.5, lw=1.4, label=f"{fam.a_label} = {a:g}{fam.a_unit}{note}")
         for kind, (mk, lab) in OUTCOME_MARKERS.items():
-            sel = [c["t_over_R"] for c in cs if c["outcome"] == kind]
+            sel = [c[b_key] for c in cs if c["outcome"] == kind]
             if sel:
                 ax.plot(sel, np.zeros(len(sel)) - (0.0 if kind == "arrested" else 0.03), mk, color=col, ms=6,
                         mfc="none" if kind != "arrested" else col, label=None)
                 seen.add(kind)
         for e in result.envelope:
-            if e["embrace_deg"] == b and e.get("r") is not None:
-                ax.plot([e["t_over_R"]], [e["r"]], "D", color=col, ms=6, mec="k", mew=0.6)
-    env = sorted((e for e in result.envelope if e.get("r") is not None), key=lambda e: e["t_over_R"])
+            if e[a_key] == a and e.get("r") is not None:
+                ax.plot([e[b_key]], [e["r"]], "D", color=col, ms=6, mec="k", mew=0.6)
+    env = sorted((e for e in result.envelope if e.get("r") is not None), key=lambda e: e[b_key])
     if env:
-        ax.plot([e["t_over_R"] for e in env], [e["r"] for e in env], "k--", lw=1.2,
+        ax.plot([e[b_key] for e in env], [e["r"] for e in env], "k--", lw=1.2,
                 label="minimum-thickness envelope (diamonds)")
     for kind in seen:  # legend entries for the outcome markers, in black
         mk, lab = OUTCOME_MARKERS[kind]
@@ -222,9 +337,10 @@ def plot_sweep(result: SweepResult, path: str) -> None:
     ax.axhline(1.0, color="0.5", lw=0.8, ls=":")
     ax.set_xlim(0.0, max(result.t_over_r) * 1.02)
     ax.set_ylim(-0.06, 1.05)
-    ax.set_xlabel("t / R")
+    ax.set_xlabel(fam.b_label.replace("/", " / "))
     ax.set_ylabel("$r_{max}$")
-    ax.set_title(f"Continuous circular arches ({result.settings['elements']} elements, hinges refined)", fontsize=10)
+    ax.set_title(f"Continuous {fam.shape} arches ({result.settings['elements']} elements, hinges refined)",
+                 fontsize=10)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
