@@ -54,19 +54,16 @@ def add_picture_options(p) -> None:
 
 
 def check_picture_options(args) -> None:
-    """Reject bad output paths before any computation (exit 2)."""
-    if getattr(args, "png", None) is not None and args.png.suffix.lower() != ".png":
-        raise InputError(f"--png needs a .png file name, got {str(args.png)!r}")
+    """Reject bad output paths before any computation (exit 2): suffix, a directory, a
+    missing or read-only parent (:func:`~fembeam.output.files.check_output`)."""
+    from ..output.files import check_output
+
+    check_output(getattr(args, "vtk", None), "--vtk", (".vtu",))
+    check_output(getattr(args, "png", None), "--png", (".png",))
     if getattr(args, "figure", None) is not None:
         from matplotlib.figure import Figure
-        ok = Figure().canvas.get_supported_filetypes()
-        if args.figure.suffix.lower().lstrip(".") not in ok:
-            raise InputError(f"--figure: unknown format {args.figure.suffix or '(no suffix)'!r}; "
-                             f"use one of {', '.join(sorted(ok))}")
-    for opt in ("vtk", "png", "figure"):
-        f = getattr(args, opt, None)
-        if f is not None and f.exists() and f.is_dir():
-            raise InputError(f"--{opt}: {str(f)!r} is a directory")
+        ok = sorted(Figure().canvas.get_supported_filetypes())
+        check_output(args.figure, "--figure", tuple(f".{x}" for x in ok))
 
 
 def write_pictures(res, args) -> list[str]:

@@ -186,9 +186,24 @@ def arch_title(geometry: dict) -> str:
     return ", ".join([what] + sizes + ([th] if th else []))
 
 
+def check_outputs(args, stem: str) -> None:
+    """Reject the files of :func:`write_outputs` before any computation (exit 2)."""
+    from ..output.files import PLOT_SUFFIXES, check_dir, check_output
+
+    check_output(args.csv, "--csv", (".csv",))
+    check_output(args.plot, "--plot", PLOT_SUFFIXES)
+    if check_dir(args.out_dir, "--out-dir") is not None:
+        for name in (f"{stem}.csv", f"{stem}.json", f"{stem}.png"):
+            if os.path.isdir(os.path.join(args.out_dir, name)):
+                raise InputError(f"--out-dir: {os.path.join(args.out_dir, name)!r} is a directory")
+
+
 def write_outputs(result, args, stem: str, plot) -> None:
     """Write ``result`` (with ``to_dict()`` and ``csv_rows()``) where ``--csv``, ``--plot``
-    and ``--out-dir`` (``stem``.csv/.json/.png) ask; ``plot(result, path)`` draws the PNG."""
+    and ``--out-dir`` (``stem``.csv/.json/.png) ask, each file atomically; ``plot(result,
+    path)`` draws the figure.  Call :func:`check_outputs` before computing."""
+    from ..output.files import atomic
+
     csv_path, plot_path, json_path = args.csv, args.plot, None
     if args.out_dir:
         os.makedirs(args.out_dir, exist_ok=True)
@@ -197,12 +212,13 @@ def write_outputs(result, args, stem: str, plot) -> None:
         json_path = os.path.join(args.out_dir, f"{stem}.json")
     if csv_path:
         rows = result.csv_rows()
-        with open(csv_path, "w", newline="") as f:
+        with atomic(csv_path) as tmp, open(tmp, "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=list(rows[0]))
             w.writeheader()
             w.writerows(rows)
     if json_path:
-        with open(json_path, "w") as f:
-            json.dump(result.to_dict(), f, indent=1)
+        with atomic(json_path) as tmp, open(tmp, "w") as f:
+            json.dump(result.to_dict(), f, indent=1, allow_nan=False)
     if plot_path:
-        plot(result, plot_path)
+        with atomic(plot_path) as tmp:
+            plot(result, tmp)

@@ -7,7 +7,7 @@ import json
 from ..studies.convergence import ConvergenceStudy, convergence_study, plot_convergence
 from ..errors import InputError
 from ..analysis.qp import BACKENDS
-from .args import add_arch, arch_from, arch_title, finite_float, int_list, write_outputs
+from .args import add_arch, arch_from, arch_title, check_outputs, finite_float, int_list, write_outputs
 
 DEFAULT_ELEMENTS = [50, 100, 200, 400, 800, 1600]
 
@@ -44,6 +44,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_outputs(args, "convergence")
     elements = args.elements
     if elements is None and args.voussoirs is None:
         elements = DEFAULT_ELEMENTS

@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import InputError
+from ..output.files import check_dir
 from ..output.report import SECTIONS, ReportSettings, build_report, write_report
 
 
@@ -32,6 +33,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_dir(args.out_dir, "--out-dir")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     settings = ReportSettings.make(quick=args.quick, workers=args.workers)

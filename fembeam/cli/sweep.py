@@ -8,7 +8,7 @@ from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
 from ..analysis.qp import BACKENDS
 from ..studies.sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, family, plot_sweep, sweep
-from .args import SHAPES, finite_float, float_list, write_outputs
+from .args import SHAPES, check_outputs, finite_float, float_list, write_outputs
 
 CODES = {"rocking": "", "arrested": "A", "cannot_stand": "C", "no_mechanism": "N", "solver_error": "E"}
 _CIRCULAR = ("--embrace", "--t-over-r", "--envelope-embrace")
@@ -87,6 +87,7 @@ def grid(args: argparse.Namespace) -> tuple[str, list[float], list[float], list[
 
 
 def run(args: argparse.Namespace) -> int:
+    check_outputs(args, "sweep")
     shape, a, b, env = grid(args)
     if args.elements < 4 or args.tmin_elements < 4:
         raise InputError(f"--elements and --tmin-elements must be >= 4, got {args.elements}, {args.tmin_elements}")

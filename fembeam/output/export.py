@@ -238,22 +238,25 @@ def write_fields(path: str | Path, disc: Discretization, d0, d,
     """Write the parts of :func:`meshes_of` next to ``path`` and a ``.vtm`` index; returns
     the written files by part name (see the module docstring).  A part with nothing in
     it (no hinges, no impulse line) is not written, and the index leaves it out."""
+    from .files import atomic_group
+
     paths = output_paths(path)
     paths["body"].parent.mkdir(parents=True, exist_ok=True)
     meshes = meshes_of(disc, d0, d, hinges_before, hinges_after, impulse, thrust, layers)
-    written = {}
-    for k in PARTS:
-        if k in meshes and len(meshes[k].points):  # empty parts are not written (meshio
-            # cannot read an empty appended array back)
-            meshes[k].write(paths[k], file_format="vtu", binary=True)
-            written[k] = paths[k]
-        elif paths[k].exists():                     # stale file of an earlier export
-            paths[k].unlink()
+    # empty parts are not written (meshio cannot read an empty appended array back)
+    parts = [k for k in PARTS if k in meshes and len(meshes[k].points)]
+    written = {k: paths[k] for k in parts}
     blocks = "\n".join(f'    <DataSet index="{i}" name="{k}" file="{p.name}"/>'
                        for i, (k, p) in enumerate(written.items()))
-    paths["multiblock"].write_text('<?xml version="1.0"?>\n<VTKFile type="vtkMultiBlockDataSet" '
-                                   'version="1.0" byte_order="LittleEndian">\n  <vtkMultiBlockDataSet>\n'
-                                   f"{blocks}\n  </vtkMultiBlockDataSet>\n</VTKFile>\n")
+    with atomic_group([paths[k] for k in parts] + [paths["multiblock"]]) as tmps:   # the index last
+        for k, tmp in zip(parts, tmps):
+            meshes[k].write(tmp, file_format="vtu", binary=True)
+        Path(tmps[-1]).write_text('<?xml version="1.0"?>\n<VTKFile type="vtkMultiBlockDataSet" '
+                                  'version="1.0" byte_order="LittleEndian">\n  <vtkMultiBlockDataSet>\n'
+                                  f"{blocks}\n  </vtkMultiBlockDataSet>\n</VTKFile>\n")
+    for k in PARTS:
+        if k not in written and paths[k].exists():   # stale file of an earlier export
+            paths[k].unlink()
     written["multiblock"] = paths["multiblock"]
     return written
 

@@ -16,6 +16,7 @@ from ..fem import Discretization
 from ..mechanisms.hinge import Hinge, pivot_fractions
 from ..mechanisms.mechanism import Mechanism
 from .export import as_hinges
+from .files import atomic
 
 __all__ = ["plot_paper_figure", "draw_paper_figure", "hinge_points", "line_points"]
 
@@ -85,7 +86,8 @@ def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Seq
         fig.tight_layout()
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=dpi)
+        with atomic(path) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=path.suffix[1:].lower() or None)
     finally:
         plt.close(fig)
     return path

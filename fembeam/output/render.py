@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .files import atomic
+
 __all__ = ["render_png", "render_fields", "title_of"]
 
 
@@ -125,8 +127,11 @@ def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 9
     _fit_camera(pl, body.bounds, size)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    pl.screenshot(str(path))
-    pl.close()
+    try:
+        with atomic(path) as tmp:
+            pl.screenshot(tmp)
+    finally:
+        pl.close()
     return path
 
 

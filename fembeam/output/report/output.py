@@ -8,6 +8,7 @@ import os
 import numpy as np
 
 from ...analysis import THRESHOLDS
+from ..files import atomic, atomic_group
 from .checks import _PAPER_TOL, REFERENCES, SECTION_TITLES, SECTIONS, TOLERANCES, Check, Report
 from .sections import KKT_FIGURES
 
@@ -240,28 +241,31 @@ def write_report(rep: Report, out_dir: str, command: str = "fembeam report") -> 
     os.makedirs(out_dir, exist_ok=True)
     d = rep.data
     imgs = {}
+
+    def image(name: str, draw) -> None:      # each PNG atomically, shrunk before the rename
+        with atomic(os.path.join(out_dir, name)) as tmp:
+            draw(tmp)
+            _shrink_png(tmp)
+        imgs[name.removesuffix(".png")] = name
+
     if "exact" in d:
-        imgs["housner"] = "housner.png"
-        plot_housner(d["exact"]["housner"], os.path.join(out_dir, "housner.png"))
+        image("housner.png", lambda p: plot_housner(d["exact"]["housner"], p))
     if "paper" in d or "exact" in d:
-        imgs["paper"] = "paper.png"
-        plot_paper([c for c in rep.checks if c.section in ("paper", "exact")], os.path.join(out_dir, "paper.png"))
+        image("paper.png", lambda p: plot_paper([c for c in rep.checks if c.section in ("paper", "exact")], p))
     if "convergence" in d and "_studies" in d["convergence"]:
         from ...studies.convergence import plot_convergence
         st, sv = d["convergence"].pop("_studies")
-        plot_convergence(st, os.path.join(out_dir, "convergence.png"))
-        plot_convergence(sv, os.path.join(out_dir, "convergence_voussoirs.png"))
-        imgs.update(convergence="convergence.png", convergence_voussoirs="convergence_voussoirs.png")
+        image("convergence.png", lambda p: plot_convergence(st, p))
+        image("convergence_voussoirs.png", lambda p: plot_convergence(sv, p))
     if "fig13" in d and "_sweep" in d["fig13"]:
         from ...studies.sweep import plot_sweep
-        plot_sweep(d["fig13"].pop("_sweep"), os.path.join(out_dir, "fig13.png"))
-        imgs["fig13"] = "fig13.png"
-    for name in imgs.values():
-        _shrink_png(os.path.join(out_dir, name))
+        sw = d["fig13"].pop("_sweep")
+        image("fig13.png", lambda p: plot_sweep(sw, p))
     rep.images = imgs
     md = os.path.join(out_dir, "verification_report.md")
-    with open(md, "w") as fh:
-        fh.write(markdown(rep, command))
-    with open(os.path.join(out_dir, "verification_report.json"), "w") as fh:
-        json.dump(rep.to_dict(), fh, indent=1)
+    with atomic_group([os.path.join(out_dir, "verification_report.json"), md]) as (tj, tm):
+        with open(tj, "w") as fh:
+            json.dump(rep.to_dict(), fh, indent=1, allow_nan=False)
+        with open(tm, "w") as fh:
+            fh.write(markdown(rep, command))
     return md

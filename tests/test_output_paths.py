@@ -1,0 +1,111 @@
+"""Output files of every command: checked before any computation (exit 2, one line), and
+written atomically (a failure or an interrupt leaves neither a half-written file nor a
+temporary one)."""
+from __future__ import annotations
+
+import json
+import os
+
+import pytest
+
+from fembeam import CircularArch, analyze
+from fembeam.cli.main import main
+from fembeam.errors import InputError
+from fembeam.output.files import atomic_group, check_dir, check_output
+
+
+def _exit(capsys, argv):
+    try:
+        code = main(argv)
+    except SystemExit as e:
+        code = e.code
+    return code, capsys.readouterr()
+
+
+@pytest.fixture
+def afile(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "afile").write_text("x")
+    (tmp_path / "adir").mkdir()
+    return tmp_path
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["analyze", "--vtk", "afile/a.vtu"], "--vtk"),
+    (["analyze", "--vtk", "a.vtk"], ".vtu"),
+    (["analyze", "--vtk", "adir"], "--vtk"),
+    (["analyze", "--png", "afile/a.png"], "--png"),
+    (["analyze", "--figure", "a.xyz"], "--figure"),
+    (["analyze", "--figure", "missing/a.png"], "does not exist"),
+    (["convergence", "--plot", "x.xyz", "--elements", "10,20"], ".png"),
+    (["convergence", "--csv", "afile/x.csv", "--elements", "10,20"], "--csv"),
+    (["convergence", "--out-dir", "afile", "--elements", "10,20"], "not a directory"),
+    (["sweep", "--out-dir", "afile/sub", "--embrace", "90", "--t-over-r", "0.2"], "cannot be created"),
+    (["sweep", "--plot", "adir", "--embrace", "90", "--t-over-r", "0.2"], "--plot"),
+    (["report", "--out-dir", "afile"], "not a directory"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--csv", "afile/x.csv"], "--csv"),
+    (["spectrum", "--pulse", "sine", "--periods", "0.5", "--voussoirs", "7", "--plot", "x.txt"], "--plot"),
+])
+def test_bad_output_paths_exit_2_before_computing(afile, capsys, argv, words):
+    code, out = _exit(capsys, argv)
+    assert code == 2 and words in out.err and len(out.err.strip().splitlines()) == 1, out.err
+    assert out.out == ""                                   # nothing computed, nothing printed
+    assert sorted(os.listdir(afile)) == ["adir", "afile"]
+
+
+@pytest.mark.skipif(os.geteuid() != 0 and not os.path.isdir("/proc"), reason="needs an unwritable directory")
+def test_unwritable_directory_is_probed(tmp_path):
+    """Permission bits say nothing to the superuser: the directory is probed with a file."""
+    with pytest.raises(InputError, match="cannot write"):
+        check_output("/proc/fembeam.csv", "--csv")
+    with pytest.raises(InputError, match="cannot write"):
+        check_dir("/proc/fembeam-out", "--out-dir")
+    assert check_dir(tmp_path / "new" / "deeper", "--out-dir") == tmp_path / "new" / "deeper"
+    assert not (tmp_path / "new").exists()                  # checking creates nothing
+
+
+def test_interrupted_vtk_export_leaves_nothing(tmp_path, monkeypatch):
+    """Ctrl-C while the third part is written: no .vtu, no .vtm, no temporary file."""
+    import meshio
+
+    res = analyze(CircularArch.from_ratio(157.5, 0.15), elements=20)
+    calls = {"n": 0}
+    real = meshio.Mesh.write
+
+    def write(self, *a, **k):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt
+        return real(self, *a, **k)
+
+    monkeypatch.setattr(meshio.Mesh, "write", write)
+    from fembeam.output.export import write_vtk
+    with pytest.raises(KeyboardInterrupt):
+        write_vtk(res, tmp_path / "a.vtu")
+    assert os.listdir(tmp_path) == []
+    monkeypatch.setattr(meshio.Mesh, "write", real)
+    files = write_vtk(res, tmp_path / "a.vtu")
+    assert sorted(os.listdir(tmp_path)) == sorted(p.name for p in files.values())
+
+
+def test_atomic_group_renames_all_or_nothing(tmp_path):
+    (tmp_path / "b.txt").write_text("old")
+    with pytest.raises(RuntimeError):
+        with atomic_group([tmp_path / "a.txt", tmp_path / "b.txt"]) as (ta, tb):
+            open(ta, "w").write("new a")
+            raise RuntimeError("writer failed")
+    assert sorted(os.listdir(tmp_path)) == ["b.txt"] and (tmp_path / "b.txt").read_text() == "old"
+    with atomic_group([tmp_path / "a.txt", tmp_path / "b.txt"]) as (ta, tb):
+        open(ta, "w").write("new a")
+        open(tb, "w").write("new b")
+    assert (tmp_path / "a.txt").read_text() == "new a" and (tmp_path / "b.txt").read_text() == "new b"
+    assert sorted(os.listdir(tmp_path)) == ["a.txt", "b.txt"]
+
+
+def test_out_dir_files_are_valid_json(afile, capsys):
+    code, out = _exit(capsys, ["convergence", "--elements", "8,16", "--out-dir", "res/conv", "--quiet"])
+    assert code == 0
+    d = json.loads((afile / "res" / "conv" / "convergence.json").read_text(),
+                   parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
+    assert d["levels"] == [8, 16]
+    assert sorted(os.listdir(afile / "res" / "conv")) == ["convergence.csv", "convergence.json", "convergence.png"]
