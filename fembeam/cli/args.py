@@ -24,22 +24,61 @@ def finite_float(text: str) -> float:
     return x
 
 
+MAX_LIST_VALUES = 10_000   # values in one list option (a range included): --help says so
+
+
+def _list_size(n: float, text: str) -> None:
+    if not n <= MAX_LIST_VALUES:       # also inf and NaN
+        shown = text if len(text) <= 60 else text[:57] + "..."
+        raise argparse.ArgumentTypeError(f"a list has at most {MAX_LIST_VALUES} values, got {shown!r}")
+
+
 def float_list(text: str) -> list[float]:
-    """``"a,b,c"`` or a range ``"start:stop:step"`` (stop included)."""
+    """``"a,b,c"`` or a range ``"start:stop:step"`` (stop included), at most
+    :data:`MAX_LIST_VALUES` values; the range's values are rounded to 12 significant
+    digits of its largest magnitude (so ``0:1:0.1`` gives 0.3, not 0.30000000000000004)."""
     if ":" in text:
         parts = [finite_float(p) for p in text.split(":")]
         if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
-            raise argparse.ArgumentTypeError(f"a range is start:stop:step with step > 0, got {text!r}")
-        n = int(math.floor((parts[1] - parts[0]) / parts[2] + 1e-9)) + 1
-        return [round(parts[0] + i * parts[2], 12) for i in range(n)]
-    return [finite_float(p) for p in text.split(",") if p.strip()]
+            raise argparse.ArgumentTypeError(f"a range is start:stop:step with step > 0 and stop >= start, "
+                                             f"got {text!r}")
+        a, b, step = parts
+        scale = max(abs(a), abs(b))
+        if step < 1e-9 * scale:
+            raise argparse.ArgumentTypeError(f"the step of a range must be at least 1e-9 of its values' magnitude "
+                                             f"(else the values are not distinct), got {text!r}")
+        count = (b - a) / step + 1.0        # inf when b - a overflows
+        _list_size(count, text)
+        decimals = 12 - math.ceil(math.log10(scale)) if scale > 0 else 12
+        return [round(a + i * step, decimals) for i in range(int(math.floor(count - 1.0 + 1e-9)) + 1)]
+    _list_size(text.count(",") + 1, text)
+    out = [finite_float(p) for p in text.split(",") if p.strip()]
+    if not out:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers or start:stop:step, got {text!r}")
+    return out
 
 
 def int_list(text: str) -> list[int]:
+    """``"a,b,c"``: at most :data:`MAX_LIST_VALUES` integers."""
+    _list_size(text.count(",") + 1, text)
     try:
-        return [int(p) for p in text.split(",") if p.strip()]
+        out = [int(p) for p in text.split(",") if p.strip()]
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated integers, got {text!r}") from None
+        out = []
+    if not out:
+        raise argparse.ArgumentTypeError(f"expected comma-separated integers, got {text!r}")
+    return out
+
+
+def note_list_limits(parser: argparse.ArgumentParser) -> None:
+    """Append the list size limit to the help of every option (of ``parser`` and its
+    sub-commands) whose type is :func:`float_list` or :func:`int_list`."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                note_list_limits(sub)
+        elif action.type in (float_list, int_list) and action.help and "values per list" not in action.help:
+            action.help += f" (at most {MAX_LIST_VALUES} values per list)"
 
 
 SHAPES = ("circular", "pointed", "elliptical", "parabolic", "catenary")
@@ -196,6 +235,17 @@ def check_outputs(args, stem: str) -> None:
         for name in (f"{stem}.csv", f"{stem}.json", f"{stem}.png"):
             if os.path.isdir(os.path.join(args.out_dir, name)):
                 raise InputError(f"--out-dir: {os.path.join(args.out_dir, name)!r} is a directory")
+
+
+def study_journal(args):
+    """The journal of a study writing files (``--out-dir``, else ``--csv``, else ``--plot``):
+    finished cases are kept there, and a re-run with the same output resumes from them
+    (:class:`~fembeam.studies.parallel.Journal`); None when the study writes no file."""
+    from ..studies.parallel import journal_for
+
+    if args.out_dir:
+        os.makedirs(args.out_dir, exist_ok=True)
+    return journal_for(args.out_dir or args.csv or args.plot)
 
 
 def write_outputs(result, args, stem: str, plot) -> None:

@@ -8,7 +8,7 @@ from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
 from ..analysis.qp import BACKENDS
 from ..studies.sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, family, plot_sweep, sweep
-from .args import SHAPES, check_outputs, finite_float, float_list, write_outputs
+from .args import SHAPES, check_outputs, finite_float, float_list, study_journal, write_outputs
 
 CODES = {"rocking": "", "arrested": "A", "cannot_stand": "C", "no_mechanism": "N", "solver_error": "E"}
 _CIRCULAR = ("--embrace", "--t-over-r", "--envelope-embrace")
@@ -100,11 +100,14 @@ def run(args: argparse.Namespace) -> int:
             import distributed  # noqa: F401
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
+    journal = study_journal(args)
     res = sweep(a, b, elements=args.elements, backend=args.backend, direction=args.direction,
                 envelope=not args.no_envelope, envelope_embrace=env,
                 tmin_elements=args.tmin_elements, tmin_tol=args.tmin_tol, above=args.above, workers=args.workers,
-                scheduler=args.scheduler, progress=not args.quiet, shape=shape)
+                scheduler=args.scheduler, progress=not args.quiet, shape=shape, journal=journal)
     write_outputs(res, args, "sweep", plot_sweep)
+    if journal is not None:
+        journal.remove()
     print(json.dumps(res.to_dict()) if args.json else table(res))
     return 0
 

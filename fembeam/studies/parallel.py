@@ -3,14 +3,31 @@
 A task is ``(func, kwargs)`` with ``func`` a module-level (picklable) function.  Results
 come back in task order whatever the completion order, so a study gives the same table
 (bit for bit: every task is computed independently) on any executor.
+
+Nothing finished is lost:
+
+* with a ``journal`` file every finished task is appended to it at once (one JSON line,
+  flushed and synced), keyed by the function and its arguments; a later run with the same
+  journal takes those results instead of recomputing them, so an interrupted study
+  resumes where it stopped.  The caller removes the journal once its outputs are written.
+* an error, Ctrl-C or SIGTERM kills the worker processes at once and drops the queue;
+  the exception carries a note saying how many tasks were kept (``add_note``).
+* a worker process that dies (killed, out of memory) breaks the local pool: the tasks it
+  took with it are run again, each in a process of its own; a task that loses its
+  process a second time gets ``lost(task, message)`` as its result (a failed case), or
+  raises :class:`~fembeam.errors.SolverError` without ``lost``.
 """
 from __future__ import annotations
 
+import json
 import os
 import sys
+from pathlib import Path
 from typing import Any, Callable
 
-__all__ = ["run_tasks", "default_workers"]
+from ..errors import SolverError
+
+__all__ = ["run_tasks", "default_workers", "Journal", "journal_for"]
 
 Task = tuple[Callable[..., Any], dict]
 
@@ -35,48 +52,169 @@ def _call(func, kwargs):
         return func(**kwargs)
 
 
+class Journal:
+    """Finished tasks of a study, one JSON line each (``{"key": ..., "result": ...}``),
+    appended as they finish; lines that do not parse (a write cut short) are ignored."""
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        self.done: dict[str, Any] = {}
+        if self.path.is_file():
+            for line in self.path.read_text().splitlines():
+                try:
+                    rec = json.loads(line)
+                    self.done[rec["key"]] = rec["result"]
+                except (ValueError, KeyError, TypeError):
+                    continue
+
+    @staticmethod
+    def key(task: Task) -> str:
+        f, kw = task
+        return json.dumps([f.__module__, f.__qualname__, kw], sort_keys=True, default=repr)
+
+    def add(self, key: str, result: Any) -> None:
+        with open(self.path, "a") as fh:
+            fh.write(json.dumps({"key": key, "result": result}) + "\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        self.done[key] = result
+
+    def remove(self) -> None:
+        self.path.unlink(missing_ok=True)
+
+
+def journal_for(output: str | Path | None) -> Journal | None:
+    """The journal kept beside a study's ``output`` file or directory (None: no journal)."""
+    if output is None:
+        return None
+    p = Path(output)
+    return Journal(p / ".fembeam-journal.jsonl" if p.is_dir() or not p.suffix else
+                   p.with_name(f".{p.name}.journal.jsonl"))
+
+
 def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, progress: bool = True,
-              desc: str = "tasks") -> list:
+              desc: str = "tasks", journal: Journal | None = None,
+              lost: Callable[[Task, str], Any] | None = None) -> list:
     """Results of ``func(**kwargs)`` for every task, in order.
 
     ``scheduler``: None (local), a Dask scheduler address (``"tcp://host:8786"``, or the
     ``inproc://`` address of an in-process ``LocalCluster``) or a ``distributed.Client``.
     ``workers``: local worker processes (default :func:`default_workers`; 1 runs in
-    this process, without a pool).  ``progress``: a tqdm bar on stderr.
+    this process, without a pool).  ``progress``: a tqdm bar on stderr.  ``journal``
+    and ``lost``: see the module docstring.
     """
     from tqdm import tqdm
 
-    bar = tqdm(total=len(tasks), desc=desc, file=sys.stderr, disable=not progress, unit="case",
-               dynamic_ncols=True)
+    keys = [Journal.key(t) for t in tasks] if journal is not None else []
     out: list = [None] * len(tasks)
-    try:
-        if scheduler is not None:
-            _run_dask(tasks, scheduler, out, bar)
-        elif (workers or default_workers()) == 1 or len(tasks) <= 1:
-            for i, (f, kw) in enumerate(tasks):
-                out[i] = _call(f, kw)
-                bar.update()
-        else:
-            from concurrent.futures import ProcessPoolExecutor, as_completed
+    todo = list(range(len(tasks)))
+    if journal is not None:
+        todo = [i for i in todo if keys[i] not in journal.done]
+        for i in set(range(len(tasks))) - set(todo):
+            out[i] = journal.done[keys[i]]
+    bar = tqdm(total=len(tasks), initial=len(tasks) - len(todo), desc=desc, file=sys.stderr,
+               disable=not progress, unit="case", dynamic_ncols=True)
+    finished = [len(tasks) - len(todo)]
 
-            pool = ProcessPoolExecutor(max_workers=workers or default_workers())
-            try:
-                futs = {pool.submit(_call, f, kw): i for i, (f, kw) in enumerate(tasks)}
-                for fut in as_completed(futs):
-                    out[futs[fut]] = fut.result()
-                    bar.update()
-            except BaseException:   # an error, Ctrl-C or SIGTERM: stop the workers now, queue dropped
-                for proc in list((getattr(pool, "_processes", None) or {}).values()):
-                    proc.kill()          # SIGKILL: the workers inherit our SIGTERM handler
-                pool.shutdown(wait=False, cancel_futures=True)
-                raise
-            pool.shutdown()
+    def done(i: int, result: Any) -> None:
+        out[i] = result
+        if journal is not None:
+            journal.add(keys[i], result)
+        finished[0] += 1
+        bar.update()
+
+    try:
+        sub = [tasks[i] for i in todo]
+        if scheduler is not None:
+            _run_dask(sub, scheduler, lambda j, r: done(todo[j], r))
+        elif (workers or default_workers()) == 1 or len(todo) <= 1:
+            for i in todo:
+                done(i, _call(*tasks[i]))
+        else:
+            broken = _run_pool(sub, workers or default_workers(), lambda j, r: done(todo[j], r))
+            for j, res in _run_isolated([sub[j] for j in broken], workers or default_workers()):
+                if isinstance(res, _Lost):
+                    if lost is None:
+                        raise SolverError(f"{desc}: a worker process died twice running {sub[broken[j]][0].__name__}"
+                                          f"({sub[broken[j]][1]}): {res.message}")
+                    res = lost(sub[broken[j]], res.message)
+                done(todo[broken[j]], res)
+    except BaseException as e:
+        kept = f"; {finished[0]} of {len(tasks)} cases kept in {journal.path}, re-run the same command to resume" \
+            if journal is not None else f"; {finished[0]} of {len(tasks)} cases had finished"
+        if hasattr(e, "add_note"):
+            e.add_note(kept)
+        raise
     finally:
         bar.close()
     return out
 
 
-def _run_dask(tasks: list[Task], scheduler, out: list, bar) -> None:
+class _Lost:
+    def __init__(self, message: str):
+        self.message = message
+
+
+def _kill(pool) -> None:
+    for proc in list((getattr(pool, "_processes", None) or {}).values()):
+        proc.kill()          # SIGKILL: the workers inherit our SIGTERM handler
+    pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
+    """Tasks on a process pool, ``done(j, result)`` as each finishes; returns the indices
+    of the tasks lost with a broken pool (a worker process died)."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    pool = ProcessPoolExecutor(max_workers=workers)
+    broken = []
+    try:
+        futs = {pool.submit(_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
+        for fut in as_completed(futs):
+            try:
+                res = fut.result()
+            except BrokenProcessPool:
+                broken.append(futs[fut])
+                continue
+            done(futs[fut], res)
+    except BaseException:   # an error, Ctrl-C or SIGTERM: stop the workers now, queue dropped
+        _kill(pool)
+        raise
+    pool.shutdown(wait=not broken)
+    return sorted(broken)
+
+
+def _run_isolated(tasks: list[Task], workers: int):
+    """Each task in a process of its own, ``workers`` at a time: yields ``(j, result)``,
+    the result a :class:`_Lost` if that process died too."""
+    from concurrent.futures import ProcessPoolExecutor, wait, FIRST_COMPLETED
+    from concurrent.futures.process import BrokenProcessPool
+
+    pending = list(range(len(tasks)))
+    running: dict = {}
+    try:
+        while pending or running:
+            while pending and len(running) < workers:
+                j = pending.pop(0)
+                pool = ProcessPoolExecutor(max_workers=1)
+                running[pool.submit(_call, *tasks[j])] = (j, pool)
+            finished, _ = wait(list(running), return_when=FIRST_COMPLETED)
+            for fut in finished:
+                j, pool = running.pop(fut)
+                try:
+                    res = fut.result()
+                except BrokenProcessPool as e:
+                    res = _Lost(str(e) or "the worker process died")
+                pool.shutdown(wait=False)
+                yield j, res
+    except BaseException:
+        for _, pool in running.values():
+            _kill(pool)
+        raise
+
+
+def _run_dask(tasks: list[Task], scheduler, done) -> None:
     from distributed import Client, as_completed
 
     own = not isinstance(scheduler, Client)
@@ -85,8 +223,7 @@ def _run_dask(tasks: list[Task], scheduler, out: list, bar) -> None:
         futs = [client.submit(_call, f, kw, pure=False) for f, kw in tasks]
         index = {fut.key: i for i, fut in enumerate(futs)}
         for fut in as_completed(futs):
-            out[index[fut.key]] = fut.result()
-            bar.update()
+            done(index[fut.key], fut.result())
     finally:
         if own:
             client.close()

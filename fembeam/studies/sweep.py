@@ -35,7 +35,7 @@ from ..fem import discretize, uniform_nodes
 from ..geometry import CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch
 from ..geometry.arch import MIN_T_OVER_SPAN
 from ..analysis import limit_analysis
-from .parallel import default_workers, run_tasks
+from .parallel import Journal, default_workers, run_tasks
 
 __all__ = ["Family", "FAMILIES", "family", "sweep_case", "envelope_case", "SweepResult", "sweep", "sweep_shape",
            "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
@@ -246,10 +246,13 @@ class SweepResult:
 def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_ELEMENTS, backend: str = "clarabel",
           direction: int = 1, envelope: bool = True, envelope_embrace: list[float] | None = None,
           tmin_elements: int = 400, tmin_tol: float = 1e-6, above: float = 1e-3, workers: int | None = None,
-          scheduler=None, progress: bool = True, shape: str = "circular") -> SweepResult:
+          scheduler=None, progress: bool = True, shape: str = "circular", journal: Journal | None = None
+          ) -> SweepResult:
     """Every (beta, t/R) case plus, per beta of ``envelope_embrace`` (default
     ``embrace``), the minimum-thickness envelope point; see the module docstring.  For a
-    ``shape`` other than the circle the values are rise/span and t/span (:func:`sweep_shape`)."""
+    ``shape`` other than the circle the values are rise/span and t/span (:func:`sweep_shape`).
+    ``journal``: finished cases are kept there and taken from there
+    (:class:`~fembeam.studies.parallel.Journal`: an interrupted sweep resumes)."""
     fam = family(shape)
     fam.check(list(embrace) + list(envelope_embrace or []), list(t_over_r))  # bad input fails here, once
     env_as = list(envelope_embrace or embrace) if envelope else []
@@ -266,11 +269,13 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
     try:
         env = run_tasks([(envelope_case, {"embrace_deg": a, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
                                           "above": above, **common}) for a in env_as],
-                        workers=workers, scheduler=scheduler, progress=progress, desc="sweep: t_min envelope")
+                        workers=workers, scheduler=scheduler, progress=progress, desc="sweep: t_min envelope",
+                        journal=journal, lost=_lost_row)
         tmin = {e[fam.a_key]: e.get(fam.tmin_key) for e in env}
         cases = run_tasks([(sweep_case, {"embrace_deg": a, "t_over_r": b, "t_min_over_r": tmin.get(float(a)),
                                          **common}) for a in embrace for b in t_over_r],
-                          workers=workers, scheduler=scheduler, progress=progress, desc="sweep: cases")
+                          workers=workers, scheduler=scheduler, progress=progress, desc="sweep: cases",
+                          journal=journal, lost=_lost_row)
     finally:
         if client is not None:
             client.close()
@@ -286,6 +291,16 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
                 "executor": ("dask" if scheduler is not None else
                              f"local ({workers or default_workers()} workers)")}
     return SweepResult(list(embrace), list(t_over_r), cases, env, settings, wall, timing, shape)
+
+
+def _lost_row(task, message: str) -> dict:
+    """The row of a case whose worker process died twice: a failed case, not a crash."""
+    func, kw = task
+    fam = family(kw.get("shape", "circular"))
+    kind = "envelope" if func is envelope_case else "case"
+    return {"kind": kind, **fam.ident, fam.a_key: float(kw["embrace_deg"]),
+            fam.b_key: float(kw["t_over_r"]) if "t_over_r" in kw else None, "outcome": "solver_error",
+            "error": f"the worker process died twice ({message})", "time_s": 0.0}
 
 
 def sweep_shape(shape: str, rise_over_span: list[float], t_over_span: list[float],

@@ -1,0 +1,99 @@
+"""Local task runner: finished tasks kept in a journal (an interrupted study resumes),
+a lost worker's tasks retried once in processes of their own, then reported as failed."""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from fembeam.studies.parallel import Journal, journal_for, run_tasks
+
+
+def square(i: int) -> int:
+    return i * i
+
+
+def die_once(i: int, flag: str) -> int:
+    if i == 3 and not os.path.exists(flag):
+        open(flag, "w").close()
+        os._exit(1)                      # the worker process dies: the pool breaks
+    return i * i
+
+
+def die_always(i: int) -> int:
+    if i == 3:
+        os._exit(1)
+    return i * i
+
+
+def must_not_run(i: int) -> int:
+    raise AssertionError(f"task {i} was recomputed")
+
+
+def test_lost_worker_tasks_are_retried(tmp_path):
+    flag = str(tmp_path / "died")
+    out = run_tasks([(die_once, {"i": i, "flag": flag}) for i in range(8)], workers=2, progress=False)
+    assert out == [i * i for i in range(8)] and os.path.exists(flag)
+
+
+def test_a_task_that_always_kills_its_worker_is_a_failed_case():
+    out = run_tasks([(die_always, {"i": i}) for i in range(6)], workers=2, progress=False,
+                    lost=lambda task, msg: ("lost", task[1]["i"]))
+    assert out == [0, 1, 4, ("lost", 3), 16, 25]
+    from fembeam.errors import SolverError
+    with pytest.raises(SolverError, match="died twice"):
+        run_tasks([(die_always, {"i": i}) for i in range(6)], workers=2, progress=False)
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_journal_keeps_and_resumes(tmp_path, workers):
+    j = journal_for(tmp_path / "study.csv")
+    assert j.path == tmp_path / ".study.csv.journal.jsonl"
+    tasks = [(square, {"i": i}) for i in range(5)]
+    assert run_tasks(tasks, workers=workers, progress=False, journal=j) == [0, 1, 4, 9, 16]
+    with open(j.path, "a") as fh:
+        fh.write('{"key": "cut sh')          # a line cut short by a kill is ignored
+    again = Journal(j.path)
+    assert len(again.done) == 5
+    # the same tasks under a function that would fail: every result comes from the journal
+    keyed = {Journal.key(t): again.done[Journal.key(t)] for t in tasks}
+    again.done = {Journal.key((must_not_run, t[1])): v for t, v in zip(tasks, keyed.values())}
+    assert run_tasks([(must_not_run, t[1]) for t in tasks], workers=workers, progress=False,
+                     journal=again) == [0, 1, 4, 9, 16]
+    again.remove()
+    assert not j.path.exists()
+
+
+def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
+    """SIGINT and SIGTERM end the sweep within a second with 130 / 143, one stderr line, no
+    worker left; the cases finished are in the journal and a re-run completes from them
+    to the result of an uninterrupted run."""
+    cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.05",
+           "--elements", "16", "--tmin-elements", "16", "--workers", "2", "--quiet"]
+    journal = tmp_path / "a" / ".fembeam-journal.jsonl"
+    for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
+        n0 = journal.read_text().count("\n") if journal.exists() else 0
+        p = subprocess.Popen(cmd + ["--out-dir", str(tmp_path / "a")], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, start_new_session=True)
+        deadline = time.time() + 60       # a case finished by this run: it computes, its handlers are set
+        while not (journal.exists() and journal.read_text().count("\n") > n0) and time.time() < deadline:
+            time.sleep(0.05)
+        t0 = time.time()
+        p.send_signal(sig)
+        _, err = p.communicate(timeout=30)
+        if p.returncode == 0:            # finished before the signal: nothing to resume
+            break
+        assert p.returncode == code and time.time() - t0 < 5
+        assert len(err.strip().splitlines()) == 1 and "fembeam:" in err
+        assert subprocess.run(["pgrep", "-s", str(p.pid)], capture_output=True).stdout == b""   # no orphans
+    subprocess.run(cmd + ["--out-dir", str(tmp_path / "a")], check=True, capture_output=True)
+    subprocess.run(cmd + ["--out-dir", str(tmp_path / "b")], check=True, capture_output=True)
+    assert not journal.exists()
+    import json
+    a, b = (json.loads((tmp_path / d / "sweep.json").read_text()) for d in "ab")
+    strip = (lambda rows: [{k: v for k, v in r.items() if not k.startswith("time")} for r in rows])  # noqa: E731
+    assert strip(a["cases"]) == strip(b["cases"]) and strip(a["envelope"]) == strip(b["envelope"])
