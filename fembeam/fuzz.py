@@ -1,0 +1,258 @@
+"""Fuzzing of the command line: every sub-command driven from its own argparse definition.
+
+    python -m fembeam.fuzz [--runs 300] [--seed 0] [--timeout 20] [--command analyze ...]
+
+For each run a command is picked, then (after a small problem of :data:`BASE` for the
+commands whose defaults are large studies) a random subset of its options, each with a value
+drawn for the option's kind (flag, choice, integer, number, list, pair, file name):
+mostly plausible values (small meshes, short motions, files in a scratch directory) and
+some hostile ones (``nan``, ``inf``, ``-1``, ``1e308``, ``abc``, empty strings, reversed
+ranges, unwritable or existing-directory paths).  New options are covered without editing
+this module: only their kind matters.  The command runs in this process (imports once),
+with its stdout and stderr captured and an alarm after ``timeout`` seconds.
+
+A run **fails** when it breaks the promise of the command line:
+
+* an exception escapes (a traceback) or the exit code is not 0, 2 or 3 (``report`` may
+  exit 1: a failed check);
+* a warning or a traceback reaches stderr, or, on exit 2, stderr is not exactly one line;
+  on exit 3 its last line is not fembeam's one-line message;
+* on exit 0 with ``--json``, stdout is not one JSON object free of NaN and Infinity.
+
+A run that reaches the alarm is counted as ``timeout`` (a long valid computation, not a
+failure by itself; the sizes drawn keep them rare).  The summary prints the runs tried,
+the exit codes, the failures with their arguments, and exits 1 if any failed.
+"""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import json
+import os
+import random
+import signal
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+
+__all__ = ["FuzzReport", "fuzz", "main"]
+
+HOSTILE = ["nan", "inf", "-inf", "-1", "0", "1e308", "-1e308", "1e-308", "abc", "", " ", "1,2", "0x10", "1e999"]
+NUMBERS = ["0.1", "0.15", "0.2", "0.5", "1", "2", "5", "10", "157.5", "120", "180", "90", "0.05", "0.3", "3"]
+INTS = ["1", "2", "4", "7", "8", "12", "16", "20"]
+LISTS = ["0.5", "0.1,0.2", "0.1:0.3:0.1", "90,150", "1:0:1", "0:1:0", "a,b", "0:1e308:1e-308", "0.2:0.3:1e-300",
+         "7,15", "4,8", "-1,2"]
+PATHS = ["out.csv", "out.json", "out.png", "out.vtu", "out.pvd", "out.gif", "out.pdf", "out.xyz", "nodir/x.csv",
+         "adir", "afile/x.png", "/proc/fembeam.csv", "res"]
+RECORDS = ["elcentro", "lomaprieta", "missing.AT2", "afile", "bad.csv"]
+# sizes kept small when valid, so that a valid run is quick
+CAPS = {"--elements": INTS, "--voussoirs": INTS, "--sections": ["10", "50", "100"], "--t-end": ["0.5", "1", "2"],
+        "--periods": ["0.3", "0.3,0.6", "0.2:0.4:0.2"], "--workers": ["1", "2"], "--frames": ["2", "5"],
+        "--record": RECORDS, "--reference-elements": ["16", "32"], "--tmin-elements": ["8", "16"]}
+
+
+# small problems put before the drawn options (which override them: argparse keeps the last)
+BASE = {"sweep": ["--embrace", "90", "--t-over-r", "0.2", "--elements", "8", "--tmin-elements", "8"],
+        "report": ["--quick", "--only", "exact"],
+        "spectrum": ["--voussoirs", "7", "--periods", "0.3"],
+        "collapse-scale": ["--voussoirs", "7", "--t-end", "3"],
+        "convergence": ["--elements", "8,16"]}
+
+
+@dataclass
+class FuzzReport:
+    runs: int = 0
+    codes: dict = field(default_factory=dict)
+    timeouts: list = field(default_factory=list)
+    failures: list = field(default_factory=list)   # (argv, reason, stderr tail)
+    seconds: float = 0.0
+
+    def summary(self) -> str:
+        lines = [f"fembeam fuzz: {self.runs} runs in {self.seconds:.1f} s; exit codes "
+                 + ", ".join(f"{k}: {v}" for k, v in sorted(self.codes.items(), key=str))
+                 + f"; {len(self.timeouts)} timeouts; {len(self.failures)} failures"]
+        for argv, why, tail in self.failures:
+            lines.append(f"  FAIL {why}: fembeam {' '.join(map(_quote, argv))}")
+            lines += [f"       | {t}" for t in tail.splitlines()[-4:]]
+        for argv in self.timeouts[:10]:
+            lines.append(f"  timeout: fembeam {' '.join(map(_quote, argv))}")
+        return "\n".join(lines)
+
+
+def _quote(a: str) -> str:
+    return repr(a) if (not a or any(c in a for c in " ,;*")) else a
+
+
+def _commands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return dict(sub.choices)
+
+
+def _values(action: argparse.Action, rng: random.Random) -> list[str]:
+    """Command-line words for one option, drawn by its kind."""
+    opt = action.option_strings[0]
+    hostile = rng.random() < 0.25
+    if isinstance(action, (argparse._StoreTrueAction, argparse._StoreFalseAction)):
+        return [opt]
+    if action.choices is not None:
+        pool = [str(c) for c in action.choices] + (["nope", "", "0"] if hostile else [])
+    elif opt in CAPS and not hostile:
+        pool = CAPS[opt]
+    else:
+        name = getattr(action.type, "__name__", "") if action.type else ""
+        kinds = {"int": INTS, "int_list": ["4,8", "7,15"], "float_list": LISTS}
+        if name in kinds:
+            pool = kinds[name]
+        elif name in ("finite_float", "float"):
+            pool = NUMBERS
+        elif action.type is None or name in ("Path", "str"):
+            pool = PATHS
+        else:
+            pool = NUMBERS + PATHS
+        if hostile:
+            pool = HOSTILE + (LISTS if name.endswith("list") else [])
+    n = action.nargs if isinstance(action.nargs, int) else 1
+    return [opt] + [rng.choice(pool) for _ in range(n)]
+
+
+def draw(parser: argparse.ArgumentParser, rng: random.Random) -> list[str]:
+    """Random arguments for one sub-command ``parser``: its required options always, about
+    three others; mutually exclusive options sometimes together (argparse's own error)."""
+    actions = [a for a in parser._actions if a.option_strings and not isinstance(a, argparse._HelpAction)]
+    chosen = [a for a in actions if a.required]
+    others = [a for a in actions if not a.required]
+    chosen += rng.sample(others, k=min(len(others), rng.choice([0, 1, 2, 3, 4, 5])))
+    if not any(a.option_strings[0] in ("--quiet",) for a in chosen) and any(
+            a.option_strings[0] == "--quiet" for a in actions):
+        chosen.append(next(a for a in actions if a.option_strings[0] == "--quiet"))
+    argv: list[str] = []
+    for a in chosen:
+        argv += _values(a, rng)
+    return argv
+
+
+class _Alarm(BaseException):
+    pass
+
+
+def _on_alarm(signum, frame):
+    raise _Alarm()
+
+
+def run_one(argv: list[str], timeout: float) -> tuple[object, str, str]:
+    """``fembeam argv`` in this process: (exit code, or "timeout", or the exception), stdout, stderr."""
+    from .cli.main import main
+
+    out, err = io.StringIO(), io.StringIO()
+    old = signal.signal(signal.SIGALRM, _on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, timeout)
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code: object = main(argv)
+            except SystemExit as e:
+                code = e.code if isinstance(e.code, int) else 2
+    except _Alarm:
+        code = "timeout"
+    except Exception as e:   # a traceback: what the fuzzing is for
+        import traceback
+        code = e
+        err.write(traceback.format_exc())
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    return code, out.getvalue(), err.getvalue()
+
+
+def check(command: str, argv: list[str], code, out: str, err: str) -> str | None:
+    """Why the run breaks the command line's promise, or None."""
+    if isinstance(code, BaseException):
+        return f"exception {type(code).__name__}"
+    if code == "timeout":
+        return None
+    allowed = {0, 2, 3} | ({1} if command == "report" else set())
+    if code not in allowed:
+        return f"exit code {code}"
+    text = err.replace("\r", "\n")
+    if "Traceback" in text or "Warning:" in text:
+        return "traceback or warning on stderr"
+    lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+    if code == 2 and len(lines) != 1:
+        return f"exit 2 with {len(lines)} stderr lines"
+    if code == 3 and not (lines and lines[-1].startswith("fembeam")):
+        return "exit 3 without fembeam's message"
+    if code == 0 and "--json" in argv:
+        try:
+            json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
+        except ValueError as e:
+            return f"--json output is not strict JSON ({str(e)[:60]})"
+    return None
+
+
+def _scratch() -> str:
+    d = tempfile.mkdtemp(prefix="fembeam-fuzz-")
+    os.mkdir(os.path.join(d, "adir"))
+    with open(os.path.join(d, "afile"), "w") as f:
+        f.write("not a record\n")
+    with open(os.path.join(d, "bad.csv"), "w") as f:
+        f.write("time,acc\n0,nan\n0.01,0.1\n")
+    return d
+
+
+def fuzz(runs: int = 300, seed: int = 0, timeout: float = 20.0, commands: list[str] | None = None,
+         progress: bool = False) -> FuzzReport:
+    """Run ``runs`` random command lines (reproducible from ``seed``) in a scratch directory."""
+    import numpy as np
+
+    from .cli.main import build_parser
+
+    rng = random.Random(seed)
+    cmds = _commands(build_parser())
+    names = sorted(commands or cmds)
+    unknown = set(names) - set(cmds)
+    if unknown:
+        raise SystemExit(f"fembeam.fuzz: unknown commands {sorted(unknown)}; known: {', '.join(sorted(cmds))}")
+    rep = FuzzReport()
+    here, clock = os.getcwd(), time.perf_counter()
+    scratch = _scratch()
+    os.chdir(scratch)
+    try:
+        for i in range(runs):
+            name = rng.choice(names)
+            argv = [name] + BASE.get(name, []) + draw(cmds[name], rng)
+            with np.errstate(all="warn"):
+                code, out, err = run_one(argv, timeout)
+            rep.runs += 1
+            key = code if isinstance(code, (int, str)) else "exception"
+            rep.codes[key] = rep.codes.get(key, 0) + 1
+            if code == "timeout":
+                rep.timeouts.append(argv)
+            why = check(name, argv, code, out, err)
+            if why:
+                rep.failures.append((argv, why, err[-600:]))
+            if progress:
+                print(f"\r{i + 1}/{runs} runs, {len(rep.failures)} failures", end="", file=sys.__stderr__, flush=True)
+    finally:
+        os.chdir(here)
+        if progress:
+            print(file=sys.__stderr__)
+    rep.seconds = time.perf_counter() - clock
+    return rep
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m fembeam.fuzz", description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=300, help="command lines to try (default 300)")
+    ap.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    ap.add_argument("--timeout", type=float, default=20.0, help="seconds per run before the alarm (default 20)")
+    ap.add_argument("--command", action="append", default=None, help="only this sub-command (repeatable)")
+    args = ap.parse_args(argv)
+    rep = fuzz(args.runs, args.seed, args.timeout, args.command, progress=True)
+    print(rep.summary())
+    return 1 if rep.failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
