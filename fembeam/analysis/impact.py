@@ -25,13 +25,14 @@ import numpy as np
 from ..errors import InputError
 from ..fem import Discretization, dof_scaling
 from ..mechanisms.hinge import Hinge, find_hinges
-from .qp import solve_qp
+from .qp import BACKENDS, solve_qp
 from .statics import statics
 from .verification import check
 
 __all__ = ["ImpactResult", "impact"]
 
 ARREST_TOL = 1e-9  # r below this: the arch stops dead (no compatible motion does work)
+COMPATIBLE_TOL = 1e-9  # d0 closing or sliding no joint by more than this (relative): compatible, r = 1
 
 
 @dataclass
@@ -76,7 +77,14 @@ def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol:
            verify: bool = True) -> ImpactResult:
     """Post-impact field, restitution coefficient and internal impulses for the
     pre-impact field ``d0`` (element DOFs).  The solution's figures (:func:`_verify`)
-    are checked (``verify``): one above its threshold raises :class:`SolverError`."""
+    are checked (``verify``): one above its threshold raises :class:`SolverError`.
+
+    ``0 <= r <= 1`` always (Cauchy-Schwarz; rounding above 1 is cut off).  A pre-impact
+    field that is itself compatible (no joint closes or slides, within
+    :data:`COMPATIBLE_TOL` of its largest opening rate, e.g. ``+u`` of the limit
+    analysis, which opens its hinges) is its own projection onto the compatible cone:
+    nothing is struck, ``d' = d0``, no impulses and ``r = 1`` exactly, without a QP
+    solve (``backend`` is then reported as ``"none"``)."""
     if not isinstance(disc, Discretization):
         raise InputError(f"impact needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
     d0 = np.asarray(d0, float)
@@ -89,6 +97,16 @@ def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol:
         raise InputError("the pre-impact field has no kinetic energy")
     m = float(disc.rigid(V=(1.0, 0.0)) @ M @ disc.rigid(V=(1.0, 0.0)))
     sigma = np.sqrt(two_k / m)  # mean velocity of d0 (m/s): scale of the scaled problem
+    if backend not in BACKENDS:
+        raise InputError(f"unknown QP backend {backend!r}; allowed: {', '.join(BACKENDS)}")
+    eps0, slide0 = disc.B_open @ d0, disc.B_slide @ d0
+    misfit = max(0.0, -np.min(eps0), np.max(np.abs(slide0), initial=0.0))
+    if misfit <= COMPATIBLE_TOL * max(np.max(np.abs(eps0)), sigma):   # d0 is its own projection
+        J = disc.n_joints
+        res = ImpactResult(disc, d0, d0.copy(), 1.0, np.zeros((2, J)), np.zeros(slide0.size),
+                           find_hinges(disc, d0), "none", 0, 0.0)
+        res.verification = _verify(res, two_k)
+        return res
     P = (D @ M @ D / m).tocsc()
     q = -(D @ (M @ d0)) / (m * sigma)
     sol = solve_qp(P, q, disc.B_slide @ D, disc.B_open @ D, backend=backend, tol=tol)
@@ -96,7 +114,7 @@ def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol:
     J = disc.n_joints
     mu = m * sigma * sol.mu.reshape(2, J)
     lam = m * sigma * sol.lam
-    r = float(d @ M @ d) / two_k
+    r = min(float(d @ M @ d) / two_k, 1.0)
     res = ImpactResult(disc, d0, d, r, mu, lam, find_hinges(disc, d) if r >= ARREST_TOL else [],
                        sol.backend, sol.iterations, sol.solve_time)
     res.verification = _verify(res, two_k)

@@ -14,9 +14,10 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..errors import InputError
-from ..mechanisms.discrete_series import discrete_series
-from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, FourHingeImpact, four_hinge_impact
+import numpy as np
+
+from ..mechanisms.discrete_series import SERIES_ROWS, discrete_series
+from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, SIZE_LIMITS, FourHingeImpact, four_hinge_impact
 from ..mechanisms.hinge import ROCKING_SIDES
 from ..geometry import CircularArch
 from .args import add_arch, arch_from, arch_title, int_list
@@ -27,7 +28,9 @@ SIDE_CODES = {**{k[0]: k for k in ROCKING_SIDES}, **{k: k for k in ROCKING_SIDES
 
 
 def hinge_spec(text: str) -> tuple[list[float], list[str]]:
-    """``"0:e,45:i,112.5:e,157.5:i"`` -> angles (deg) and sides."""
+    """``"0:e,45:i,112.5:e,157.5:i"`` -> angles (deg) and sides.  Only the syntax is
+    checked here; the values (finite, on the arch, increasing, at joints, a four-bar) are
+    checked with the arch by :meth:`fembeam.mechanisms.mechanism.Mechanism.checked`."""
     angles, sides = [], []
     for item in [p for p in text.split(",") if p.strip()]:
         a, _, k = item.partition(":")
@@ -38,9 +41,28 @@ def hinge_spec(text: str) -> tuple[list[float], list[str]]:
         if k.strip().lower() not in SIDE_CODES:
             raise argparse.ArgumentTypeError(f"bad hinge {item!r}: side must be i (intrados) or e (extrados)")
         sides.append(SIDE_CODES[k.strip().lower()])
-    if len(angles) != 4:
-        raise argparse.ArgumentTypeError(f"give exactly four hinges, got {len(angles)} in {text!r}")
     return angles, sides
+
+
+def finite_json(obj) -> str:
+    """One line of JSON without NaN or infinity: a non-finite number becomes null and
+    its key path is listed under ``"undefined"`` (the reason: not a finite number)."""
+    paths: list[str] = []
+
+    def clean(x, path):
+        if isinstance(x, dict):
+            return {k: clean(v, f"{path}.{k}" if path else str(k)) for k, v in x.items()}
+        if isinstance(x, (list, tuple)):
+            return [clean(v, f"{path}[{i}]") for i, v in enumerate(x)]
+        if isinstance(x, (float, np.floating)) and not np.isfinite(x):
+            paths.append(path)
+            return None
+        return x.item() if isinstance(x, np.generic) else x
+
+    out = clean(obj, "")
+    if paths and isinstance(out, dict):
+        out["undefined"] = {"keys": paths, "reason": "not a finite number for this arch and mechanism"}
+    return json.dumps(out, allow_nan=False)
 
 
 def register(sub) -> None:
@@ -50,16 +72,21 @@ def register(sub) -> None:
                                    "(--restricted, default) or mirrored classical (--classical) hinges; "
                                    "the general QP's r_max is reported for comparison.")
     add_arch(p)
-    g = p.add_argument_group("discretisation")
+    ex, vo = SIZE_LIMITS["exhaustive"].highest, SIZE_LIMITS["voussoirs"].highest
+    g = p.add_argument_group("discretisation", "size limits keep a run under ~1 min and ~2 GB (docs/user_guide.md)")
     m = g.add_mutually_exclusive_group()
     m.add_argument("--voussoirs", type=int, default=None, metavar="N",
-                   help="discrete arch of N voussoirs: hinges only at the N+1 joints")
+                   help=f"discrete arch of N voussoirs: hinges only at the N+1 joints; N <= {ex} with "
+                        f"--restricted (exhaustive search, time ~N^4), N <= {vo:,} with --after or --classical")
     m.add_argument("--elements", type=int, default=None, metavar="N",
-                   help="continuous arch: elements of the general QP used for comparison (default 200)")
+                   help=f"continuous arch: elements of the general QP used for comparison (default 200, "
+                        f"at most {SIZE_LIMITS['elements'].highest:,})")
     g.add_argument("--sections", type=int, default=DEFAULT_SECTIONS, metavar="N",
-                   help=f"continuous arch: check the impulse line at N+1 sections (default {DEFAULT_SECTIONS})")
+                   help=f"continuous arch: check the impulse line at N+1 sections (default {DEFAULT_SECTIONS}, "
+                        f"at most {SIZE_LIMITS['sections'].highest:,})")
     g.add_argument("--grid", type=int, default=31, metavar="N",
-                   help="continuous --restricted: exhaustive start on N voussoirs before the smooth search (default 31)")
+                   help="continuous --restricted: exhaustive start on N voussoirs before the smooth search "
+                        f"(default 31, at most {ex})")
     g.add_argument("--direction", type=int, choices=(1, -1), default=1, help="load direction, as in analyze")
     h = p.add_argument_group("mechanisms")
     h.add_argument("--before", type=hinge_spec, default=None, metavar="A:i|e,...",
@@ -71,9 +98,11 @@ def register(sub) -> None:
     w.add_argument("--classical", action="store_true",
                    help="De Lorenzis-DeJong-Ochsendorf: mirrored hinges, impulses through the points opposite C")
     p.add_argument("--series", type=int_list, default=None, metavar="N,N,...",
-                   help="instead: discrete -> continuous table of A_L, r_max, r_4hinge for these voussoir counts")
+                   help="instead: discrete -> continuous table of A_L, r_max, r_4hinge for these voussoir counts "
+                        f"(at most {SERIES_ROWS} counts adding up to at most {vo:,} voussoirs)")
     p.add_argument("--exhaustive-max", type=int, default=31, metavar="N",
-                   help="with --series: exhaustive r_4hinge up to N voussoirs (default 31; 63 takes ~12 s)")
+                   help=f"with --series: exhaustive r_4hinge up to N voussoirs (default 31, at most {ex}: "
+                        "~1 us per candidate, 16 C(N+1, 4) candidates: 63 takes ~10 s)")
     add_friction(p, "Coulomb coefficient MU >= 0 of the joints: the sections whose impulses (or limit-state "
                     "forces) need more friction are flagged; the impact itself stays frictionless (default: none)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -92,7 +121,7 @@ def compute(args) -> FourHingeImpact:
 def write_pictures(result: FourHingeImpact, args) -> list[str]:
     """``--vtk/--png/--figure`` for the four-hinge impact."""
     wanted = [o for o in ("vtk", "png", "figure") if getattr(args, o, None) is not None]
-    if not wanted or result.r is None:
+    if not wanted or result.line is None:
         return []
     disc, d0, d, hb, ha, impulse = result.picture_fields()
     written = []
@@ -119,7 +148,8 @@ def friction_report(result: FourHingeImpact, mu: float | None) -> dict:
     rf = {"limit": rf["limit"], "impact_qp": rf["impact"]}
     line = result.line
     rf["impact"] = (required_friction(line.angle_deg, line.s, line.I_n, -line.I_t, mu, "impulse")
-                    if line is not None else {"max": None, "reason": f"no impact (outcome {res.outcome})"})
+                    if line is not None else {"max": None, "reason": "no four-hinge impact (outcome "
+                                              f"{result.outcome or res.outcome})"})
     risk = None if mu is None else bool(any(d.get("above") for d in rf.values()))
     return {"friction": mu, "required_friction": rf, "sliding_risk": risk}
 
@@ -133,7 +163,7 @@ def run(args) -> int:
     out = result.to_dict(fields=args.fields)
     out.update(friction_report(result, args.friction))
     if args.json:
-        print(json.dumps(out, allow_nan=False))
+        print(finite_json(out))
         return 0
     print(summary(out))
     for line in written:
@@ -142,19 +172,20 @@ def run(args) -> int:
 
 
 def run_series(args) -> int:
-    if any(n < 1 for n in args.series):
-        raise InputError("--series needs positive voussoir counts")
     curve = arch_from(args)
     rows = discrete_series(curve, args.series, exhaustive_max=args.exhaustive_max)
     if args.json:
-        print(json.dumps({"command": "impact --series", "geometry": curve.describe(), "rows": rows}))
+        print(finite_json({"command": "impact --series", "geometry": curve.describe(), "rows": rows}))
         return 0
     print(f"fembeam impact --series: embrace {curve.embrace_deg:g} deg, t/R = {curve.t_over_r:g}"
           if isinstance(curve, CircularArch) else f"fembeam impact --series: {arch_title(curve.describe())}")
-    print(f"  {'voussoirs':>10s} {'A_L':>10s} {'r_max (QP)':>11s} {'QP hinges':>9s} {'r_4hinge':>10s}")
+    print(f"  {'voussoirs':>10s} {'A_L':>10s} {'r_max (QP)':>11s} {'QP hinges':>9s} {'r_4hinge':>10s}  note")
+
+    def num(x, w):
+        return f"{'-':>{w}s}" if x is None else f"{x:{w}.6f}"
     for r in rows:
-        r4 = "-" if r["r_4hinge"] is None else f"{r['r_4hinge']:.6f}"
-        print(f"  {str(r['voussoirs']):>10s} {r['A_L']:10.6f} {r['r_max']:11.6f} {r['qp_hinges']:9d} {r4:>10s}")
+        print(f"  {str(r['voussoirs']):>10s} {num(r['A_L'], 10)} {num(r['r_max'], 11)} {r['qp_hinges']:9d} "
+              f"{num(r['r_4hinge'], 10)}  {r.get('reason', '')}".rstrip())
     return 0
 
 
@@ -166,14 +197,26 @@ def summary(o: dict) -> str:
     g = o["geometry"]
     head = (f"fembeam impact: circular arch, embrace {g['embrace_deg']:g} deg, t/R = {g['t_over_R']:g}, "
             f"{o['mode']}" if g.get("shape") == "circular" else f"fembeam impact: {arch_title(g)}, {o['mode']}")
-    if o["r"] is None:
-        return head + f"\n  outcome: {o['outcome']} (no impact analysis)"
+    if o["admissibility"] is None:   # no four-hinge impact: say why, and what the general QP gives
+        lines = [head, f"  outcome: {o['outcome']}: {o.get('explanation', '')}"]
+        if o.get("A_L") is not None:
+            lines.append(f"  A_L = {o['A_L']:.6f} g")
+        if o["hinges_before"]:
+            lines.append(f"  hinges before: {_h(o['hinges_before'])}")
+        if o["r"] is not None:
+            lines.append(f"  r = {o['r']:.6f} (four-hinge model)")
+        if o.get("r_max") is not None:
+            lines.append(f"  general QP: r_max = {o['r_max']:.6f}, hinges {_h(o.get('hinges_after_qp', []))}")
+        lines += friction_lines(o.get("required_friction", {}), o.get("friction"),
+                                {"limit": "|S|/N", "impact": "|I_n|/|I_t|", "impact_qp": "|I_n|/|I_t|"})
+        return "\n".join(lines)
     a = o["admissibility"]
     lines = [head, f"  A_L = {o['A_L']:.6f} g   model: {o['model']}",
              f"  hinges before: {_h(o['hinges_before'])}",
              f"  hinges after:  {_h(o['hinges_after'])}",
              f"  r = {o['r']:.6f}   alpha'/alpha = {o['alpha_ratio']:.6f}"
-             + ("" if o.get("compatible", True) else "   (NOT compatible: alpha' closes some new hinge, so r = 0)"),
+             + ("" if o.get("compatible", True) else "   (NOT compatible: alpha' closes some new hinge, so r = 0)")
+             + ("   (r > 1: the classical model creates energy here; not physical)" if o.get("creates_energy") else ""),
              f"  general QP: r_max = {o['r_max']:.6f} (r_max - r = {o['r_max_minus_r']:+.2e}), "
              f"hinges {_h(o['hinges_after_qp'])}",
              f"  impulse line ({a['sections']} sections): through the new hinges: {a['passes_through_hinges']}, "

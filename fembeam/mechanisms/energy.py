@@ -19,6 +19,8 @@ from .mechanism import Mechanism
 __all__ = ["product", "momenta", "load_factor", "restitution", "ImpactFigures", "post_impact",
            "optimise_load_factor"]
 
+MOMENTA_CHUNK = 50_000   # pieces per quadrature call of :func:`momenta` (bounds its memory)
+
 
 def _same_curve(a: Mechanism, b: Mechanism):
     if a.curve is not b.curve and a.curve != b.curve:
@@ -48,10 +50,14 @@ def momenta(field: Mechanism, breaks: np.ndarray) -> np.ndarray:
     ``(V, Omega)``: ``p = m V + Omega k x S`` and ``L_O = S x V + Omega J``.
     """
     br = np.asarray(breaks, float)
-    mo = field.motion_at(0.5 * (br[:-1] + br[1:]))
-    m, S, J = field.curve.segment_inertia(br[:-1], br[1:])
-    Vx, Vy, Om = mo.T
-    return np.array([m * Vx - Om * S[1], m * Vy + Om * S[0], S[0] * Vy - S[1] * Vx + Om * J])
+    out = np.empty((3, max(br.size - 1, 0)))
+    for a in range(0, out.shape[1], MOMENTA_CHUNK):   # the quadrature needs ~3 kB per piece
+        b = min(a + MOMENTA_CHUNK, out.shape[1])
+        mo = field.motion_at(0.5 * (br[a:b] + br[a + 1:b + 1]))
+        m, S, J = field.curve.segment_inertia(br[a:b], br[a + 1:b + 1])
+        Vx, Vy, Om = mo.T
+        out[:, a:b] = m * Vx - Om * S[1], m * Vy + Om * S[0], S[0] * Vy - S[1] * Vx + Om * J
+    return out
 
 
 def load_factor(mech: Mechanism, direction: int = 1) -> float:

@@ -25,12 +25,44 @@ from .classical import classical_impact
 from .hinge import ROCKING_SIDES, Hinge
 from .impulse_line import ImpulseLine, four_hinge_impulse_line
 from .mechanism import Mechanism
-from .restricted import best_four_hinge_continuous, best_four_hinge_discrete
+from .restricted import MAX_EXHAUSTIVE_JOINTS, best_four_hinge_continuous, best_four_hinge_discrete
 
-__all__ = ["FourHingeImpact", "four_hinge_impact", "hinge_zones", "MODELS", "DEFAULT_SECTIONS"]
+__all__ = ["FourHingeImpact", "four_hinge_impact", "hinge_zones", "MODELS", "DEFAULT_SECTIONS", "SizeLimit",
+           "SIZE_LIMITS"]
 
 MODELS = ("restricted", "prescribed", "classical")
 DEFAULT_SECTIONS = 720   # continuous arch: impulse line checked at 720 + 1 sections (+ the hinges)
+
+
+@dataclass(frozen=True)
+class SizeLimit:
+    """Allowed range of a size argument and the measurement behind its upper limit
+    (one run stays under ~1 min and ~2 GB on a 2-core machine)."""
+
+    what: str
+    lowest: int
+    highest: int
+    basis: str
+
+    def check(self, value) -> int:
+        """``value`` as an int; InputError stating the range unless it is an integer in it."""
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) \
+                or not self.lowest <= value <= self.highest:
+            raise InputError(f"{self.what} must be an integer in [{self.lowest}, {self.highest}] "
+                             f"({self.basis}), got {value!r}")
+        return int(value)
+
+
+SIZE_LIMITS = {
+    "elements": SizeLimit("the number of elements", 4, 100_000, "~30 s and 0.7 GB at the limit, linear"),
+    "voussoirs": SizeLimit("the number of voussoirs", 1, 100_000, "~20 s and 0.7 GB at the limit, linear"),
+    "exhaustive": SizeLimit("the number of voussoirs of the exhaustive four-hinge search", 1,
+                            MAX_EXHAUSTIVE_JOINTS - 1, "16 C(N+1, 4) candidates: ~30 s at the limit, growing as N^4"),
+    "grid": SizeLimit("the number of voussoirs (grid) of the exhaustive start of the continuous search", 3,
+                      MAX_EXHAUSTIVE_JOINTS - 1, "16 C(N+1, 4) candidates: ~30 s at the limit, growing as N^4"),
+    "sections": SizeLimit("the number of sections", 4, 1_000_000,
+                          "~15 s and 0.35 GB at the limit; with the fields in JSON ~25 s, 0.6 GB and 100 MB of text"),
+}
 
 
 def hinge_zones(hinges: list[Hinge]) -> list[dict]:
@@ -58,7 +90,10 @@ class FourHingeImpact:
     closing sense); ``after`` the mechanism after the impact (unit rate) and ``line``
     its impulse line; ``r`` the restitution coefficient of ``model``; ``extra`` the
     model's own figures (JSON keys); ``line_at(sections)`` the line at other sections.
-    ``r`` is None when the arch does not rock (``analysis.outcome``).
+    Without a four-hinge impact ``line`` is None and ``outcome``/``explanation`` say why:
+    the arch does not rock (``analysis.outcome``, ``r`` None), its incipient mechanism
+    is not four rotating hinges (``"not_four_hinge"``, ``r`` None) or no compatible
+    four-hinge mechanism does positive work (``"four_hinge_arrested"``, ``r = 0``).
     """
 
     curve: MidCurve
@@ -73,14 +108,23 @@ class FourHingeImpact:
     line_at: Callable[[np.ndarray], ImpulseLine] | None = None
     picture_elements: int = 200
     time_s: float = 0.0
+    outcome: str = ""
+    explanation: str = ""
 
     def to_dict(self, fields: bool = False) -> dict:
         """The JSON of ``fembeam impact`` (``fields``: the impulse line at every section)."""
         res = self.analysis
-        out = {"command": "impact", "mode": res.mode, "geometry": res.geometry, "outcome": res.outcome,
+        out = {"command": "impact", "mode": res.mode, "geometry": res.geometry,
+               "outcome": self.outcome or res.outcome, "analysis_outcome": res.outcome,
                "A_L": res.A_L if np.isfinite(res.A_L) else None}
-        if self.r is None:
-            out.update(r=None, hinges_before=[], hinges_after=[], admissibility=None, r_max=None)
+        if self.line is None:
+            r_max = res.r if np.isfinite(res.r) else None
+            hb = self.before.to_list() if self.before is not None else [h.to_dict() for h in res.hinges_before]
+            out.update(r=self.r, explanation=self.explanation, hinges_before=hb, hinges_after=[],
+                       admissibility=None, r_max=r_max, hinges_after_qp=[h.to_dict() for h in res.hinges_after])
+            if r_max is None:
+                out["r_max_reason"] = f"no impact: outcome {res.outcome}"
+            out["time_s"] = round(self.time_s, 3)
             return out
         out.update({
             "model": self.model,
@@ -106,8 +150,8 @@ class FourHingeImpact:
         joints are the voussoir joints (or a uniform mesh through both sets of hinges),
         the pre-impact field, the post-impact field ``alpha' x after`` and its impulse
         line at the joints (per-joint arrays)."""
-        if self.r is None:
-            raise InputError(f"nothing to draw: outcome {self.analysis.outcome}")
+        if self.line is None:
+            raise InputError(f"nothing to draw: outcome {self.outcome or self.analysis.outcome}")
         curve, before, after = self.curve, self.before, self.after
         nodes = nodes_through(uniform_nodes(curve, self.picture_elements), np.concatenate([before.s, after.s]),
                               keep=curve.kinks)
@@ -124,9 +168,26 @@ class FourHingeImpact:
         return f"{self.model} four-hinge impact: r = {self.r:.4f}"
 
 
-def _as_mechanism(curve: MidCurve, spec) -> Mechanism:
-    """A :class:`Mechanism`, or ``(angles_deg, sides)``."""
-    return spec if isinstance(spec, Mechanism) else Mechanism.from_angles(curve, *spec)
+def _hinges(curve: MidCurve, spec, joints, what: str) -> Mechanism:
+    """A checked :class:`Mechanism` from a Mechanism or ``(angles_deg, sides)``
+    (:meth:`Mechanism.from_angles`/:meth:`Mechanism.checked`: one check for every hinge list)."""
+    if isinstance(spec, Mechanism):
+        if spec.curve is not curve and spec.curve != curve:
+            raise InputError(f"{what}: the mechanism belongs to another member")
+        return Mechanism.checked(curve, spec.s, spec.sides, spec.alpha, joints, what)
+    try:
+        angles, sides = spec
+    except (TypeError, ValueError):
+        raise InputError(f"{what}: expected a Mechanism or (angles_deg, sides), got {spec!r}") from None
+    return Mechanism.from_angles(curve, angles, sides, joints=joints, what=what)
+
+
+def _not_four_hinge(hinges) -> str:
+    listed = ", ".join(f"{h.angle_deg:.2f} {h.side}" for h in hinges) or "none"
+    return (f"the incipient mechanism has {len(hinges)} hinges ({listed}), not four rotating hinges, so the "
+            "four-hinge impact model (r, alpha', impulse line) does not apply; r_max of the general impact QP "
+            "needs no four-hinge mechanism and is reported. Prescribe the hinges before the impact (--before) "
+            "to analyse a four-hinge impact anyway.")
 
 
 def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
@@ -134,12 +195,14 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
                       sections: int = DEFAULT_SECTIONS, grid: int = 31) -> FourHingeImpact:
     """Four-hinge impact of ``curve`` (continuous, or ``voussoirs`` rigid voussoirs).
 
-    ``before``/``after``: :class:`Mechanism` or ``(angles_deg, sides)``; ``before``
-    defaults to the incipient mechanism of the limit analysis. ``model`` defaults to
-    ``"prescribed"`` when ``after`` is given, else ``"restricted"``. On a continuous
-    arch the impulse line is checked at ``sections + 1`` sections plus the hinges, on
-    a discrete one at the joints; ``grid``: voussoirs of the exhaustive start of the
-    continuous restricted search. ``elements`` is the mesh of the general QP.
+    ``before``/``after``: :class:`Mechanism` or ``(angles_deg, sides)``, checked by
+    :meth:`Mechanism.checked` (on a discrete arch the hinges must be at joints);
+    ``before`` defaults to the incipient mechanism of the limit analysis. ``model``
+    defaults to ``"prescribed"`` when ``after`` is given, else ``"restricted"``. On a
+    continuous arch the impulse line is checked at ``sections + 1`` sections plus the
+    hinges, on a discrete one at the joints; ``grid``: voussoirs of the exhaustive start
+    of the continuous restricted search. ``elements`` is the mesh of the general QP.
+    The sizes are checked against :data:`SIZE_LIMITS` before any computation.
     """
     clock = time.perf_counter()
     model = model or ("prescribed" if after is not None else "restricted")
@@ -147,31 +210,50 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
         raise InputError(f"unknown four-hinge model {model!r}: expected one of {', '.join(MODELS)}")
     if (model == "prescribed") != (after is not None):
         raise InputError("the hinges after the impact are given exactly for the prescribed model")
+    if not isinstance(curve, MidCurve):
+        raise InputError(f"four_hinge_impact needs a member (e.g. fembeam.CircularArch), got {type(curve).__name__}")
     discrete = voussoirs is not None
-    if sections < 4:
-        raise InputError(f"the impulse line needs at least 4 sections, got {sections}")
+    if discrete and elements is not None:
+        raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
+    if discrete:
+        try:
+            SIZE_LIMITS["exhaustive" if model == "restricted" else "voussoirs"].check(voussoirs)
+        except InputError as e:
+            if model != "restricted":
+                raise
+            raise InputError(f"{e}; prescribed or classical hinges allow up to "
+                             f"{SIZE_LIMITS['voussoirs'].highest:,} voussoirs") from None
+    else:
+        if elements is not None:
+            SIZE_LIMITS["elements"].check(elements)
+        SIZE_LIMITS["sections"].check(sections)
+        if model == "restricted":
+            SIZE_LIMITS["grid"].check(grid)
+    L = curve.length
+    sec = uniform_nodes(curve, voussoirs) if discrete else np.linspace(0.0, L, sections + 1)
+    joints = sec if discrete else None
+    if before is not None:
+        before = _hinges(curve, before, joints, "hinges before the impact")
+    if after is not None:
+        after = _hinges(curve, after, joints, "hinges after the impact")
+
     res = analyze(curve, elements=elements, voussoirs=voussoirs, direction=direction)
     out = FourHingeImpact(curve, res, picture_elements=voussoirs or elements or 200)
+    out.time_s = time.perf_counter() - clock
     if res.outcome not in ("rocking", "arrested"):
+        out.explanation = f"the arch does not rock (outcome {res.outcome}): no impact"
         return out
-    if before is not None:
-        before = _as_mechanism(curve, before)
-    else:
+    if before is None:
         hb = res.hinges_before
         if len(hb) != 4 or any(h.side not in ROCKING_SIDES for h in hb):
-            raise InputError(f"the incipient mechanism has {len(hb)} hinges, not four: give --before")
+            out.outcome, out.explanation = "not_four_hinge", _not_four_hinge(hb)
+            return out
         before = Mechanism.from_hinges(curve, hb)
     sgn = before.compatible_sign()
     if sgn == 0:
-        raise InputError("the hinges before the impact do not form a compatible mechanism")
+        raise InputError("the hinges before the impact do not form a compatible mechanism: no sense of "
+                         "rotation opens all four; choose other sides or positions")
     pre = before.closing()   # the arch returns along -u
-    L = curve.length
-    sec = uniform_nodes(curve, voussoirs) if discrete else np.linspace(0.0, L, sections + 1)
-    if discrete:
-        joints = res.impact.disc.joint_s
-        for s in before.s:
-            if np.min(np.abs(joints - s)) > 1e-9 * L:
-                raise InputError(f"hinge before at {float(curve.angle_deg(s)):g} deg is not at a voussoir joint")
 
     extra: dict = {}
     if model == "classical":
@@ -180,22 +262,10 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
         line_at = lambda s_: classical_impact(before, s_, alpha=-sgn).line  # noqa: E731
         extra = {"alpha_ratio": cl.alpha_ratio, "r_energy_same_hinges": cl.r_energy,
                  "opens_mirrored_hinges": cl.line.extra["opens_mirrored_hinges"],
+                 "creates_energy": bool(cl.r > 1.0),   # r > 1: the model's impulses do positive work
                  "impulses_through": before.opposite().to_list()}
     else:
-        if model == "prescribed":
-            after = _as_mechanism(curve, after)
-            if discrete:
-                for s in after.s:
-                    if np.min(np.abs(sec - s)) > 1e-9 * L:
-                        ang = np.asarray(curve.angle_deg(sec), float)
-                        where = (f"joints every {float(curve.angle_deg(L)) / voussoirs:g} deg"
-                                 if np.allclose(np.diff(ang), ang[-1] / voussoirs) else
-                                 "joints at " + ", ".join(f"{a:.4g}" for a in ang) + " deg")
-                        raise InputError(f"hinge after at {float(curve.angle_deg(s)):g} deg is not at a voussoir "
-                                         f"joint ({where})")
-                after = Mechanism(curve, tuple(sec[np.abs(sec[:, None] - np.array(after.s)).argmin(0)]),
-                                  after.sides)
-        else:
+        if model == "restricted":
             if discrete:
                 rr = best_four_hinge_discrete(sec, pre)
             else:
@@ -204,7 +274,12 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
                     h.side in ROCKING_SIDES for h in qh) else []
                 rr = best_four_hinge_continuous(pre, grid=grid, starts=starts)
             if rr.after is None:
-                raise InputError("no compatible four-hinge mechanism does positive work: r_4hinge = 0")
+                out.model, out.r, out.before, out.pre = model, 0.0, before, pre
+                out.outcome = "four_hinge_arrested"
+                out.explanation = ("no compatible four-hinge mechanism does positive work after the impact: "
+                                   "within the four-hinge model the arch stops (r = 0)")
+                out.time_s = time.perf_counter() - clock
+                return out
             after = rr.after
             extra = {"candidates": rr.candidates, "compatible_candidates": rr.compatible, "search": rr.method,
                      "runner_up": [{"r": r_, "hinges": h.to_list()} for r_, h in rr.ranking[:3]]}

@@ -72,6 +72,8 @@ class Mechanism:
         if any(k not in ROCKING_SIDES for k in self.sides):
             raise InputError(f"hinge sides must be 'intrados' or 'extrados', got {self.sides}")
         s = np.asarray(self.s)
+        if not np.all(np.isfinite(s)):
+            raise InputError(f"hinge positions must be finite numbers, got s = {self.s}")
         if np.any(np.diff(s) < 0):
             raise InputError(f"the hinges must be in increasing order along the member, got s = {self.s}")
         if np.any(s < 0) or np.any(s > self.curve.length):
@@ -98,14 +100,95 @@ class Mechanism:
         return cls(curve, tuple(float(h.s) for h in hinges), tuple(h.side for h in hinges), alpha)
 
     @classmethod
-    def from_angles(cls, curve: MidCurve, angles_deg, sides, alpha: float = 1.0) -> "Mechanism":
+    def from_angles(cls, curve: MidCurve, angles_deg, sides, alpha: float = 1.0, joints=None,
+                    what: str = "hinges") -> "Mechanism":
         """Hinges at ``angles_deg`` (the curve's reporting coordinate, deg from the left
-        springing for arches), placed by :meth:`MidCurve.s_at_angle`."""
-        top = float(curve.angle_deg(curve.length))
-        a = np.asarray(angles_deg, float)
-        if np.any(a < -1e-9) or np.any(a > top * (1 + 1e-12)):
-            raise InputError(f"hinge angles must lie in [0, {top:g}] deg")
-        return cls(curve, tuple(np.clip(curve.s_at_angle(a), 0.0, curve.length)), tuple(sides), alpha)
+        springing for arches), placed by :meth:`MidCurve.s_at_angle` and checked by
+        :meth:`checked` (``joints``: arc lengths the hinges must sit at, e.g. voussoir joints)."""
+        n = cls.n_hinges_expected(curve)
+        try:
+            a = np.asarray(angles_deg, float).ravel()
+        except (TypeError, ValueError):
+            raise InputError(f"{what}: angles must be numbers (deg), got {angles_deg!r}") from None
+        sides = [sides] if isinstance(sides, str) else list(sides)
+        if a.size != n or len(sides) != n:
+            raise InputError(f"{what}: give exactly {n} hinge{'s' if n > 1 else ''} (angle and side each), "
+                             f"got {a.size} angles and {len(sides)} sides")
+        lo, hi = float(curve.angle_deg(0.0)), float(curve.angle_deg(curve.length))
+        shown = ", ".join(f"{x:g}" for x in a)
+        if not np.all(np.isfinite(a)):
+            raise InputError(f"{what}: angles must be finite numbers in [{lo:g}, {hi:g}] deg, got {shown}")
+        if np.any(a < lo - 1e-9) or np.any(a > hi * (1 + 1e-12)):
+            raise InputError(f"{what}: angles must lie in [{lo:g}, {hi:g}] deg, got {shown}")
+        if np.any(np.diff(a) <= 0):
+            raise InputError(f"{what}: angles must be distinct and strictly increasing from the left "
+                             f"springing, got {shown} deg")
+        s = np.clip(np.asarray(curve.s_at_angle(a), float), 0.0, curve.length)
+        return cls.checked(curve, s, sides, alpha, joints, what)
+
+    @classmethod
+    def checked(cls, curve: MidCurve, s, sides, alpha: float = 1.0, joints=None,
+                what: str = "hinges") -> "Mechanism":
+        """The one check of a prescribed hinge list (InputError saying what is allowed):
+        arc lengths ``s`` (m) finite, on the member and strictly increasing; sides
+        ``"intrados"``/``"extrados"``; with ``joints`` (m) every hinge at a joint (within
+        1e-4 of the joint spacing; snapped onto it); and a non-degenerate one-parameter
+        mechanism (:meth:`check_four_bar`)."""
+        s = np.asarray(s, float).ravel()
+        bad = [k for k in sides if k not in ROCKING_SIDES]
+        if bad:
+            raise InputError(f"{what}: a hinge side is intrados (i) or extrados (e), got {bad[0]!r}")
+        L = curve.length
+        if not np.all(np.isfinite(s)) or np.any(s < 0) or np.any(s > L):
+            raise InputError(f"{what}: hinges must lie on the member, s in [0, {L:g}] m, got {s.tolist()}")
+        deg = np.asarray(curve.angle_deg(s), float)
+        if joints is not None:
+            js = np.asarray(joints, float)
+            k = np.abs(js[None, :] - s[:, None]).argmin(1)
+            tol = 1e-4 * float(np.min(np.diff(js)))
+            off = np.flatnonzero(np.abs(js[k] - s) > tol)
+            if off.size:
+                i = int(off[0])
+                ja = np.asarray(curve.angle_deg(js), float)
+                near = np.searchsorted(js, s[i])
+                pair = ja[max(near - 1, 0)], ja[min(near, js.size - 1)]
+                step = np.diff(ja)
+                every = f"; joints every {step[0]:.10g} deg" if np.allclose(step, step[0]) else ""
+                raise InputError(f"{what}: {deg[i]:g} deg is not at a voussoir joint (nearest joints "
+                                 f"{pair[0]:.10g} and {pair[1]:.10g} deg{every})")
+            s = js[k]
+        if np.any(np.diff(s) <= 1e-12 * L):
+            i = int(np.flatnonzero(np.diff(s) <= 1e-12 * L)[0])
+            raise InputError(f"{what}: hinges must be at distinct sections, strictly increasing from the left "
+                             f"springing; {deg[i]:g} and {deg[i + 1]:g} deg are the same section or out of order")
+        mech = cls(curve, tuple(s), tuple(sides), alpha)
+        mech.check_four_bar(what)
+        return mech
+
+    def check_four_bar(self, what: str = "hinges") -> None:
+        """InputError unless the mechanism moves with one parameter and every hinge turns:
+        the lines C1-C13 and C2-C23 must cross (else the middle piece would translate)
+        and no three pivots may be aligned so that a hinge locks or stays still."""
+        if self.n_hinges != 4:
+            return
+        C1, C13, C23, C2 = self.points().T
+        d1, d2 = C13 - C1, C23 - C2
+        if abs(_cross(d1, d2)) <= 1e-9 * np.linalg.norm(d1) * np.linalg.norm(d2):
+            raise InputError(f"{what}: degenerate four-hinge mechanism: the lines through the first two and "
+                             "the last two pivots are parallel (the middle piece could only translate)")
+        P, deg = self.points().T, self.angles_deg()
+        for i, j, k in ((0, 1, 2), (1, 2, 3), (0, 1, 3), (0, 2, 3)):
+            u, v = P[j] - P[i], P[k] - P[i]
+            if abs(_cross(u, v)) <= 1e-9 * np.linalg.norm(u) * np.linalg.norm(v):
+                raise InputError(f"{what}: degenerate four-hinge mechanism: the pivots at {deg[i]:g}, {deg[j]:g} "
+                                 f"and {deg[k]:g} deg are aligned, so the four-bar locks or a hinge cannot turn")
+        with np.errstate(all="ignore"):
+            jumps = self.jumps()
+        dead = ~np.isfinite(jumps) | (np.abs(jumps) <= 1e-9 * np.max(np.abs(np.nan_to_num(jumps))))
+        if dead.any():
+            at = float(self.curve.angle_deg(self.s[int(np.flatnonzero(dead)[0])]))
+            raise InputError(f"{what}: degenerate four-hinge mechanism: the hinge at {at:g} deg cannot turn "
+                             "(three pivots are aligned), so this is not a one-degree-of-freedom four-bar")
 
     @classmethod
     def from_dofs(cls, disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_TOL) -> "Mechanism":

@@ -14,7 +14,8 @@ after the impact.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from itertools import combinations, product as iproduct
+from itertools import chain, combinations, islice, product as iproduct
+from math import comb
 
 import numpy as np
 from scipy.optimize import minimize
@@ -26,7 +27,9 @@ from .hinge import ROCKING_SIDES, opening_signs, pivot_fractions
 from .mechanism import Mechanism
 
 __all__ = ["RestrictedResult", "best_four_hinge_discrete", "best_four_hinge_continuous", "refine_four_hinge",
-           "qp_with_hinges_only_at"]
+           "qp_with_hinges_only_at", "exhaustive_candidates", "MAX_EXHAUSTIVE_JOINTS"]
+
+MAX_EXHAUSTIVE_JOINTS = 81   # 80 voussoirs: 16 C(81, 4) = 26.6 million candidates, ~30 s
 
 
 @dataclass
@@ -42,86 +45,98 @@ class RestrictedResult:
     method: str = ""
 
 
-def _inertia_matrices(curve: MidCurve, joint_s: np.ndarray) -> np.ndarray:
-    """(N, 3, 3) inertia matrices ``Q`` of the voussoirs: ``a^T Q b = int rho a . b dA``."""
+def _piece_sums(curve: MidCurve, joint_s: np.ndarray, before: Mechanism):
+    """Prefix sums over the voussoirs of ``(m, S_x, S_y, J)`` (4, J) and of the pre-impact
+    momentum pairing ``G = Q b`` (3, J), and ``Lambda = b^T Q b`` of the field ``before``."""
     m, S, J = curve.segment_inertia(joint_s[:-1], joint_s[1:])
-    Q = np.zeros((m.size, 3, 3))
-    Q[:, 0, 0] = Q[:, 1, 1] = m
-    Q[:, 0, 2] = Q[:, 2, 0] = -S[1]
-    Q[:, 1, 2] = Q[:, 2, 1] = S[0]
-    Q[:, 2, 2] = J
-    return Q
+    b = before.motion_at(0.5 * (joint_s[:-1] + joint_s[1:])).T     # (3, N): V_x, V_y, Omega
+    G = np.array([m * b[0] - S[1] * b[2], m * b[1] + S[0] * b[2], -S[1] * b[0] + S[0] * b[1] + J * b[2]])
+    lam = float(np.sum(G * b))
+    zero = np.zeros((1,))
+    cum = lambda x: np.concatenate([zero, np.cumsum(x)])  # noqa: E731
+    return np.array([cum(m), cum(S[0]), cum(S[1]), cum(J)]), np.array([cum(g) for g in G]), lam
 
 
-def _kernel(P: np.ndarray, sides_sign: np.ndarray, idx: np.ndarray, cQ: np.ndarray, cG: np.ndarray,
-            lam: float):
-    """r of every candidate: ``P`` (n, 4, 2) hinge points, ``sides_sign`` (4,), ``idx``
-    (n, 4) joint indices; prefix sums ``cQ`` (J, 3, 3) and ``cG`` (J, 3)."""
+def _kernel(P: np.ndarray, sides_sign: np.ndarray, inertia: list, pairing: list, lam: float) -> np.ndarray:
+    """r of every candidate: ``P`` (n, 4, 2) hinge points, ``sides_sign`` (4,); for each
+    moving piece (I, III, II) its ``(m, S_x, S_y, J)`` and its pairing ``G`` with the
+    pre-impact field, ``inertia[k]`` (4, n) and ``pairing[k]`` (3, n).  A candidate's
+    ``Lambda' = sum_k a_k^T Q_k a_k`` and ``Gamma = sum_k a_k . G_k`` (``a_k``: motion
+    ``(V_x, V_y, Omega)`` of piece ``k``, ``Q_k`` its 3x3 inertia matrix)."""
     C1, C13, C23, C2 = (P[:, i].T for i in range(4))
     d1, d2 = C13 - C1, C23 - C2
     det = -d1[0] * d2[1] + d1[1] * d2[0]
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         a = (-(C2 - C1)[0] * d2[1] + (C2 - C1)[1] * d2[0]) / det
         C3 = C1 + a * d1
         e3 = C13 - C3
         om3 = np.sum((C13 - C1) * e3, 0) / np.sum(e3 * e3, 0)
         om2 = om3 * np.sum((C23 - C3) * (C23 - C2), 0) / np.sum((C23 - C2) ** 2, 0)
-    valid = (np.abs(det) > 1e-12 * np.sum(d1 * d1, 0)) & np.isfinite(om3) & np.isfinite(om2)
-    jumps = np.array([np.ones_like(om3), om3 - 1.0, om2 - om3, -om2]) * sides_sign[:, None]
-    sgn = np.where(np.all(jumps >= 0, 0), 1.0, np.where(np.all(jumps <= 0, 0), -1.0, 0.0)) * valid
-    om = np.array([np.ones_like(om3), om3, om2])                       # pieces I, III, II
-    cen = np.array([C1, C3, C2])                                       # (3, 2, n)
-    motion = np.stack([om * cen[:, 1], -om * cen[:, 0], om], -1)       # (3, n, 3)
-    motion = np.nan_to_num(motion)
-    lam_a = np.zeros(om3.shape)
-    gam = np.zeros(om3.shape)
-    for k in range(3):
-        ja, jb = idx[:, k], idx[:, k + 1]
-        Qk = cQ[jb] - cQ[ja]
-        Gk = cG[jb] - cG[ja]
-        ak = motion[k]
-        lam_a += np.einsum("ni,nij,nj->n", ak, Qk, ak)
-        gam += np.einsum("ni,ni->n", ak, Gk)
-    ok = (sgn != 0) & (gam * sgn > 0) & (lam_a > 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
+        valid = (np.abs(det) > 1e-12 * np.sum(d1 * d1, 0)) & np.isfinite(om3) & np.isfinite(om2)
+        jumps = np.array([np.ones_like(om3), om3 - 1.0, om2 - om3, -om2]) * sides_sign[:, None]
+        sgn = np.where(np.all(jumps >= 0, 0), 1.0, np.where(np.all(jumps <= 0, 0), -1.0, 0.0)) * valid
+        lam_a = np.zeros(om3.shape)
+        gam = np.zeros(om3.shape)
+        for w, c, (m, Sx, Sy, J), G in zip((np.ones_like(om3), om3, om2), (C1, C3, C2), inertia, pairing):
+            vx, vy = w * c[1], -w * c[0]                               # rotation w about c
+            lam_a += m * (vx * vx + vy * vy) + 2.0 * w * (Sx * vy - Sy * vx) + J * w * w
+            gam += vx * G[0] + vy * G[1] + w * G[2]
+        ok = valid & (sgn != 0) & (gam * sgn > 0) & (lam_a > 0)
         return np.where(ok, gam**2 / (lam * lam_a), 0.0)
 
 
+def _quadruples(n: int, chunk: int):
+    """All ``C(n, 4)`` increasing index quadruples of ``range(n)``, lexicographic, in
+    (k, 4) blocks of at most ``chunk`` rows (never all in memory at once)."""
+    it = combinations(range(n), 4)
+    while True:
+        block = np.fromiter(chain.from_iterable(islice(it, chunk)), dtype=np.int64)
+        if block.size == 0:
+            return
+        yield block.reshape(-1, 4)
+
+
+def exhaustive_candidates(joints: int) -> int:
+    """Candidates of the exhaustive search on ``joints`` joints: ``16 C(joints, 4)``."""
+    return 16 * comb(int(joints), 4)
+
+
 def best_four_hinge_discrete(joint_s, before: Mechanism, keep: int = 5,
-                             chunk: int = 400_000) -> RestrictedResult:
+                             chunk: int = 200_000) -> RestrictedResult:
     """Exhaustive restricted problem on the joints ``joint_s`` (m, increasing, the
-    springings included) for the pre-impact field ``before`` (rigid on each voussoir)."""
+    springings included) for the pre-impact field ``before`` (rigid on each voussoir).
+
+    Every placement and choice of sides is tried: ``16 C(J, 4)`` candidates for ``J``
+    joints, O(J^4) time (about 1 us per candidate on one core) in memory O(``chunk``);
+    at most :data:`MAX_EXHAUSTIVE_JOINTS` joints (InputError beyond)."""
     curve = before.curve
     js = np.asarray(joint_s, float)
     J = js.size
     if J < 4:
         raise InputError("a four-hinge mechanism needs at least four joints")
-    Q = _inertia_matrices(curve, js)
-    mid = 0.5 * (js[:-1] + js[1:])
-    b = before.motion_at(mid)
-    G = np.einsum("vij,vj->vi", Q, b)
-    lam = float(np.einsum("vi,vi->", b, G))
-    cQ = np.concatenate([np.zeros((1, 3, 3)), np.cumsum(Q, 0)])
-    cG = np.concatenate([np.zeros((1, 3)), np.cumsum(G, 0)])
+    if J > MAX_EXHAUSTIVE_JOINTS:
+        raise InputError(f"the exhaustive four-hinge search takes at most {MAX_EXHAUSTIVE_JOINTS} joints "
+                         f"({MAX_EXHAUSTIVE_JOINTS - 1} voussoirs; its time grows as the 4th power), got {J}")
+    cI, cG, lam = _piece_sums(curve, js, before)
     X, n, t = curve.position(js), curve.normal(js), curve.thickness_at(js)
-    combos = np.array(list(combinations(range(J), 4)), dtype=np.int64)
     best: list[tuple[float, tuple[int, ...], tuple[str, ...]]] = []
     n_compat = 0
-    for sides in iproduct(ROCKING_SIDES, repeat=4):
-        sign = opening_signs(sides)
-        y = pivot_fractions(sides)
-        for c0 in range(0, len(combos), chunk):
-            idx = combos[c0:c0 + chunk]
-            P = (X[:, idx] + y[None, :] * t[idx] * n[:, idx]).transpose(1, 2, 0)   # (n, 4, 2)
-            r = _kernel(P, sign, idx, cQ, cG, lam)
+    for idx in _quadruples(J, chunk):
+        inertia = [cI[:, idx[:, k + 1]] - cI[:, idx[:, k]] for k in range(3)]
+        pairing = [cG[:, idx[:, k + 1]] - cG[:, idx[:, k]] for k in range(3)]
+        for sides in iproduct(ROCKING_SIDES, repeat=4):
+            y = pivot_fractions(sides)
+            P = (X[:, idx] + y[None, :] * t[idx] * n[:, idx]).transpose(1, 2, 0)   # (k, 4, 2)
+            r = _kernel(P, opening_signs(sides), inertia, pairing, lam)
             n_compat += int(np.count_nonzero(r > 0))
-            top = np.argsort(r)[::-1][:keep]
+            top = np.argpartition(r, -keep)[-keep:] if r.size > keep else np.arange(r.size)
             best += [(float(r[i]), tuple(int(j) for j in idx[i]), sides) for i in top if r[i] > 0]
             best = sorted(best, key=lambda z: -z[0])[:keep]
+    total = exhaustive_candidates(J)
     if not best:
-        return RestrictedResult(None, 0.0, [], 16 * len(combos), 0, "exhaustive")
+        return RestrictedResult(None, 0.0, [], total, 0, "exhaustive")
     rank = [(r, Mechanism(curve, tuple(js[list(i)]), s)) for r, i, s in best]
-    return RestrictedResult(rank[0][1], rank[0][0], rank[1:], 16 * len(combos), n_compat, "exhaustive")
+    return RestrictedResult(rank[0][1], rank[0][0], rank[1:], total, n_compat, "exhaustive")
 
 
 def refine_four_hinge(before: Mechanism, start: Mechanism) -> tuple[float, Mechanism]:
