@@ -251,3 +251,90 @@ def test_thrust_line_exit_is_located_on_the_joints():
 def test_a_block_never_leaves_its_one_piece_mechanism():
     res = rock(block(), GroundMotion.sine(0.5, 0.5), voussoirs=1, t_end=3.0)
     assert res.impacts and res.thrust_line_exits_at is None
+
+
+# --------------------------------------------------------------------------- the integrator
+def _reference_episode(eq, ground, t0, rate0, t_stop):
+    """SciPy's solve_ivp (DOP853, rtol 1e-13) from ``theta = 0``, restarted at every sample
+    of the record, to the next impact: ``(impact time, [(ta, tb, dense solution)])``."""
+    from scipy.integrate import solve_ivp
+
+    at = ground.scalar()
+
+    def f(t, y):
+        Lam, dLam, dV, Q = eq.coefficients(y[0])
+        return [y[1], -(0.5 * dLam * y[1] ** 2 + dV + at(t) * Q) / Lam]
+
+    def hit(t, y):
+        return eq.sign * y[0]
+    hit.terminal, hit.direction = True, -1
+    edges = [t0, *ground.t[(ground.t > t0) & (ground.t < t_stop)], t_stop]
+    y, pieces = [0.0, rate0], []
+    for ta, tb in zip(edges[:-1], edges[1:]):
+        s = solve_ivp(f, (ta, tb), y, method="DOP853", rtol=1e-13, atol=1e-16, dense_output=True, events=hit)
+        pieces.append((ta, s.t[-1], s.sol))
+        if s.status == 1:
+            return float(s.t_events[0][0]), pieces
+        y = s.y[:, -1]
+    return None, pieces
+
+
+def test_integrator_agrees_with_solve_ivp_on_a_record():
+    """The run's own DOP853 (plain floats, steps ending on the samples without restarts)
+    against solve_ivp at rtol 1e-13 restarted at every sample, episode by episode from the
+    run's onset and impacts on El Centro: impact times and the rotation at the history's rows
+    agree to 1e-8."""
+    arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
+    ground = GroundMotion.record("elcentro").to_pga(0.8)
+    rk = Rocker(arch, voussoirs=7, qp=False)
+    res = rk.run(ground, t_end=3.6, thrust_check=False)
+    h = res.history
+    starts = [(res.onsets[0][0], res.onsets[0][1], 0.0)] + [(e.t, e.after, e.rate_out) for e in res.impacts[:9]]
+    assert len(res.impacts) >= 10 and not any(e.at_rest for e in res.impacts[:10])
+    for (t0, k, rate0), e in zip(starts, res.impacts[:10]):
+        assert e.before == k
+        t_hit, pieces = _reference_episode(rk.equations[k], ground, t0, rate0, e.t + 0.05)
+        assert t_hit == pytest.approx(e.t, abs=1e-8)
+        scale = max(abs(p[2](0.5 * (p[0] + p[1]))[0]) for p in pieces)
+        rows = np.flatnonzero((h["t"] > t0) & (h["t"] < min(t_hit, e.t)) & (h["mechanism"] == k))
+        assert rows.size
+        for i in rows:
+            ta, tb, sol = next(p for p in pieces if p[0] <= h["t"][i] <= p[1])
+            assert abs(sol(h["t"][i])[0] - h["theta"][i]) <= 1e-8 * scale
+
+
+def test_an_event_within_one_step_is_found():
+    """A crossing of the unstable equilibrium and back within one step overturns (the
+    former stepper, restarted at each sample, reported rest with a peak rotation beyond the
+    unstable one at this amplitude); a return to theta = 0 within one step is an impact, so
+    no turning point lies on the closed side of theta = 0 or beyond the unstable rotation."""
+    rk = Rocker(PAPER, voussoirs=7, qp=False)
+    res = rk.run(GroundMotion.sine(3.4692178537028293, 0.15), thrust_check=False)
+    assert res.outcome == "overturned" and res.t_overturn == pytest.approx(0.1254649572071, abs=1e-9)
+    arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
+    rk = Rocker(arch, voussoirs=7, qp=False)
+    res = rk.run(GroundMotion.record("elcentro").to_pga(1.0), t_end=3.0, thrust_check=False)
+    assert res.outcome != "overturned" and len(res.peaks) > 15
+    for t, k, theta in res.peaks:
+        eq = rk.equations[k]
+        assert -1e-12 * eq.theta_unstable <= eq.sign * theta <= eq.theta_unstable, (t, k, theta)
+    # the impacts near 2.05 s that a step across both crossings of theta = 0 would miss
+    assert [e.t for e in res.impacts if 2.05 < e.t < 2.052] == pytest.approx([2.0511895565756, 2.0513058267577],
+                                                                          abs=1e-9)
+
+
+@pytest.mark.parametrize("amplitude", [0.45, 0.55, 0.6, 0.8, 1.0])
+def test_settle_stops_only_when_the_free_motion_comes_to_rest(amplitude):
+    """``settle=True`` stops at the end of the pulse only when the full run does not
+    overturn; otherwise it goes on to the same overturning."""
+    rk = Rocker(PAPER, voussoirs=7, qp=False)
+    ground = GroundMotion.sine(amplitude, 0.45)
+    full = rk.run(ground, thrust_check=False)
+    short = rk.run(ground, thrust_check=False, history=False, settle=True)
+    if short.settled_at is not None:
+        assert short.settled_at == short.t_end == 0.45 and short.outcome == "rest"
+        assert full.outcome in ("rest", "survived") and len(full.impacts) > 40
+    else:
+        assert short.outcome == full.outcome
+        assert short.t_overturn == pytest.approx(full.t_overturn, abs=1e-9)
+    assert (short.settled_at is not None) == (amplitude in (0.45, 0.8))

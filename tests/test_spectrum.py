@@ -182,3 +182,16 @@ def test_cli_collapse_scale_json(capsys):
     assert d["command"] == "collapse-scale" and d["first_overturning"] is not None
     assert d["bracket"][1] == d["first_overturning"] and isinstance(d["safe_above"], bool)
     assert d["scan"][0].keys() == {"factor", "outcome"}
+
+
+def test_free_decay_shortcut_against_full_runs():
+    """Amplitudes decided at the end of the pulse by the free decay (``below_barrier``:
+    Rocker.settles) do not overturn in full runs, and the others get the full run's outcome."""
+    rk = Rocker(CircularArch.from_ratio(157.5, 0.15), voussoirs=7, qp=False)
+    res = overturning_amplitude(rk, lambda a: GroundMotion.sine(a, 0.45), geometric_grid(rk.A[1], 3.0, 8),
+                                bisect_tol=1e-2)
+    steps = [s for s in res["scan"] + res["bisection"] if s["outcome"] != "no_motion"]
+    assert {"below_barrier", "overturned"} <= {s["outcome"] for s in steps}
+    for s in steps:
+        full = rk.run(GroundMotion.sine(s["amplitude"], 0.45), thrust_check=False).outcome
+        assert full == s["outcome"] or (s["outcome"] == "below_barrier" and full in ("rest", "survived"))

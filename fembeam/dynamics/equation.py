@@ -87,8 +87,10 @@ class EquationOfMotion:
             self._r = (float((C13 - C1)[0]), float((C13 - C1)[1]))
             self._k = (*map(float, C23 - C13), *map(float, C23 - C2))
             self._pc = tuple((p.m, p.J, *map(float, p.G0 - ref)) for p, ref in zip(self.pieces, refs))
+            self._l1s, self._l2s, self._l3s = self.l1 ** 2, self.l2 ** 2, self.l3 ** 2
+        self._one = mechanism.n_hinges == 1
         self.mass = float(sum(p.m for p in self.pieces))
-        self._Y0 = self._moments(0.0)[1]
+        self._Y0 = self._height(0.0)
         self.theta_lock = self._lock_angle()
         self.theta_unstable = self._unstable_angle()
 
@@ -140,25 +142,44 @@ class EquationOfMotion:
 
     def coefficients(self, theta: float) -> tuple[float, float, float, float]:
         """``(Lambda, Lambda', V', Q)`` at ``theta`` (SI units per unit depth);
-        SolverError when the linkage cannot reach ``theta``."""
+        SolverError when the linkage cannot reach ``theta``.  The integrator's right-hand
+        side: the four-bar of :meth:`_scalars` inlined, the rotations of coupler and rocker as
+        cosines and sines (their sides keep their lengths ``l3``, ``l2``)."""
         g = self.g
         c, s = math.cos(theta), math.sin(theta)
-        if self.mechanism.n_hinges == 1:
+        if self._one:
             J, m, (x0, y0) = self._block
             return J, 0.0, g * m * (c * x0 - s * y0), -g * m * (s * x0 + c * y0)
-        k = self._scalars(theta)
-        if k is None:
+        c1x, c1y, c2x, c2y = self._c
+        rx, ry = self._r
+        l2s, l3s = self._l2s, self._l3s
+        ax, ay = c * rx - s * ry, s * rx + c * ry                   # B - C1
+        dx, dy = c1x + ax - c2x, c1y + ay - c2y                     # B - C2
+        d2 = dx * dx + dy * dy
+        d = math.sqrt(d2)
+        a = (l2s - l3s + d2) / (2 * d)
+        h2 = l2s - a * a
+        if h2 < 0.0:
             raise SolverError(f"the four-bar linkage cannot reach theta = {theta:g} rad (locked)")
-        (bx, by), _, psi3, psi2, w3, w2, dw3, dw2 = k
+        h = self.branch * math.sqrt(h2)
+        ex, ey = dx / d, dy / d
+        wx, wy = a * ex - h * ey, a * ey + h * ex                   # D - C2
+        ux, uy = wx - dx, wy - dy                                   # D - B
+        det = ux * wy - uy * wx
+        if abs(det) <= 1e-14 * (ux * ux + uy * uy + wx * wx + wy * wy):
+            raise SolverError(f"the four-bar linkage cannot reach theta = {theta:g} rad (locked)")
+        w2, w3 = (ay * ux - uy * ax) / det, (-wy * ax + ay * wx) / det
+        qx, qy = -ax - w3 * w3 * ux + w2 * w2 * wx, -ay - w3 * w3 * uy + w2 * w2 * wy
+        dw2, dw3 = (-qx * ux - uy * qy) / det, (-wy * qy - qx * wx) / det
+        k3x, k3y, k2x, k2y = self._k
+        c3, s3 = (k3x * ux + k3y * uy) / l3s, (k3x * uy - k3y * ux) / l3s
+        c2, s2 = (k2x * wx + k2y * wy) / l2s, (k2x * wy - k2y * wx) / l2s
         (m1, J1, x1, y1), (m3, J3, x3, y3), (m2, J2, x2, y2) = self._pc
         r1x, r1y = c * x1 - s * y1, s * x1 + c * y1                 # G1 - C1
-        c2, s2 = math.cos(psi2), math.sin(psi2)
         r2x, r2y = c2 * x2 - s2 * y2, s2 * x2 + c2 * y2             # G2 - C2
-        c3, s3 = math.cos(psi3), math.sin(psi3)
         g3x, g3y = c3 * x3 - s3 * y3, s3 * x3 + c3 * y3             # G3 - B
-        ax, ay = bx - self._c[0], by - self._c[1]                   # B - C1
         ag = ax * g3x + ay * g3y
-        Lam = J1 + w2 * w2 * J2 + m3 * self.l1 ** 2 + 2 * w3 * m3 * ag + w3 * w3 * J3
+        Lam = J1 + w2 * w2 * J2 + m3 * self._l1s + 2 * w3 * m3 * ag + w3 * w3 * J3
         # B' = k x a = (-ay, ax); g3' = w3 k x g3 = w3 (-g3y, g3x); d(a.g3) = B'.g3 + a.g3'
         dag = (-ay * g3x + ax * g3y) + w3 * (-ax * g3y + ay * g3x)
         dLam = 2 * w2 * dw2 * J2 + 2 * m3 * (dw3 * ag + w3 * dag) + 2 * w3 * dw3 * J3
@@ -190,9 +211,24 @@ class EquationOfMotion:
         return (p1.m * (self.C1 + self._rot(theta, p1.G0 - self.C1)) + p2.m * (self.C2 + self._rot(psi2, p2.G0 - self.C2))
                 + p3.m * (B + self._rot(psi3, p3.G0 - self.C13)))
 
+    def _height(self, theta: float) -> float:
+        """``sum_k m_k y_Gk`` (kg m per unit depth) at ``theta``, in plain floats."""
+        c, s = math.cos(theta), math.sin(theta)
+        if self._one:
+            m, y = self.pieces[0].m, float(self.C[1])
+            x0, y0 = self._block[2]
+            return m * (y + s * x0 + c * y0)
+        k = self._scalars(theta)
+        if k is None:
+            raise SolverError(f"the four-bar linkage cannot reach theta = {theta:g} rad (locked)")
+        (m1, _, x1, y1), (m3, _, x3, y3), (m2, _, x2, y2) = self._pc
+        psi3, psi2 = k[2], k[3]
+        return (m1 * (self._c[1] + s * x1 + c * y1) + m2 * (self._c[3] + math.sin(psi2) * x2 + math.cos(psi2) * y2)
+                + m3 * (k[0][1] + math.sin(psi3) * x3 + math.cos(psi3) * y3))
+
     def potential(self, theta: float) -> float:
         """``V(theta) - V(0)`` (J per unit depth)."""
-        return self.g * float(self._moments(theta)[1] - self._Y0)
+        return self.g * (self._height(theta) - self._Y0)
 
     def horizontal_moment(self, theta: float) -> float:
         """``sum_k m_k x_Gk`` (kg m): ``Q = g d/dtheta`` of it."""

@@ -7,8 +7,9 @@
 * **onset**: when the inertia load first exceeds ``A_L`` in one direction (crossing located
   on the piecewise-linear signal), the member starts from rest on that direction's mechanism;
 * **rocking**: Lagrange's equation of the mechanism at finite rotation
-  (:class:`~fembeam.dynamics.equation.EquationOfMotion`), integrated by ``solve_ivp`` (DOP853,
-  tight tolerances) with event location;
+  (:class:`~fembeam.dynamics.equation.EquationOfMotion`), integrated by DOP853 (SciPy's
+  tableau, error norm and step control at rtol 1e-10, in plain floats: :class:`_Dop853`) with
+  steps ending on the kinks of the signal and event location on each step's interpolant;
 * **impact**: the member returns to ``theta = 0``; the mechanism after it and its rate come from
   the impact model (:class:`~fembeam.dynamics.transitions.ImpactModel`, computed once per
   mechanism); an impact that arrests the member (r = 0), or a post-impact kinetic energy below
@@ -24,10 +25,12 @@ from __future__ import annotations
 
 import math
 import time
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass, field
+from operator import mul
 
 import numpy as np
-from scipy.integrate import DOP853, OdeSolution
+from scipy.integrate._ivp import dop853_coefficients as _dop
 from scipy.optimize import brentq
 
 from ..analysis import analyze
@@ -86,6 +89,7 @@ class RockingResult:
     peak_piece_rotation: float = 0.0            # largest rotation of any piece (mirror invariant)
     peaks: list = field(default_factory=list)   # (t, mechanism index, theta): every turning point
     t_overturn: float | None = None
+    settled_at: float | None = None         # Rocker.run(settle=True): the free motion ends at rest
     overturn_reason: str | None = None      # "unstable_equilibrium" or "linkage_locked"
     thrust_line_exits_at: float | None = None
     energy_balance_error: float = 0.0
@@ -192,12 +196,16 @@ class _Track:
     """The history under construction and the running figures."""
 
     grid: np.ndarray
+    keep: bool = True            # keep the dense output of the motion (for the thrust-line check)
     rows: dict = field(default_factory=lambda: {k: [] for k in ("t", "mechanism", "theta", "rate", "K", "V", "a_g")})
     peak: float = 0.0
     t_peak: float | None = None
     peak_piece: float = 0.0
     pieces: list = field(default_factory=list)   # (ta, tb, mechanism, dense solution) of the motion
     peaks: list = field(default_factory=list)    # (t, mechanism, theta) where the rate vanishes
+
+    def __post_init__(self):
+        self.grid_list = self.grid.tolist()
 
     def add(self, t, k, theta, rate, K, V, a):
         for key, v in zip(self.rows, (t, k, theta, rate, K, V, a)):
@@ -271,12 +279,43 @@ class Rocker:
         return self._index[key]
 
     def run(self, ground: GroundMotion, *, t_end: float | None = None, dt_out: float | None = None,
-            thrust_check: bool = True, progress=None) -> RockingResult:
+            thrust_check: bool = True, progress=None, history: bool = True, settle: bool = False) -> RockingResult:
         """Time history under ``ground``.  ``t_end`` (s): default the end of the ground
         motion plus ``20 sqrt(L/g)`` (L: the member's length); ``dt_out`` (s): history
         sampling step (default ``(t_end - t_0) / 4000``); ``thrust_check``: find the first
-        time the thrust line leaves the section; ``progress(t)`` is called after each episode."""
-        return _run(self, ground, t_end, dt_out, thrust_check, progress)
+        time the thrust line leaves the section; ``progress(t)`` is called after each episode.
+        ``history=False``: only the rows at events and at the end.  ``settle``: at the end of
+        the ground motion, stop if the free motion is known to come to rest without
+        overturning (:meth:`settles`): outcome ``"rest"``, ``settled_at`` and ``t_end`` that time."""
+        return _run(self, ground, t_end, dt_out, thrust_check, progress, history, settle)
+
+    def barrier(self, k: int) -> float:
+        """``V`` (J per unit depth) where mechanism ``k`` overturns (the overturning event of
+        the integration: the unstable equilibrium, or just before the linkage locks)."""
+        eq = self.equations[k]
+        top = min(eq.theta_unstable, eq.theta_lock * (1 - 1e-9))
+        return eq.potential(eq.sign * top) if math.isfinite(top) else math.inf
+
+    def settles(self, k: int, theta: float, rate: float, margin: float = 1e-8) -> bool:
+        """True when the free motion (no ground acceleration) from ``theta``, ``rate`` on
+        mechanism ``k`` comes to rest without overturning.  Along a mechanism ``E = K + V`` is
+        conserved and ``V`` rises from 0 to the barrier (:meth:`barrier`), so a member heading
+        back, or heading out with ``E`` below the barrier, returns to ``theta = 0`` with
+        ``K = E``; each impact leads to a fixed mechanism (the impact model's, solved once) with
+        ``K' = r K``.  This map is iterated until ``r = 0`` or ``K`` falls below ``REST_ENERGY``
+        of the barrier (True), or an energy heading out comes within ``margin`` of its barrier
+        (False: only the integration can tell)."""
+        E = self.equations[k].energy(theta, rate)
+        if self.equations[k].sign * rate > 0 and not E < self.barrier(k) * (1.0 - margin):
+            return False
+        for _ in range(MAX_EPISODES):       # an impact with K = E on mechanism k
+            tr = self.model(self.mechanisms[k])
+            if tr.after is None or tr.r * E < REST_ENERGY * self.barrier(k):
+                return True
+            k, E = self.index(tr.after), tr.r * E
+            if not E < self.barrier(k) * (1.0 - margin):
+                return False
+        return False
 
 
 def rock(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int = 200,
@@ -287,7 +326,7 @@ def rock(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None,
         ground, t_end=t_end, dt_out=dt_out, thrust_check=thrust_check, progress=progress)
 
 
-def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingResult:
+def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True, settle=False) -> RockingResult:
     clock = time.perf_counter()
     curve, g = rk.curve, rk.g
     t_end = _check_inputs(curve, ground, t_end)
@@ -312,10 +351,9 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
     t_tr = 0.0
     T_ref = math.sqrt(curve.length / g)
 
-    track = _Track(np.arange(t0, t_end + 0.5 * dt_out, dt_out))
-    # the integrator never steps across a kink: every sample of a record or of a short pulse
-    # (rectangular), the ends of a finely sampled smooth pulse
-    breaks = ground.t if not ground.smooth or ground.t.size <= 8 else ground.t[[0, -1]]
+    track = _Track(np.arange(t0, t_end + 0.5 * dt_out, dt_out) if history else np.empty(0), thrust_check)
+    sig = _Signal(ground)
+    t_quiet = float(ground.t[-1])   # the ground is still from then on
     out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, elements=rk.n)
     t, state = t0, None         # state: (mechanism index, theta, rate) while moving
     balance = 0.0               # largest |K + V - E_start - W_ground| of an episode (relative)
@@ -343,11 +381,17 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         k, theta, rate = state
         eq = eqs[k]
         ti = time.perf_counter()
-        ev, t, theta, rate, err = _episode(eq, k, ground, t, t_end, theta, rate, breaks, track)
+        check = settle and t < t_quiet < t_end
+        ev, t, theta, rate, err = _episode(eq, k, sig, t, t_quiet if check else t_end, theta, rate, track)
         t_int += time.perf_counter() - ti
         balance = max(balance, err)
         if ev == "end":
             state = (k, theta, rate)
+            if check and t < t_end:     # the end of the ground motion
+                if rk.settles(k, theta, rate):
+                    out.settled_at = t_end = t
+                    break
+                continue
             break
         if ev in ("overturn", "locked"):
             out.outcome = "overturned"
@@ -378,7 +422,9 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress) -> RockingRe
         raise SolverError(f"the motion needed more than {MAX_EPISODES} episodes (impacts and onsets) before "
                           f"t = {t_end:g} s; stopped at t = {t:g} s")
     if out.outcome != "overturned":
-        out.outcome = "rest" if state is None or (state[2] == 0.0 and state[1] == 0.0) else "survived"
+        out.outcome = "rest" if state is None or (state[2] == 0.0 and state[1] == 0.0) \
+            or out.settled_at is not None else "survived"
+        out.t_end = t_end
         if not track.rows["t"] or track.rows["t"][-1] < t_end:     # the history ends at t_end
             a_end = float(ground(t_end))
             if state is None:
@@ -408,8 +454,8 @@ def first_exit(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: fl
     hinges would open); None if it never does.  ``joints`` (m): a voussoir arch, whose
     voussoirs are monolithic, is checked at its joints only; otherwise at uniform sections of
     every moving piece and next to its hinges.  Each piece of motion is scanned every
-    ``dt`` (at least 5, at most 400 instants), then the first crossing is bisected to 2^-32
-    of a scan interval."""
+    ``dt`` (at least 5, at most 400 instants), then the first crossing is located (``brentq``)
+    to 2^-32 of a scan interval."""
     def sections(eq):     # the joints of the moving pieces, not a free end (it carries nothing)
         m = eq.mechanism
         br = m.breaks[np.flatnonzero(m.moving)[[0, -1]] + [0, 1]]
@@ -437,11 +483,11 @@ def first_exit(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: fl
             if margin(k, sol, tt) < 0:
                 if tt == ta:
                     return float(ta)
-                lo, hi = prev, tt
-                for _ in range(32):    # to 2^-32 of a scan interval
-                    mid = 0.5 * (lo + hi)
-                    lo, hi = (mid, hi) if margin(k, sol, mid) >= 0 else (lo, mid)
-                return float(hi)
+                xtol = (tt - prev) * 2.0 ** -32     # to 2^-32 of a scan interval, on the exit side
+                x = brentq(lambda s: margin(k, sol, s), prev, tt, xtol=xtol)
+                while x < tt and margin(k, sol, x) >= 0:
+                    x = min(x + xtol, tt)
+                return float(x)
             prev = tt
     return None
 
@@ -449,20 +495,197 @@ def first_exit(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: fl
 def _rest_rows(track: _Track, ground: GroundMotion, ta: float, tb: float):
     g = track.grid
     ts = g[(g >= ta) & (g < tb)]
-    for tt in ts:
-        track.add(tt, -1, 0.0, 0.0, 0.0, 0.0, float(ground(tt)))
+    for tt, a in zip(ts.tolist(), ground(ts).tolist()):
+        track.add(tt, -1, 0.0, 0.0, 0.0, 0.0, a)
 
 
-def _episode(eq: EquationOfMotion, k: int, ground: GroundMotion, t: float, t_end: float, theta: float,
-             rate: float, breaks: np.ndarray, track: _Track):
+# --------------------------------------------------------------------------- the integrator
+# Hairer's DOP853 (SciPy's tableau): stage rows A[s] (s = 1..15, length s), nodes C, weights B,
+# error weights E3, E5 and the dense-output matrix D, as plain floats
+_NS = _dop.N_STAGES
+_A = [_dop.A[s, :s].tolist() for s in range(1, _dop.N_STAGES_EXTENDED)]
+_C, _B, _E3, _E5, _D = (x.tolist() for x in (_dop.C, _dop.B, _dop.E3, _dop.E5, _dop.D))
+_SAFETY, _MIN_FACTOR, _MAX_FACTOR, _EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
+
+
+def _poly(F, x: float) -> float:
+    """The DOP853 interpolant's increment at ``x`` in [0, 1] of its step (SciPy's form)."""
+    F0, F1, F2, F3, F4, F5, F6 = F
+    u = 1.0 - x
+    return x * (F0 + u * (F1 + x * (F2 + u * (F3 + x * (F4 + u * (F5 + x * F6))))))
+
+
+class _Signal:
+    """The ground acceleration for the integrator: ``breaks`` (kinks: every sample of a record
+    or of a short pulse, the ends of a finely sampled smooth pulse) and, on each interval
+    between them, ``a_g(t)`` as a cheap scalar function (a record: the line of that interval)."""
+
+    def __init__(self, ground: GroundMotion):
+        self.at = ground.scalar()
+        smooth = ground.smooth and ground.t.size > 8
+        self.breaks = (ground.t[[0, -1]] if smooth else ground.t).tolist()
+        self.linear = ground.exact is None and not smooth     # a_g linear between breaks
+        self.values = ground.a.tolist()
+
+    def jumps(self, t: float) -> bool:
+        """``a_g`` may jump at the break ``t`` (a record is continuous between its ends)."""
+        return not self.linear or t == self.breaks[0] or t == self.breaks[-1]
+
+    def interval(self, t: float):
+        """``(tb, a_g)``: the first break after ``t`` (inf: none) and ``a_g`` up to it."""
+        br = self.breaks
+        i = bisect_right(br, t)
+        tb = br[i] if i < len(br) else math.inf
+        if not self.linear:
+            return tb, self.at
+        if i == 0 or i == len(br):
+            return tb, lambda x: 0.0
+        ta, a0, da = br[i - 1], self.values[i - 1], self.values[i] - self.values[i - 1]
+        dt = tb - ta
+        return tb, lambda x: a0 + da * (x - ta) / dt
+
+
+class _Dop853:
+    """DOP853 with SciPy's error norm and step-size control, in plain floats, for the equation
+    of motion ``theta'' = -(Lambda'/2 theta'^2 + V' + a_g Q) / Lambda`` with the ground's work
+    ``W' = -a_g Q theta'`` as a third state.  ``ag``: ``a_g(t)`` on the current interval."""
+
+    def __init__(self, coef, atol: tuple[float, float, float], ag):
+        self.coef, self.atol, self.ag = coef, atol, ag
+
+    def rhs(self, t: float, th: float, w: float) -> tuple[float, float]:
+        """``(theta'', W')`` at ``(t, theta, theta')``."""
+        Lam, dLam, dV, Q = self.coef(th)
+        a = self.ag(t)
+        return -(0.5 * dLam * w * w + dV + a * Q) / Lam, -a * Q * w
+
+    def first_step(self, t: float, y: tuple, f: tuple, span: float) -> float:
+        """Hairer's starting step (SciPy's ``select_initial_step``, order 7)."""
+        sc = [a + abs(v) * RTOL for a, v in zip(self.atol, y)]
+        d0 = math.sqrt(sum((v / s) ** 2 for v, s in zip(y, sc)) / 3)
+        d1 = math.sqrt(sum((v / s) ** 2 for v, s in zip(f, sc)) / 3)
+        h0 = min(1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1, span)
+        th1, w1 = y[0] + h0 * f[0], y[1] + h0 * f[1]
+        f1 = (w1, *self.rhs(t + h0, th1, w1))
+        d2 = math.sqrt(sum(((b - a) / s) ** 2 for a, b, s in zip(f, f1, sc)) / 3) / h0
+        h1 = max(1e-6, h0 * 1e-3) if max(d1, d2) <= 1e-15 else (0.01 / max(d1, d2)) ** (1 / 8)
+        return min(100 * h0, h1, span)
+
+    def step(self, t: float, y: tuple, f: tuple, h: float):
+        """One step ``h`` from ``(t, y)`` (``f``: the derivatives there): ``(y_new, K, error
+        norm)``, ``K``: the 13 stage derivatives of each component (the last at ``t + h``)."""
+        coef, ag = self.coef, self.ag
+        th, w, W = y
+        Kt, Kw, KW = [f[0]], [f[1]], [f[2]]
+        for a, c in zip(_A[:_NS - 1], _C[1:_NS]):      # self.rhs inlined
+            ws = w + h * sum(map(mul, a, Kw))
+            Lam, dLam, dV, Q = coef(th + h * sum(map(mul, a, Kt)))
+            aQ = ag(t + c * h) * Q
+            Kt.append(ws)
+            Kw.append(-(0.5 * dLam * ws * ws + dV + aQ) / Lam)
+            KW.append(-aQ * ws)
+        y1 = (th + h * sum(map(mul, _B, Kt)), w + h * sum(map(mul, _B, Kw)), W + h * sum(map(mul, _B, KW)))
+        acc, dW = self.rhs(t + h, y1[0], y1[1])
+        Kt.append(y1[1])
+        Kw.append(acc)
+        KW.append(dW)
+        e5 = e3 = 0.0
+        for K, a, u, v in zip((Kt, Kw, KW), self.atol, y, y1):
+            sc = a + max(abs(u), abs(v)) * RTOL
+            e5 += (sum(map(mul, _E5, K)) / sc) ** 2
+            e3 += (sum(map(mul, _E3, K)) / sc) ** 2
+        err = 0.0 if e5 == 0.0 and e3 == 0.0 else abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * 3)
+        return y1, (Kt, Kw, KW), err
+
+    def dense(self, t: float, h: float, y: tuple, y1: tuple, K: tuple) -> tuple:
+        """The interpolant's coefficients (7 per component, :func:`_poly`) on the step: three
+        more stages (SciPy's ``Dop853DenseOutput``)."""
+        Kt, Kw, KW = (list(k) for k in K)
+        th, w = y[0], y[1]
+        for a, c in zip(_A[_NS:], _C[_NS + 1:]):
+            ws = w + h * sum(map(mul, a, Kw))
+            acc, dW = self.rhs(t + c * h, th + h * sum(map(mul, a, Kt)), ws)
+            Kt.append(ws)
+            Kw.append(acc)
+            KW.append(dW)
+        out = []
+        for K_, u, v in zip((Kt, Kw, KW), y, y1):
+            dy = v - u
+            out.append((dy, h * K_[0] - dy, 2 * dy - h * (K_[_NS] + K_[0]), *(h * sum(map(mul, d, K_)) for d in _D)))
+        return tuple(out)
+
+
+class _Dense:
+    """Dense output of one episode: ``sol(t) -> (theta, rate, W)`` (the steps' interpolants)."""
+
+    def __init__(self):
+        self.t: list[float] = []
+        self.steps: list[tuple] = []
+
+    def add(self, t: float, h: float, y: tuple, F: tuple):
+        self.t.append(t)
+        self.steps.append((t, h, y, F))
+
+    def __call__(self, t: float) -> tuple[float, float, float]:
+        t0, h, y, F = self.steps[max(bisect_right(self.t, t) - 1, 0)]
+        x = (t - t0) / h
+        return tuple(u + _poly(f, x) for u, f in zip(y, F))
+
+
+_DIRECTIONS = (False, True, None)     # impact: falling; overturning: rising; turning point: either
+
+
+def _crosses(g0: float, g1: float, up: bool | None) -> bool:
+    """``g`` reaches 0 from ``g0`` to ``g1`` rising (``up``), falling (False) or either (None),
+    as ``solve_ivp`` finds events."""
+    if g0 == g1:
+        return False
+    rise, fall = g0 <= 0 <= g1, g0 >= 0 >= g1
+    return rise if up else fall if up is False else rise or fall
+
+
+def _step_events(ya: tuple, F: tuple, ta: float, tb: float, ga: tuple, gb: tuple, sg: float, top: float,
+                 reason: str) -> list:
+    """Events in the step ``[ta, tb]`` (``ya``, ``F``: its start and interpolant; ``ga``, ``gb``: the event
+    functions ``sg theta``, ``sg theta - top``, ``rate`` at its ends): ``(t, name)`` with name
+    ``"impact"`` (``sg theta`` falls to 0), ``reason`` (it rises to ``top``) or None (a turning
+    point, ``rate = 0``).  A double crossing of 0 or of ``top`` within the step has a turning
+    point between (Rolle), so the step is cut at its turning point before the crossings of
+    ``theta`` are looked for (the endpoint conventions of ``solve_ivp``)."""
+    h = tb - ta
+
+    def theta(x):
+        return ya[0] + _poly(F[0], (x - ta) / h)
+
+    def root(fun, t0, t1, g0, g1):
+        return t1 if g1 == 0 else t0 if g0 == 0 else brentq(fun, t0, t1, xtol=4 * EPS * abs(tb))
+
+    out, cuts = [], [(ta, ga)]
+    if _crosses(ga[2], gb[2], None):
+        tw = root(lambda x: ya[1] + _poly(F[1], (x - ta) / h), ta, tb, ga[2], gb[2])
+        out.append((tw, None))
+        if ta < tw < tb:
+            th = theta(tw)
+            cuts.append((tw, (sg * th, sg * th - top, 0.0)))
+    cuts.append((tb, gb))
+    for i, name, c in ((0, "impact", 0.0), (1, reason, top)):
+        for (t0, g0), (t1, g1) in zip(cuts, cuts[1:]):
+            if _crosses(g0[i], g1[i], _DIRECTIONS[i]):
+                out.append((root(lambda x: sg * theta(x) - c, t0, t1, g0[i], g1[i]), name))
+                break
+    return out
+
+
+def _episode(eq: EquationOfMotion, k: int, sig: _Signal, t: float, t_end: float, theta: float,
+             rate: float, track: _Track):
     """Integrate along ``eq`` from ``(t, theta, rate)`` to the first event.  Returns
     ``(event, t, theta, rate, energy_balance_error)`` with event ``"impact"``,
     ``"overturn"``, ``"locked"`` or ``"end"``.
 
-    The signal is smooth between consecutive ``breaks`` (a record: its samples), so the
-    integrator (SciPy's DOP853 stepper, restarted at every break with the last step size) never
-    steps across a kink; events are located on each step's dense output (``brentq``) with the
-    conventions of ``solve_ivp``."""
+    :class:`_Dop853` steps never cross a break of the signal (a kink): a step that would is
+    shortened to end on it, and the steps left to it are made equal; the step-size control
+    carries on across breaks (no restart).  Events are located on the interpolant of the
+    step (``brentq``) with the conventions of ``solve_ivp``."""
     sg = eq.sign
     top = min(eq.theta_unstable, eq.theta_lock * (1 - 1e-9))
     reason = "overturn" if eq.theta_unstable <= eq.theta_lock else "locked"
@@ -470,72 +693,73 @@ def _episode(eq: EquationOfMotion, k: int, ground: GroundMotion, t: float, t_end
     scale_w = scale_th * math.sqrt(eq.g / eq.mechanism.curve.length)
     E0 = eq.energy(theta, rate)
     E_scale = max(abs(eq.potential(sg * top)) if math.isfinite(top) else abs(E0), abs(E0), 1e-300)
-    atol = np.array([1e-12 * scale_th, 1e-12 * scale_w, 1e-12 * E_scale])
-    at = ground.scalar()
-    coef = eq.coefficients
-
-    def f(tt, y):
-        a = at(tt)
-        Lam, dLam, dV, Q = coef(y[0])
-        return np.array([y[1], -(0.5 * dLam * y[1] * y[1] + dV + a * Q) / Lam, -a * Q * y[1]])
-
-    # events: (function of y, direction as in solve_ivp, terminal)
-    events = ((lambda y: sg * y[0], -1, "impact"), (lambda y: sg * y[0] - top, 1, reason), (lambda y: y[1], 0, None))
-    y = np.array([theta, rate, 0.0])
-    i0 = int(np.searchsorted(breaks, t, side="right"))
-    i1 = int(np.searchsorted(breaks, t_end, side="left"))
-    edges = [t, *breaks[i0:i1].tolist(), t_end]
-    ts_all, dense_all = [t], []
-    h = None
-    hit = None
-    g_prev = [ev(y) for ev, _, _ in events]
-    for ta, tb in zip(edges[:-1], edges[1:]):
-        if tb <= ta:
-            continue
-        solver = DOP853(f, ta, y, tb, rtol=RTOL, atol=atol, first_step=None if h is None else min(h, tb - ta))
-        while solver.status == "running":
-            if solver.step() is not None or solver.status == "failed":
-                raise SolverError(f"time integration failed at t = {solver.t:g} s")
-            t_old, t_new = solver.t_old, solver.t
-            dense = solver.dense_output()
-            g_new = [ev(solver.y) for ev, _, _ in events]
-            roots = []
-            for (ev, direction, name), gp, gn in zip(events, g_prev, g_new):
-                up, down = gp <= 0 <= gn, gp >= 0 >= gn
-                if (direction > 0 and up) or (direction < 0 and down) or (direction == 0 and (up or down)):
-                    if gp == gn:
-                        continue
-                    tr = t_new if gn == 0 else (t_old if gp == 0 else
-                                                brentq(lambda x: ev(dense(x)), t_old, t_new, xtol=4 * EPS * abs(t_new)))
-                    roots.append((tr, name))
-            g_prev = g_new
-            stop = min((r for r in roots if r[1] is not None), default=None)
-            for tr, name in roots:
-                if name is None and tr > t and (stop is None or tr <= stop[0]):
-                    yp = dense(tr)
-                    track.peaks.append((float(tr), k, float(yp[0])))
-                    track.peak_at(tr, yp[0], eq)
-            t_stop = stop[0] if stop is not None else t_new
-            ts_all.append(t_stop)
-            dense_all.append(dense)
-            if stop is not None:
-                hit = (stop[1], t_stop, dense(t_stop))
+    coef, at = eq.coefficients, sig.at
+    tb, ag = sig.interval(t)
+    st = _Dop853(coef, (1e-12 * scale_th, 1e-12 * scale_w, 1e-12 * E_scale), ag)
+    keep = track.keep
+    sol = _Dense() if keep else None
+    grid = track.grid_list
+    gi = bisect_left(grid, t)
+    y = (theta, rate, 0.0)
+    f = (rate, *st.rhs(t, theta, rate))
+    bound = min(tb, t_end)
+    hp = st.first_step(t, y, f, bound - t) if bound > t else 0.0
+    t_start, hit = t, None
+    g_prev = (sg * theta, sg * theta - top, rate)
+    while t < t_end:
+        if t >= bound:                # a break: the signal's next interval
+            tb, st.ag = sig.interval(t)
+            bound = min(tb, t_end)
+            if sig.jumps(t):
+                f = (y[1], *st.rhs(t, y[0], y[1]))
+        span = bound - t
+        rejected = False
+        while True:                   # one accepted step
+            h = span if hp >= span else span / math.ceil(span / hp)
+            y1, K, err = st.step(t, y, f, h)
+            if err < 1.0:
                 break
-        if hit is not None:
+            hp = h * max(_MIN_FACTOR, _SAFETY * err ** _EXPONENT)
+            rejected = True
+            if hp < 10 * (math.nextafter(t, math.inf) - t):
+                raise SolverError(f"time integration failed at t = {t:g} s (step size too small)")
+        factor = _MAX_FACTOR if err == 0.0 else min(_MAX_FACTOR, _SAFETY * err ** _EXPONENT)
+        if rejected:
+            factor = min(1.0, factor)
+        hp = max(h * factor, hp) if factor == _MAX_FACTOR else h * factor
+        t_old, y_old = t, y
+        t, y = (bound if h == span else t_old + h), y1
+        f = (K[0][_NS], K[1][_NS], K[2][_NS])
+        hh = t - t_old
+        g_new = (sg * y[0], sg * y[0] - top, y[1])
+        events = any(_crosses(gp, gn, up) for gp, gn, up in zip(g_prev, g_new, _DIRECTIONS))
+        F = st.dense(t_old, hh, y_old, y, K) if events or keep or (gi < len(grid) and grid[gi] < t) else None
+
+        def at_(x):
+            return tuple(u + _poly(c, (x - t_old) / hh) for u, c in zip(y_old, F))
+
+        roots = _step_events(y_old, F, t_old, t, g_prev, g_new, sg, top, reason) if events else []
+        g_prev = g_new
+        stop = min((r for r in roots if r[1] is not None), default=None)
+        t_stop = stop[0] if stop is not None else t
+        for tr, name in roots:
+            if name is None and tr > t_start and (stop is None or tr <= stop[0]):
+                yp = at_(tr)
+                track.peaks.append((float(tr), k, float(yp[0])))
+                track.peak_at(tr, yp[0], eq)
+        while gi < len(grid) and grid[gi] < t_stop:
+            tt = grid[gi]
+            th, w = at_(tt)[:2]
+            track.add(tt, k, th, w, 0.5 * coef(th)[0] * w * w, eq.potential(th), at(tt))
+            gi += 1
+        if keep:
+            sol.add(t_old, hh, y_old, F)
+        if stop is not None:
+            hit = (stop[1], t_stop, at_(t_stop))
             break
-        h = solver.step_size
-        y = solver.y.copy()
-    sol = OdeSolution(ts_all, dense_all) if dense_all else None
+    if keep and sol.steps:
+        track.pieces.append((t_start, float(hit[1] if hit is not None else t_end), k, sol))
     te, y = (hit[1], hit[2]) if hit is not None else (t_end, y)
-    if sol is not None:
-        track.pieces.append((t, float(te), k, sol))
-        g = track.grid
-        ts = g[(g >= t) & (g < te)]
-        if ts.size:
-            Y = sol(ts)
-            for tt, th, w in zip(ts, Y[0], Y[1]):
-                Lam = coef(th)[0]
-                track.add(tt, k, th, w, 0.5 * Lam * w * w, eq.potential(th), at(tt))
     track.peak_at(te, y[0], eq)
     err = abs(eq.energy(y[0], y[1]) - E0 - y[2]) / E_scale
     if hit is None:

@@ -16,11 +16,12 @@ at or below the onset (the member cannot move: ``max(a_g) <= A_L(-1)`` and
 see: a safe or an overturning window narrower than a grid step can be missed.
 
 A run counts as overturning when :meth:`Rocker.run` reports ``"overturned"`` before ``t_end``;
-motions still under way at ``t_end`` count as safe.  For a single rigid block (``voussoirs=1``)
-one shortcut is exact: once the ground motion is over, the energy ``K + V`` never increases, so a
-block whose energy just after the pulse is below both corners' barriers cannot overturn
-(``"below_barrier"``); this avoids the thousands of impacts of a slender block (``r`` near 1)
-rocking slowly to rest.
+motions still under way at ``t_end`` count as safe.  One shortcut is exact
+(:meth:`Rocker.settles`, ``"below_barrier"``): once the ground motion is over, ``K + V`` is
+conserved along a mechanism and each impact leads to a fixed mechanism with ``K' = r K``, so the
+free motion's energies at the impacts follow from the energy at the end of the ground motion
+without integration; if each stays below the barrier of its mechanism until the member is at rest,
+it cannot overturn.  This avoids the tens to thousands of impacts of a member rocking to rest.
 
 :func:`spectrum` repeats the search per pulse period (sine, Ricker) or duration (rect), one task
 per period on local processes or Dask (:mod:`fembeam.studies.parallel`); each task builds its
@@ -91,21 +92,6 @@ def _cannot_move(ground: GroundMotion, A: dict) -> bool:
     return bool(np.max(ground.a) <= A[-1] * (1 + 1e-9) and np.max(-ground.a) <= A[1] * (1 + 1e-9))
 
 
-def _block_barrier(rk: Rocker) -> float | None:
-    """One rigid body on one joint: the smaller energy barrier (J per unit depth) of its two
-    rocking mechanisms; None for any other member (no shortcut)."""
-    if rk.mode != "voussoirs" or rk.n != 1 or len(rk.start) != 2:
-        return None
-    out = []
-    for d in (1, -1):
-        eq = rk.equations[rk.index(rk.start[d])]
-        top = min(eq.theta_unstable, eq.theta_lock)
-        if not math.isfinite(top):
-            return None
-        out.append(eq.potential(eq.sign * top))
-    return min(out)
-
-
 def _check_grid(values, name: str) -> list[float]:
     v = [float(x) for x in values]
     if not v:
@@ -124,7 +110,6 @@ class _Decider:
 
     def __init__(self, rk: Rocker, make_ground: Callable[[float], GroundMotion], t_end, sign: int, progress=None):
         self.rk, self.make_ground, self.t_end, self.sign, self.progress = rk, make_ground, t_end, sign, progress
-        self.barrier = _block_barrier(rk)
         self.runs, self.errors = 0, []
 
     def __call__(self, a: float) -> str:
@@ -140,18 +125,8 @@ class _Decider:
             return "no_motion"
         self.runs += 1
         try:
-            if self.barrier is not None:
-                t0, tp = float(ground.t[0]), float(ground.t[-1])
-                t_short = tp + max(0.01 * math.sqrt(rk.curve.length / rk.g), 1e-3 * (tp - t0))
-                if self.t_end is None or self.t_end > t_short:
-                    res = rk.run(ground, t_end=t_short, thrust_check=False)
-                    if res.outcome != "survived":
-                        return res.outcome
-                    h = res.history
-                    after = np.nonzero((h["t"] >= tp) & (h["mechanism"] >= 0))[0]
-                    if after.size and h["K"][after[-1]] + h["V"][after[-1]] < self.barrier * (1 - 1e-9):
-                        return "below_barrier"
-            return rk.run(ground, t_end=self.t_end, thrust_check=False).outcome
+            res = rk.run(ground, t_end=self.t_end, thrust_check=False, history=False, settle=True)
+            return "below_barrier" if res.settled_at is not None else res.outcome
         except SolverError as e:      # kept, reported; bad input (InputError) propagates
             self.errors.append({"amplitude": float(a), "error": f"{type(e).__name__}: {e}"})
             return "solver_error"
