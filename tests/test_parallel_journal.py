@@ -97,3 +97,21 @@ def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
     a, b = (json.loads((tmp_path / d / "sweep.json").read_text()) for d in "ab")
     strip = (lambda rows: [{k: v for k, v in r.items() if not k.startswith("time")} for r in rows])  # noqa: E731
     assert strip(a["cases"]) == strip(b["cases"]) and strip(a["envelope"]) == strip(b["envelope"])
+
+
+def test_spectrum_resumes_from_its_journal(tmp_path):
+    """Periods found in the journal are not run again (the journal does not grow) and give
+    the same rows."""
+    from fembeam import CircularArch
+    from fembeam.studies.spectrum import spectrum
+
+    arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
+    j = journal_for(tmp_path / "s.csv")
+    kw = dict(voussoirs=7, workers=1, progress=False, n_amplitudes=6)
+    first = spectrum(arch, "sine", [0.3, 0.5], journal=j, **kw)
+    lines = j.path.read_text().count("\n")
+    assert lines == 2
+    again = spectrum(arch, "sine", [0.3, 0.5], journal=Journal(j.path), **kw)
+    assert j.path.read_text().count("\n") == lines
+    strip = (lambda rows: [{k: v for k, v in r.items() if k != "time_s"} for r in rows])  # noqa: E731
+    assert strip(again.rows) == strip(first.rows)

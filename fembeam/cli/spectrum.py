@@ -12,6 +12,7 @@ import json
 
 from ..errors import InputError
 from ..output.files import atomic, check_output
+from ..studies.parallel import journal_for
 from ..studies.spectrum import (AMPLITUDE_SPAN, N_GRID, PULSES, T_END_FACTOR, SpectrumResult, plot_spectrum,
                                 spectrum)
 from .args import finite_float, float_list
@@ -64,10 +65,11 @@ def run(args: argparse.Namespace) -> int:
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
     curve, voussoirs, elements = member_from(args)
+    journal = journal_for(csv_path or plot_path)     # finished periods kept: a re-run resumes
     res = spectrum(curve, args.pulse, args.periods, voussoirs=voussoirs, elements=elements,
                    amplitudes=args.amplitudes, workers=args.workers, scheduler=args.scheduler,
                    progress=not args.quiet, bisect_tol=args.bisect_tol, t_end_factor=args.t_end_factor,
-                   sign=args.sign, backend=args.backend)
+                   sign=args.sign, backend=args.backend, journal=journal)
     written = []
     if csv_path:
         write_csv(res, csv_path)
@@ -76,6 +78,8 @@ def run(args: argparse.Namespace) -> int:
         with atomic(plot_path) as tmp:
             plot_spectrum(res, tmp)
         written.append(f"figure: {plot_path}")
+    if journal is not None:
+        journal.remove()
     if args.json:
         print(json.dumps(res.to_dict(), allow_nan=False))
     else:

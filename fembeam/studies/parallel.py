@@ -69,8 +69,13 @@ class Journal:
 
     @staticmethod
     def key(task: Task) -> str:
+        """The function and its arguments; objects (a member) by their full ``repr``, the
+        dataclass fields that define them (arrays printed in full)."""
+        import numpy as np
+
         f, kw = task
-        return json.dumps([f.__module__, f.__qualname__, kw], sort_keys=True, default=repr)
+        with np.printoptions(threshold=sys.maxsize, precision=17):
+            return json.dumps([f.__module__, f.__qualname__, kw], sort_keys=True, default=repr)
 
     def add(self, key: str, result: Any) -> None:
         with open(self.path, "a") as fh:

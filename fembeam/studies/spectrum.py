@@ -42,7 +42,7 @@ from ..dynamics.ground import GroundMotion
 from ..dynamics.rocking import Rocker
 from ..errors import CannotStandError, InputError, SolverError
 from ..geometry import MidCurve
-from .parallel import default_workers, run_tasks
+from .parallel import Journal, default_workers, run_tasks
 
 __all__ = ["overturning_amplitude", "spectrum", "spectrum_case", "SpectrumResult", "plot_spectrum",
            "collapse_scale", "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "PULSES", "SAFE"]
@@ -294,12 +294,14 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
              elements: int = 200, amplitudes: Sequence[float] | None = None, workers: int | None = None,
              scheduler=None, progress: bool = True, bisect_tol: float = 1e-3, t_end_factor: float = T_END_FACTOR,
              *, sign: int = 1, backend: str = "clarabel", n_amplitudes: int = N_GRID,
-             span: float = AMPLITUDE_SPAN) -> SpectrumResult:
+             span: float = AMPLITUDE_SPAN, journal: Journal | None = None) -> SpectrumResult:
     """Overturning amplitude (g) of ``curve`` under ``kind`` pulses for each of ``periods`` (s;
     durations for rect).  Default grid: ``n_amplitudes`` geometric points from the onset
     amplitude (``A_L`` of the direction the pulse loads first) to ``span`` times it.  Each run
     lasts to the end of the pulse + ``t_end_factor sqrt(L/g)``.  Bad input raises
-    :class:`InputError` before any run; a member that cannot stand, :class:`CannotStandError`."""
+    :class:`InputError` before any run; a member that cannot stand, :class:`CannotStandError`.
+    ``journal``: finished periods are kept there and taken from there (an interrupted
+    spectrum resumes; :class:`~fembeam.studies.parallel.Journal`)."""
     ps = _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign,
                          n_amplitudes, span)
     clock = time.perf_counter()
@@ -314,7 +316,8 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     common = {"curve": curve, "kind": kind, "amplitudes": grid, "voussoirs": voussoirs, "elements": elements,
               "backend": backend, "bisect_tol": bisect_tol, "sign": sign, "onset": onset}
     rows = run_tasks([(spectrum_case, {**common, "period": p, "t_end": pulse_end(kind, p) + free}) for p in ps],
-                     workers=workers, scheduler=scheduler, progress=progress, desc=f"spectrum: {kind} pulses")
+                     workers=workers, scheduler=scheduler, progress=progress, desc=f"spectrum: {kind} pulses",
+                     journal=journal, lost=_lost_period)
     wall = time.perf_counter() - clock
     settings = {"voussoirs": voussoirs, "elements": elements if voussoirs is None else None, "backend": backend,
                 "bisect_tol": bisect_tol, "t_end_factor": t_end_factor, "t_end": "pulse end + t_end_factor sqrt(L/g)",
@@ -324,6 +327,14 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     return SpectrumResult(kind, sign, rows, dict(rk.A), onset, grid, geo, settings, wall,
                           {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
                            "runs": sum(r["runs"] for r in rows)})
+
+
+def _lost_period(task, message: str) -> dict:
+    """The row of a period whose worker process died twice: undecided, with the error."""
+    kw = task[1]
+    return {"period": float(kw["period"]), "first_overturning": None, "bracket": [None, None], "safe_above": False,
+            "safe_amplitudes_above": [], "converged": False, "onset": kw["onset"], "bisection": [], "runs": 0,
+            "errors": [f"the worker process died twice ({message})"], "t_end": float(kw["t_end"]), "time_s": 0.0}
 
 
 def plot_spectrum(result: SpectrumResult, path) -> None:
