@@ -64,3 +64,22 @@ def test_bad_inputs():
         GroundMotion.sine(0.3, 0.0)
     with pytest.raises(InputError, match="increasing"):
         GroundMotion(np.array([0.0, 0.0]), np.array([1.0, 2.0]))
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["rock", "--record", "elcentro", "--scale", "1e300"], "at most 100 g"),
+    (["rock", "--record", "elcentro", "--pga", "1e5"], "at most 100 g"),
+    (["rock", "--pulse", "ricker", "--amplitude", "1e9", "--period", "1"], "at most 100 g"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "1e-300"], "[0.0001, 10000] s"),
+    (["rock", "--pulse", "rect", "--amplitude", "1", "--duration", "1e300"], "[0.0001, 10000] s"),
+    (["collapse-scale", "--record", "elcentro", "--factors", "1e300"], "at most 100 g"),
+    (["spectrum", "--pulse", "sine", "--periods", "1e-300", "--quiet"], "[0.0001, 10000] s"),
+])
+def test_ground_motions_out_of_range_exit_2(capsys, argv, words):
+    """Accelerations beyond 100 g (a unit mistake) and pulse periods outside [1e-4, 1e4] s are
+    refused before any run, with one line."""
+    from fembeam.cli.main import main
+
+    code = main(argv + ["--voussoirs", "7"])
+    err = capsys.readouterr().err
+    assert code == 2 and words in err and len(err.strip().splitlines()) == 1, err

@@ -27,6 +27,7 @@ RECORDS = {   # records shipped with fembeam (fembeam/data/ground_motions/README
     "elcentro_chopra": "elcentro_1940_ns_chopra.csv",
 }
 MAX_POINTS = 10_000_000   # 160 MB of samples: far beyond any record
+MAX_PGA = 100.0           # g: a ground acceleration above it is a unit mistake, not an earthquake
 
 
 def _positive(name: str, value) -> float:
@@ -36,6 +37,17 @@ def _positive(name: str, value) -> float:
         raise InputError(f"{name} must be a number, got {value!r}") from None
     if not (math.isfinite(v) and v > 0):
         raise InputError(f"{name} must be a positive finite number, got {value!r}")
+    return v
+
+
+PERIOD_RANGE = (1e-4, 1e4)   # s: pulse periods and durations admitted
+
+
+def _period(name: str, value) -> float:
+    v = _positive(name, value)
+    lo, hi = PERIOD_RANGE
+    if not lo <= v <= hi:
+        raise InputError(f"{name} must be in [{lo:g}, {hi:g}] s, got {value!r}")
     return v
 
 
@@ -91,6 +103,9 @@ class GroundMotion:
             raise InputError(f"{self.name}: times and accelerations must be finite numbers")
         if np.any(np.diff(t) <= 0):
             raise InputError(f"{self.name}: times must be strictly increasing")
+        if np.max(np.abs(a)) > MAX_PGA:
+            raise InputError(f"{self.name}: peak ground acceleration {np.max(np.abs(a)):.4g} g; at most {MAX_PGA:g} g "
+                             "is admitted (accelerations are in g)")
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "a", a)
 
@@ -148,7 +163,7 @@ class GroundMotion:
     @classmethod
     def rectangular(cls, amplitude: float, duration: float) -> "GroundMotion":
         """``a_g = amplitude`` on ``[0, duration)``, zero after (a jump at both ends)."""
-        amplitude, duration = float(amplitude), _positive("the pulse duration", duration)
+        amplitude, duration = float(amplitude), _period("the pulse duration", duration)
         eps = 1e-12 * duration
         t = np.array([0.0, duration - eps, duration])
         return cls(t, np.array([amplitude, amplitude, 0.0]), f"rectangular pulse {amplitude:g} g, {duration:g} s",
@@ -157,7 +172,7 @@ class GroundMotion:
     @classmethod
     def sine(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
         """One period of ``amplitude sin(2 pi t / period)``."""
-        period = _positive("the pulse period", period)
+        period = _period("the pulse period", period)
         t = np.linspace(0.0, period, samples)
         return cls(t, float(amplitude) * np.sin(2 * np.pi * t / period), f"one-sine pulse {amplitude:g} g, {period:g} s",
                    True, Pulse("sine", float(amplitude), period))

@@ -38,7 +38,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..dynamics.ground import GroundMotion
+from ..dynamics.ground import PERIOD_RANGE, GroundMotion
 from ..dynamics.rocking import Rocker
 from ..errors import CannotStandError, InputError, SolverError
 from ..geometry import MidCurve
@@ -268,8 +268,9 @@ def _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, 
     ps = [float(p) for p in periods]
     if not ps:
         raise InputError("give at least one pulse period (duration for rect)")
-    if not all(math.isfinite(p) and p > 0 for p in ps):
-        raise InputError(f"pulse periods (durations) must be positive finite seconds, got {periods}")
+    lo, hi = PERIOD_RANGE
+    if not all(math.isfinite(p) and lo <= p <= hi for p in ps):
+        raise InputError(f"pulse periods (durations) must be in [{lo:g}, {hi:g}] s, got {periods}")
     if voussoirs is not None and voussoirs < 1:
         raise InputError(f"voussoirs must be >= 1, got {voussoirs}")
     if voussoirs is None and elements < 4:
