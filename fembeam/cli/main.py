@@ -6,14 +6,27 @@ import os
 import signal
 import sys
 import threading
+import warnings
+
+import numpy as np
 
 from ..errors import FembeamError, InputError
+from .args import note_list_limits
+
+
+def one_line(text: str) -> str:
+    """``text`` with its unprintable characters (newlines included) escaped."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, no usage dump
-        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        print(f"{self.prog}: error: {one_line(message)}", file=sys.stderr)
         raise SystemExit(2)
+
+    def _print_message(self, message, file=None):  # argparse's drops write errors: --help > /dev/full
+        if message:
+            (file or sys.stderr).write(message)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -23,6 +36,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for mod in (analyze, min_thickness, convergence, sweep, impact, report, rock, spectrum, collapse_scale):
         mod.register(sub)
+    note_list_limits(p)
     return p
 
 
@@ -35,11 +49,37 @@ def _terminate(signum, frame):
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    """Run one sub-command; the exit code:
+
+    * 0: done (physical outcomes such as "cannot stand" included);
+    * 1: the reader of stdout went away (``fembeam analyze | head``): stop quietly;
+    * 2: bad input (argparse errors raise ``SystemExit(2)``), or the output cannot be
+      written (stdout on a full device, an unwritable file): it is the invocation that
+      asks for an impossible output, nothing was computed wrongly;
+    * 3: a solve failed or failed its verification;
+    * 130 / 143: interrupted (Ctrl-C) / terminated (SIGTERM).
+
+    Every error is one line on stderr.  Warnings (numpy RuntimeWarnings, scipy's,
+    scikit-fem's) are never shown: every result is verified independently, so a silenced
+    overflow that matters still ends as a verification failure (exit 3)."""
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        return _run(argv)
+
+
+def _run(argv: list[str] | None) -> int:
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminate)
     try:
-        return int(args.func(args) or 0)
+        try:
+            args = build_parser().parse_args(argv)
+            code = int(args.func(args) or 0)
+        except SystemExit as e:       # --help, or an argparse error
+            code = e
+        sys.stdout.flush()            # a full device fails here rather than at exit
+        if isinstance(code, SystemExit):
+            raise code
+        return code
     except KeyboardInterrupt:
         print("fembeam: interrupted", file=sys.stderr)
         return 130
@@ -47,11 +87,25 @@ def main(argv: list[str] | None = None) -> int:
         print("fembeam: terminated", file=sys.stderr)
         return 143
     except InputError as e:
-        print(f"fembeam: error: {e}", file=sys.stderr)
+        print(f"fembeam: error: {one_line(e)}", file=sys.stderr)
         return 2
     except FembeamError as e:
-        print(f"fembeam: {type(e).__name__}: {e}", file=sys.stderr)
+        print(f"fembeam: {type(e).__name__}: {one_line(e)}", file=sys.stderr)
         return 3
     except BrokenPipeError:  # e.g. `fembeam analyze | head`: stop quietly
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        _drop_stdout()
         return 1
+    except OSError as e:     # e.g. `fembeam analyze > /dev/full`
+        _drop_stdout()
+        what = "the output" if e.filename is None else repr(str(e.filename))
+        print(f"fembeam: error: cannot write {what}: {one_line(e.strerror or e)}", file=sys.stderr)
+        return 2
+
+
+def _drop_stdout() -> None:
+    """Point stdout at /dev/null, so that the interpreter's last flush of what is still
+    buffered does not fail again."""
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError):   # no file descriptor (e.g. captured by a test)
+        pass

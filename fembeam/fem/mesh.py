@@ -6,7 +6,30 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import MidCurve
 
-__all__ = ["uniform_nodes", "nodes_through"]
+__all__ = ["uniform_nodes", "nodes_through", "check_nodes"]
+
+
+def _check_curve(curve) -> None:
+    if not isinstance(curve, MidCurve):
+        raise InputError(f"expected a member (a fembeam.geometry.MidCurve such as CircularArch), got "
+                         f"{type(curve).__name__}")
+
+
+def check_nodes(curve: MidCurve, nodes_s) -> np.ndarray:
+    """``nodes_s`` as a float array when it is a mesh of ``curve``: finite arc lengths (m),
+    strictly increasing, from 0 to ``curve.length`` (to 1e-9 of the length); InputError
+    saying so otherwise."""
+    _check_curve(curve)
+    try:
+        nodes = np.asarray(nodes_s, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("mesh nodes must be a sequence of numbers (arc lengths, m)") from None
+    L = float(curve.length)
+    if (nodes.ndim != 1 or nodes.size < 2 or not np.all(np.isfinite(nodes)) or np.any(np.diff(nodes) <= 0)
+            or abs(nodes[0]) > 1e-9 * L or abs(nodes[-1] - L) > 1e-9 * L):
+        raise InputError(f"mesh nodes must be finite arc lengths, strictly increasing from 0 to the member's "
+                         f"length {L:.17g} m (at least 2 nodes)")
+    return nodes
 
 
 def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
@@ -17,7 +40,8 @@ def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
     shared out in proportion to the lengths (largest remainders, ties to the left, at
     least one per piece; so the count is kept unless it is below the number of pieces).
     Without kinks: ``numpy.linspace(0, length, n_elements + 1)``."""
-    if not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
+    _check_curve(curve)
+    if isinstance(n_elements, bool) or not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
         raise InputError(f"the number of elements must be a positive integer, got {n_elements!r}")
     kinks = np.asarray(getattr(curve, "kinks", ()), float)
     if kinks.size == 0:
@@ -48,13 +72,17 @@ def nodes_through(nodes_s: np.ndarray, points_s, keep=()) -> np.ndarray:
     the arc lengths ``keep`` (e.g. the curve's kinks) are never moved; a point next to one
     of them but not on it (a kink's one-sided cut, one ulp off) gets a node of its own."""
     out = np.array(nodes_s, float)
+    if out.ndim != 1 or out.size < 2 or not np.all(np.isfinite(out)) or np.any(np.diff(out) <= 0):
+        raise InputError("mesh nodes must be finite arc lengths, strictly increasing (at least 2 nodes)")
     tol = 1e-10 * (out[-1] - out[0])
+    pts = np.atleast_1d(np.asarray(points_s, float))
+    if not np.all((pts >= out[0] - tol) & (pts <= out[-1] + tol)):
+        raise InputError(f"the points to mesh through must be finite arc lengths in [{out[0]:g}, {out[-1]:g}] m")
     moved = np.zeros(out.size, bool)
     moved[[0, -1]] = True
     keep = np.atleast_1d(np.asarray(keep, float))
     for k in keep:
         moved |= np.abs(out - k) <= tol
-    pts = np.atleast_1d(np.asarray(points_s, float))
     beside = np.array([np.any((np.abs(keep - p) <= tol) & (keep != p)) for p in pts], bool)
     if beside.any():
         fixed = out[moved]

@@ -31,6 +31,7 @@ from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, Elemen
 
 from ..errors import InputError
 from ..geometry import MidCurve
+from .mesh import check_nodes
 from .rigid import NDOF, Discretization
 
 __all__ = ["discretize_p1"]
@@ -57,9 +58,7 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
     chord is parallel to the midpoint tangent); only ``gamma`` keeps an ``O(h^2)``
     residual.  The DOFs are intrinsic nodal components in both cases.
     """
-    nodes_s = np.asarray(nodes_s, float)
-    if nodes_s.ndim != 1 or nodes_s.size < 2 or np.any(np.diff(nodes_s) <= 0):
-        raise InputError("mesh nodes must be a strictly increasing sequence of arc lengths")
+    nodes_s = check_nodes(curve, nodes_s)
     if components not in ("intrinsic", "cartesian"):
         raise InputError(f"components must be 'intrinsic' or 'cartesian', got {components!r}")
     cart = components == "cartesian"

@@ -31,6 +31,7 @@ from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, Elemen
 
 from ..errors import InputError
 from ..geometry import MidCurve
+from .mesh import check_nodes
 
 __all__ = ["Discretization", "discretize", "rigid_dofs", "dof_scaling", "NDOF"]
 
@@ -161,9 +162,9 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Disc
     the section the curve defines there: position, tangent (the bisector), normal and
     thickness at the kink; nothing else here assumes a smooth mid-curve.
     """
-    nodes_s = np.asarray(nodes_s, float)
-    if nodes_s.ndim != 1 or nodes_s.size < 2 or np.any(np.diff(nodes_s) <= 0):
-        raise InputError("mesh nodes must be a strictly increasing sequence of arc lengths")
+    nodes_s = check_nodes(curve, nodes_s)
+    if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or not 1 <= intorder <= 40:
+        raise InputError(f"intorder must be an integer from 1 to 40 (Gauss order of the mass form), got {intorder!r}")
     mesh = MeshLine1.init_tensor(nodes_s)
     fr = _element_frames(curve, mesh)
     E = ElementVector(ElementLineP0(), NDOF)

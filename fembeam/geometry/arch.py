@@ -26,7 +26,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ..errors import InputError
-from .base import MidCurve, finite_positive
+from .base import THICKNESS_RANGE, MidCurve, density_value, finite_positive, length_value
 from .thickness import ThicknessLaw, thickness_law
 
 __all__ = ["ShapedArch", "SymmetricArch", "MIN_T_OVER_SPAN"]
@@ -75,16 +75,21 @@ class ShapedArch(MidCurve):
 
     @property
     def min_thickness_scale(self) -> float:
-        return MIN_T_OVER_SPAN * self._span / self._thickest()
+        return max(MIN_T_OVER_SPAN * self._span / self._thickest(), THICKNESS_RANGE[0] / self._thinnest())
 
     def _thickest(self) -> float:
         """Largest thickness of the member (m)."""
         return self._law.maximum
 
+    def _thinnest(self) -> float:
+        """Smallest thickness of the member (m)."""
+        return min(self._law.springing, self._law.crown)
+
     def _check_thickness(self) -> None:
         """Store the thickness limits; InputError when the given law is outside them."""
         tk = self._max_t_kappa()
-        object.__setattr__(self, "_max_scale", math.inf if tk <= 0 else 2.0 / tk)
+        object.__setattr__(self, "_max_scale", min(math.inf if tk <= 0 else 2.0 / tk,
+                                                   THICKNESS_RANGE[1] / self._thickest()))
         if tk >= 2.0:
             raise InputError(f"the thickness must stay below twice the radius of curvature (the intrados folds "
                              f"where t |kappa| >= 2): max t |kappa| = {tk:.6g}; make the section at most "
@@ -157,9 +162,9 @@ class SymmetricArch(ShapedArch):
     shape = "symmetric"
 
     def __post_init__(self):
-        finite_positive("span", self.span, "a positive number of metres")
-        finite_positive("rise", self.rise, "a positive number of metres")
-        finite_positive("density", self.density, "positive")
+        object.__setattr__(self, "span", length_value("span", self.span))
+        object.__setattr__(self, "rise", length_value("rise", self.rise))
+        object.__setattr__(self, "density", density_value(self.density))
         object.__setattr__(self, "_law", thickness_law(self.thickness, self.thickness_springing, self.thickness_crown))
         self._build()
         object.__setattr__(self, "_crown_s", 0.5 * self.length)

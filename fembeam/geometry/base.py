@@ -17,13 +17,23 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["MidCurve", "finite_positive"]
+__all__ = ["MidCurve", "finite_positive", "real_number", "length_value", "thickness_value", "density_value",
+           "LENGTH_RANGE", "THICKNESS_RANGE", "DENSITY_RANGE"]
+
+# Admissible magnitudes (docs/user_guide.md, "Limits"): r and A_L/g do not depend on the
+# size or the density, but the mass matrix holds products like rho R^4 and the solvers'
+# norms their squares; inside these ranges every such number stays far from overflow and
+# underflow (A_L and r agree with R = rho = 1 to 1e-12 at every corner of the ranges).
+LENGTH_RANGE = (1e-6, 1e6)       # m: radius, span, rise, block height, surveyed coordinates
+THICKNESS_RANGE = (1e-9, 1e7)    # m: thicknesses and the block width (the shapes bound them further)
+DENSITY_RANGE = (1e-6, 1e9)      # kg/m^3
 
 
 class MidCurve:
@@ -159,11 +169,43 @@ def _gauss(order: int):
     return np.polynomial.legendre.leggauss(order)
 
 
-def finite_positive(name: str, value: float, allowed: str) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number ({allowed}), got {value!r}") from None
-    if not math.isfinite(value) or value <= 0:
+def real_number(name: str, value, allowed: str) -> float:
+    """``value`` as a float when it is a finite real number (an int, a float or a numpy
+    scalar; not a bool, a string or an array); InputError saying ``allowed`` otherwise."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name} must be a number ({allowed}), got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(f"{name} must be a finite number ({allowed}), got {value}")
+    return value
+
+
+def finite_positive(name: str, value, allowed: str) -> float:
+    value = real_number(name, value, allowed)
+    if value <= 0:
         raise InputError(f"{name} must be {allowed}, got {value}")
     return value
+
+
+def _in_range(name: str, value, bounds: tuple[float, float], unit: str) -> float:
+    lo, hi = bounds
+    allowed = f"from {lo:g} to {hi:g} {unit}"
+    value = real_number(name, value, allowed)
+    if not lo * (1 - 1e-9) <= value <= hi * (1 + 1e-9):   # a ratio times a bound may round past it
+        raise InputError(f"{name} must be {allowed}, got {value}")
+    return value
+
+
+def length_value(name: str, value) -> float:
+    """A size of the member (m) inside :data:`LENGTH_RANGE`, else InputError."""
+    return _in_range(name, value, LENGTH_RANGE, "m")
+
+
+def thickness_value(name: str, value) -> float:
+    """A thickness (m) inside :data:`THICKNESS_RANGE`, else InputError."""
+    return _in_range(name, value, THICKNESS_RANGE, "m")
+
+
+def density_value(value) -> float:
+    """A density (kg/m^3) inside :data:`DENSITY_RANGE`, else InputError."""
+    return _in_range("density", value, DENSITY_RANGE, "kg/m^3")

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .base import MidCurve, finite_positive as _finite_positive
+from .base import MidCurve, density_value, length_value, thickness_value
 
 __all__ = ["StraightMember"]
 
@@ -26,9 +26,9 @@ class StraightMember(MidCurve):
     ends: tuple[str, str] = ("joint", "free")
 
     def __post_init__(self):
-        _finite_positive("height", self.height, "positive")
-        _finite_positive("width", self.width, "positive")
-        _finite_positive("density", self.density, "positive")
+        object.__setattr__(self, "height", length_value("height", self.height))
+        object.__setattr__(self, "width", thickness_value("width", self.width))
+        object.__setattr__(self, "density", density_value(self.density))
 
     @property
     def length(self) -> float:

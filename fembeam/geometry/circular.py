@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .base import MidCurve, finite_positive as _finite_positive
+from .base import MidCurve, density_value, finite_positive as _finite_positive, length_value, thickness_value
 
 __all__ = ["CircularArch", "MIN_T_OVER_R"]
 
@@ -21,10 +21,10 @@ class CircularArch(MidCurve):
 
     Parameters
     ----------
-    radius : mid-curve radius R (m), > 0.
-    thickness : t (m), 0 < t < 2R.
+    radius : mid-curve radius R (m), in :data:`~fembeam.geometry.base.LENGTH_RANGE`.
+    thickness : t (m), 1e-3 R <= t < 2R.
     embrace_deg : total embrace angle beta (deg), 0 < beta < 360 (180 = semicircle).
-    density : rho (kg/m^3 per unit depth), > 0.
+    density : rho (kg/m^3 per unit depth), in :data:`~fembeam.geometry.base.DENSITY_RANGE`.
     """
 
     radius: float = 1.0
@@ -33,20 +33,22 @@ class CircularArch(MidCurve):
     density: float = 1.0
 
     def __post_init__(self):
-        R = _finite_positive("radius", self.radius, "a positive number of metres")
-        t = _finite_positive("thickness", self.thickness, "positive")
+        R = length_value("radius", self.radius)
+        t = thickness_value("thickness", self.thickness)
         b = _finite_positive("embrace angle", self.embrace_deg, "in (0, 360) degrees")
-        _finite_positive("density", self.density, "positive")
+        rho = density_value(self.density)
         if not MIN_T_OVER_R <= t / R < 2:
             raise InputError(f"t/R must be in [{MIN_T_OVER_R:g}, 2) (intrados radius R - t/2 > 0; thinner sections "
                              f"are outside masonry practice and the range the checks are calibrated for), got {t / R:g}")
         if b >= 360:
             raise InputError(f"embrace angle must be in (0, 360) degrees, got {b:g}")
+        for name, value in (("radius", R), ("thickness", t), ("embrace_deg", b), ("density", rho)):
+            object.__setattr__(self, name, value)
 
     @classmethod
     def from_ratio(cls, embrace_deg: float, t_over_r: float, radius: float = 1.0, density: float = 1.0):
         t_over_r = _finite_positive("t/R", t_over_r, "in (0, 2)")
-        radius = _finite_positive("radius", radius, "a positive number of metres")
+        radius = length_value("radius", radius)
         return cls(radius=radius, thickness=t_over_r * radius, embrace_deg=embrace_deg, density=density)
 
     @property

@@ -19,6 +19,13 @@ degrees with each chord and turns by less than 90 degrees between two points).  
 given from right to left are reversed (the mid-curve runs from the left springing).
 The springings are the first and last points, at whatever height they are.
 
+**Placement.** The spline is built in coordinates relative to the midpoint of the two
+springings, which is the origin of :meth:`position` (as for the symmetric shapes): the
+results do not depend on where the survey's coordinate system puts the arch (national-grid
+coordinates lose no precision).  The span and the extent of the points must lie in
+:data:`~fembeam.geometry.base.LENGTH_RANGE`, the ``t`` column in
+:data:`~fembeam.geometry.base.THICKNESS_RANGE`.
+
 **Thickness.** The ``t`` column (m, interpolated by the same spline) if given, else a
 law (:mod:`~fembeam.geometry.thickness`) whose crown is the highest point of the
 mid-curve.
@@ -36,7 +43,7 @@ from scipy.optimize import minimize_scalar
 
 from ..errors import InputError
 from .arch import ShapedArch
-from .base import finite_positive
+from .base import LENGTH_RANGE, THICKNESS_RANGE, density_value, finite_positive
 from .parametric import ParametricCurve
 from .thickness import thickness_law
 
@@ -133,7 +140,7 @@ class SurveyedArch(ParametricCurve, ShapedArch):
         return cls(d["x"], d["y"], d["t"], thickness, thickness_springing, thickness_crown, density)
 
     def __post_init__(self):
-        finite_positive("density", self.density, "positive")
+        object.__setattr__(self, "density", density_value(self.density))
         x, y = self._column("x", self.x), self._column("y", self.y)
         t = None if self.t is None else self._column("t", self.t)
         if x.size != y.size or (t is not None and t.size != x.size):
@@ -149,12 +156,20 @@ class SurveyedArch(ParametricCurve, ShapedArch):
         if t is not None:
             if any(v is not None for v in (self.thickness, self.thickness_springing, self.thickness_crown)):
                 raise InputError("the thickness is given twice: by the t column and by a thickness law; give one")
+            lo, hi = THICKNESS_RANGE
             if np.any(t <= 0):
                 raise InputError(f"the t column must be positive (m), got min {np.min(t):g}")
+            if not (lo * (1 - 1e-9) <= np.min(t) and np.max(t) <= hi * (1 + 1e-9)):
+                raise InputError(f"the t column must be from {lo:g} to {hi:g} m, got {np.min(t):g} to {np.max(t):g}")
             law = None
         else:
             law = thickness_law(self.thickness, self.thickness_springing, self.thickness_crown)
         P = np.column_stack([x, y])
+        with np.errstate(over="ignore"):       # inf: far too large
+            extent, (lo, hi) = float(np.max(np.ptp(P, axis=0))), LENGTH_RANGE
+        if not extent <= hi:
+            raise InputError(f"the surveyed points must lie within {hi:g} m of each other, got an extent of "
+                             f"{extent:g} m")
         chord = np.hypot(*np.diff(P, axis=0).T)
         total = float(np.sum(chord))
         if not total > 0 or np.min(chord) <= 1e-9 * total:
@@ -162,9 +177,13 @@ class SurveyedArch(ParametricCurve, ShapedArch):
             raise InputError(f"consecutive points must be distinct: points {k + 1} and {k + 2} coincide")
         if abs(x[-1] - x[0]) <= 1e-9 * total:
             raise InputError("the springings (first and last points) must be apart horizontally")
+        if abs(x[-1] - x[0]) < lo:
+            raise InputError(f"the span of the surveyed arch must be from {lo:g} to {hi:g} m, "
+                             f"got {abs(x[-1] - x[0]):g} m")
         if _segments_cross(P):
             raise InputError("the polyline of the points intersects itself: give the points in order "
                              "along the mid-curve, from springing to springing")
+        P = P - 0.5 * (P[0] + P[-1])           # the origin at the midpoint of the springings
         u = np.concatenate([[0.0], np.cumsum(chord)])
         k = 5 if x.size >= QUINTIC_FROM else 3
         object.__setattr__(self, "_u_pts", u)
@@ -188,6 +207,8 @@ class SurveyedArch(ParametricCurve, ShapedArch):
     @staticmethod
     def _column(name, values) -> np.ndarray:
         try:
+            if isinstance(values, (str, bytes)) or any(isinstance(v, (bool, np.bool_, str, bytes)) for v in values):
+                raise TypeError
             a = np.asarray(values, dtype=float)
         except (TypeError, ValueError):
             raise InputError(f"column {name} must be numbers (m)") from None

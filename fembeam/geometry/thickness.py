@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .base import finite_positive
+from .base import thickness_value
 
 __all__ = ["ThicknessLaw", "thickness_law"]
 
@@ -62,10 +62,10 @@ def thickness_law(thickness=None, thickness_springing=None, thickness_crown=None
     if thickness is not None:
         if any(x is not None for x in linear):
             raise InputError("give either a constant thickness or thickness_springing and thickness_crown, not both")
-        t = finite_positive("thickness", thickness, "a positive number of metres")
+        t = thickness_value("thickness", thickness)
         return ThicknessLaw(t, t)
     if any(x is None for x in linear):
         raise InputError("give a thickness (constant) or both thickness_springing and thickness_crown "
                          "(linear in the arc length from each springing to the crown)")
-    return ThicknessLaw(finite_positive("thickness_springing", thickness_springing, "a positive number of metres"),
-                        finite_positive("thickness_crown", thickness_crown, "a positive number of metres"))
+    return ThicknessLaw(thickness_value("thickness_springing", thickness_springing),
+                        thickness_value("thickness_crown", thickness_crown))
