@@ -115,3 +115,26 @@ def test_spectrum_resumes_from_its_journal(tmp_path):
     assert j.path.read_text().count("\n") == lines
     strip = (lambda rows: [{k: v for k, v in r.items() if k != "time_s"} for r in rows])  # noqa: E731
     assert strip(again.rows) == strip(first.rows)
+
+
+def test_interrupt_names_what_was_kept(tmp_path, monkeypatch, capsys):
+    """The one stderr line of an interrupted study says where its finished cases are."""
+    import importlib
+
+    from fembeam.cli.main import main
+    sw = importlib.import_module("fembeam.studies.sweep")
+
+    real, calls = sw.sweep_case, {"n": 0}
+
+    def case(**kw):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt
+        return real(**kw)
+
+    monkeypatch.setattr(sw, "sweep_case", case)
+    code = main(["sweep", "--embrace", "90", "--t-over-r", "0.1,0.2,0.3", "--elements", "8", "--tmin-elements", "8",
+                 "--workers", "1", "--quiet", "--no-envelope", "--csv", str(tmp_path / "s.csv")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 130 and len(err) == 1
+    assert "2 of 3 cases kept in" in err[0] and ".s.csv.journal.jsonl" in err[0] and "resume" in err[0]

@@ -80,11 +80,11 @@ def _run(argv: list[str] | None) -> int:
         if isinstance(code, SystemExit):
             raise code
         return code
-    except KeyboardInterrupt:
-        print("fembeam: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as e:     # notes: what a study kept (its journal)
+        print("fembeam: interrupted" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
         return 130
-    except Terminated:
-        print("fembeam: terminated", file=sys.stderr)
+    except Terminated as e:
+        print("fembeam: terminated" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
         return 143
     except InputError as e:
         print(f"fembeam: error: {one_line(e)}", file=sys.stderr)

@@ -184,9 +184,11 @@ def impulse_line_through(before: Mechanism, after: Mechanism, points_s, points_y
     A[:, 1] = -rel[1]          # d/dI_x of rel x I = rel_x I_y - rel_y I_x
     A[:, 2] = rel[0]
     b = dB[2] - _cross(Pk, dB[:2])
-    if np.linalg.cond(A) > 1e12:
+    with np.errstate(divide="ignore"):
+        D = 1.0 / np.max(np.abs(A), axis=0)   # columns of one unit each (alpha': rho R^4, I: R)
+    if not np.all(np.isfinite(D)) or np.linalg.cond(A * D) > 1e12:
         raise SolverError("the impulse line through these four points is not unique (degenerate points)")
-    alpha, Ix, Iy = np.linalg.solve(A, b)
+    alpha, Ix, Iy = D * np.linalg.solve(A * D, b)
     Ia = np.array([Ix, Iy])
     Ma = _cross(Pa, Ia)   # about the origin: the impulse acts at P_a
     d = alpha * (cum(ca, sec) - cum(ca, ps[:1])) - (cum(cb, sec) - cum(cb, ps[:1]))

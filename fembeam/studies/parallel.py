@@ -41,14 +41,17 @@ def default_workers() -> int:
 
 
 def _call(func, kwargs):
-    """``func(**kwargs)`` with single-threaded BLAS: the tasks are small, and BLAS
+    """``func(**kwargs)`` with single-threaded BLAS and no warnings: the tasks are small, and BLAS
     threads only fight the other workers for the cores (measured on the Fig. 13 sweep,
     2 cores: 58.6 s with the default 2 OpenBLAS threads per worker, 18.7 s with 1)."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover - threadpoolctl is a dependency
-        return func(**kwargs)
-    with threadpool_limits(limits=1):
+    import warnings
+
+    import numpy as np
+    from threadpoolctl import threadpool_limits
+
+    # warnings stay quiet in workers too (forked workers inherit the filters, spawned do not)
+    with threadpool_limits(limits=1), warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
         return func(**kwargs)
 
 

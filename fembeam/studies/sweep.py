@@ -40,6 +40,7 @@ from .parallel import Journal, default_workers, run_tasks
 __all__ = ["Family", "FAMILIES", "family", "sweep_case", "envelope_case", "SweepResult", "sweep", "sweep_shape",
            "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
 
+MAX_CASES = 100_000   # cases of one sweep (about 0.3 s of CPU each: 4 hours on 2 cores)
 FIG13_EMBRACE = [80.0, 100.0, 120.0, 140.0, 160.0, 180.0]
 FIG13_T_OVER_R = [round(0.10 + 0.01 * i, 2) for i in range(21)]
 
@@ -254,6 +255,10 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
     ``journal``: finished cases are kept there and taken from there
     (:class:`~fembeam.studies.parallel.Journal`: an interrupted sweep resumes)."""
     fam = family(shape)
+    n_cases = len(embrace) * len(t_over_r) + len(envelope_embrace or embrace)
+    if n_cases > MAX_CASES:
+        raise InputError(f"{len(embrace)} x {len(t_over_r)} cases plus the envelope: {n_cases}; a sweep has at most "
+                         f"{MAX_CASES} (about 0.3 s of CPU each)")
     fam.check(list(embrace) + list(envelope_embrace or []), list(t_over_r))  # bad input fails here, once
     env_as = list(envelope_embrace or embrace) if envelope else []
     common = {"elements": elements, "backend": backend, "direction": direction, "shape": shape}
