@@ -31,6 +31,7 @@ import io
 import json
 import os
 import random
+import shutil
 import signal
 import sys
 import tempfile
@@ -185,9 +186,11 @@ def check(command: str, argv: list[str], code, out: str, err: str) -> str | None
         return "exit 3 without fembeam's message"
     if code == 0 and "--json" in argv:
         try:
-            json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
+            obj = json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
         except ValueError as e:
             return f"--json output is not strict JSON ({str(e)[:60]})"
+        if not isinstance(obj, dict):
+            return "--json output is not one JSON object"
     return None
 
 
@@ -236,6 +239,7 @@ def fuzz(runs: int = 300, seed: int = 0, timeout: float = 20.0, commands: list[s
                 print(f"\r{i + 1}/{runs} runs, {len(rep.failures)} failures", end="", file=sys.__stderr__, flush=True)
     finally:
         os.chdir(here)
+        shutil.rmtree(scratch, ignore_errors=True)
         if progress:
             print(file=sys.__stderr__)
     rep.seconds = time.perf_counter() - clock

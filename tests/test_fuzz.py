@@ -20,6 +20,7 @@ from fembeam.fuzz import _commands, check, draw, fuzz
     (3, "", "some noise", [], "fembeam's message"),
     (0, '{"a": NaN}', "", ["--json"], "strict JSON"),
     (0, "A_L = 0.35", "", ["--json"], "strict JSON"),
+    (0, "[1, 2]", "", ["--json"], "one JSON object"),
 ])
 def test_the_judge_catches_broken_promises(code, out, err, argv, why):
     assert why in check("analyze", argv, code, out, err)

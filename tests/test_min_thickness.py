@@ -101,7 +101,8 @@ def test_voussoirs_check_the_joints_only(capsys):
     (["--elements", "2"], "--elements"),
     (["--voussoirs", "0"], "--voussoirs"),
     (["--friction", "-1"], "--friction"),
-    (["--friction", "nan"], "finite"),
+    (["--friction", "nan"], "[0, 1000]"),
+    (["--friction", "1e9"], "[0, 1000]"),
     (["--shape", "parabolic", "--span", "10"], "--rise"),
 ])
 def test_bad_input_exit_2_one_line(capsys, argv, words):

@@ -40,6 +40,15 @@ def test_lost_worker_tasks_are_retried(tmp_path):
     assert out == [i * i for i in range(8)] and os.path.exists(flag)
 
 
+def test_a_lost_task_is_not_kept_in_the_journal(tmp_path):
+    """A task that lost its process twice is a failed case of this run only: a re-run
+    tries it again."""
+    j = journal_for(tmp_path / "s.csv", "test")
+    out = run_tasks([(die_always, {"i": i}) for i in range(5)], workers=2, progress=False, journal=j,
+                    lost=lambda task, msg: None)
+    assert out == [0, 1, 4, None, 16] and len(Journal(j.path).done) == 4
+
+
 def test_a_task_that_always_kills_its_worker_is_a_failed_case():
     out = run_tasks([(die_always, {"i": i}) for i in range(6)], workers=2, progress=False,
                     lost=lambda task, msg: ("lost", task[1]["i"]))
@@ -51,8 +60,8 @@ def test_a_task_that_always_kills_its_worker_is_a_failed_case():
 
 @pytest.mark.parametrize("workers", [1, 2])
 def test_journal_keeps_and_resumes(tmp_path, workers):
-    j = journal_for(tmp_path / "study.csv")
-    assert j.path == tmp_path / ".study.csv.journal.jsonl"
+    j = journal_for(tmp_path / "study.csv", "sweep")
+    assert j.path == tmp_path / ".study.csv.sweep-journal.jsonl"
     tasks = [(square, {"i": i}) for i in range(5)]
     assert run_tasks(tasks, workers=workers, progress=False, journal=j) == [0, 1, 4, 9, 16]
     with open(j.path, "a") as fh:
@@ -72,9 +81,9 @@ def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
     """SIGINT and SIGTERM end the sweep within a second with 130 / 143, one stderr line, no
     worker left; the cases finished are in the journal and a re-run completes from them
     to the result of an uninterrupted run."""
-    cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.05",
+    cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.02",
            "--elements", "16", "--tmin-elements", "16", "--workers", "2", "--quiet"]
-    journal = tmp_path / "a" / ".fembeam-journal.jsonl"
+    journal = tmp_path / "a" / ".fembeam-sweep-journal.jsonl"
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
         n0 = journal.read_text().count("\n") if journal.exists() else 0
         p = subprocess.Popen(cmd + ["--out-dir", str(tmp_path / "a")], stdout=subprocess.PIPE,
@@ -85,8 +94,6 @@ def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
         t0 = time.time()
         p.send_signal(sig)
         _, err = p.communicate(timeout=30)
-        if p.returncode == 0:            # finished before the signal: nothing to resume
-            break
         assert p.returncode == code and time.time() - t0 < 5
         assert len(err.strip().splitlines()) == 1 and "fembeam:" in err
         assert subprocess.run(["pgrep", "-s", str(p.pid)], capture_output=True).stdout == b""   # no orphans
@@ -106,7 +113,7 @@ def test_spectrum_resumes_from_its_journal(tmp_path):
     from fembeam.studies.spectrum import spectrum
 
     arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
-    j = journal_for(tmp_path / "s.csv")
+    j = journal_for(tmp_path / "s.csv", "spectrum")
     kw = dict(voussoirs=7, workers=1, progress=False, n_amplitudes=6)
     first = spectrum(arch, "sine", [0.3, 0.5], journal=j, **kw)
     lines = j.path.read_text().count("\n")
@@ -137,4 +144,4 @@ def test_interrupt_names_what_was_kept(tmp_path, monkeypatch, capsys):
                  "--workers", "1", "--quiet", "--no-envelope", "--csv", str(tmp_path / "s.csv")])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 130 and len(err) == 1
-    assert "2 of 3 cases kept in" in err[0] and ".s.csv.journal.jsonl" in err[0] and "resume" in err[0]
+    assert "2 of 3 cases kept in" in err[0] and ".s.csv.sweep-journal.jsonl" in err[0] and "resume" in err[0]

@@ -144,7 +144,7 @@ def test_csv_is_written_atomically(tmp_path, monkeypatch, capsys):
     assert main(["spectrum", "--block", "0.5", "2", "--pulse", "rect", "--periods", "0.5", "--amplitudes", "0.3",
                  "--workers", "1", "--quiet", "--csv", str(out)]) == 130
     # no temporary file left; the journal keeps the finished period for a re-run
-    assert out.read_text() == "old\n" and sorted(p.name for p in tmp_path.iterdir()) == [".s.csv.journal.jsonl",
+    assert out.read_text() == "old\n" and sorted(p.name for p in tmp_path.iterdir()) == [".s.csv.spectrum-journal.jsonl",
                                                                                          "s.csv"]
 
 

@@ -40,13 +40,18 @@ __all__ = ["check_friction", "friction_rows", "jumps", "mechanism", "hinges_and_
            "mass_on_midcurve"]
 
 
+MAX_FRICTION = 1000.0   # beyond it the rows' round-off (times mu) exceeds the certificate's tolerance
+
+
 def check_friction(mu) -> float | None:
-    """``None`` (no sliding) or a finite Coulomb coefficient ``mu >= 0``; InputError otherwise."""
+    """``None`` (no sliding) or a Coulomb coefficient ``0 <= mu <= MAX_FRICTION``; InputError
+    otherwise (joints that never slide: no coefficient at all)."""
     if mu is None:
         return None
     if isinstance(mu, bool) or not isinstance(mu, (int, float, np.integer, np.floating)) \
-            or not math.isfinite(mu) or mu < 0:
-        raise InputError(f"the friction coefficient must be a finite number >= 0, got {mu!r}")
+            or not math.isfinite(mu) or not 0 <= mu <= MAX_FRICTION:
+        raise InputError(f"the friction coefficient must be a number in [0, {MAX_FRICTION:g}] (no coefficient: "
+                         f"joints that never slide), got {mu!r}")
     return float(mu)
 
 

@@ -32,8 +32,11 @@ def friction_coefficient(text: str) -> float:
         mu = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number >= 0), got {text!r}") from None
-    if not math.isfinite(mu) or mu < 0:
-        raise argparse.ArgumentTypeError(f"the friction coefficient must be a finite number >= 0, got {text!r}")
+    from ..analysis.friction import MAX_FRICTION
+
+    if not math.isfinite(mu) or not 0 <= mu <= MAX_FRICTION:
+        raise argparse.ArgumentTypeError(f"the friction coefficient must be a number in [0, {MAX_FRICTION:g}] "
+                                         f"(omit --friction for joints that never slide), got {text!r}")
     return mu
 
 

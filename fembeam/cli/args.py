@@ -237,15 +237,15 @@ def check_outputs(args, stem: str) -> None:
                 raise InputError(f"--out-dir: {os.path.join(args.out_dir, name)!r} is a directory")
 
 
-def study_journal(args):
+def study_journal(args, command: str):
     """The journal of a study writing files (``--out-dir``, else ``--csv``, else ``--plot``):
     finished cases are kept there, and a re-run with the same output resumes from them
     (:class:`~fembeam.studies.parallel.Journal`); None when the study writes no file."""
     from ..studies.parallel import journal_for
 
     if args.out_dir:
-        os.makedirs(args.out_dir, exist_ok=True)
-    return journal_for(args.out_dir or args.csv or args.plot)
+        return journal_for(args.out_dir, command, directory=True)
+    return journal_for(args.csv or args.plot, command)
 
 
 def write_outputs(result, args, stem: str, plot) -> None:

@@ -10,6 +10,7 @@ below it: the compatible motion on which gravity does positive work.  Its invers
 from __future__ import annotations
 
 import json
+import math
 
 from ..analysis import minimum_thickness
 from ..analysis.continuum import continuum_limit
@@ -18,6 +19,7 @@ from ..analysis.limit import limit_analysis
 from ..errors import InputError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
+from .analyze import friction_coefficient
 from .args import add_arch, arch_from, arch_title, finite_float
 
 
@@ -35,8 +37,8 @@ def register(sub) -> None:
                    help="discrete arch of N voussoirs: the joints only are checked")
     g.add_argument("--tol", type=finite_float, default=1e-6, metavar="TOL",
                    help="relative bisection tolerance on the thickness factor, in [1e-12, 0.1] (default 1e-6)")
-    g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
-                   help="Coulomb coefficient of the joints (default: no sliding)")
+    g.add_argument("--friction", type=friction_coefficient, default=None, metavar="MU",
+                   help="Coulomb coefficient of the joints, in [0, 1000] (default: no sliding)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.set_defaults(func=run)
 
@@ -48,8 +50,6 @@ def _check(args) -> None:
             raise InputError(f"--{opt} must be >= {4 if opt == 'elements' else 1}, got {n}")
     if not 1e-12 <= args.tol <= 0.1:
         raise InputError(f"--tol must be in [1e-12, 0.1], got {args.tol:g}")
-    if args.friction is not None and not args.friction >= 0:
-        raise InputError(f"--friction must be a number >= 0, got {args.friction:g}")
 
 
 def collapse_mechanism(curve: MidCurve, nodes, continuum: bool, friction: float | None = None):
@@ -99,8 +99,9 @@ def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int |
                               "the thrust line strays from it by an amount of order t^2 x curvature, which fits "
                               "inside the half-thickness t/2 for every small t; the minimum thickness is zero")
     else:
-        out["explanation"] = (f"no thickness up to {th.curve.max_thickness_scale:.6g} times the given law (where "
-                              "the intrados folds, t |curvature| = 2) admits a thrust line"
+        cap = th.lower if math.isfinite(th.lower) else th.curve.max_thickness_scale
+        out["explanation"] = (f"no thickness up to {cap:.6g} times the given law (the largest checked: where the "
+                              "intrados folds, t |curvature| = 2, or 2^40) admits a thrust line"
                               + ("" if friction is None else f" with |S| <= {friction:g} N at every joint"))
     return out
 

@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
     curve, voussoirs, elements = member_from(args)
-    journal = journal_for(csv_path or plot_path)     # finished periods kept: a re-run resumes
+    journal = journal_for(csv_path or plot_path, "spectrum")     # finished periods kept: a re-run resumes
     res = spectrum(curve, args.pulse, args.periods, voussoirs=voussoirs, elements=elements,
                    amplitudes=args.amplitudes, workers=args.workers, scheduler=args.scheduler,
                    progress=not args.quiet, bisect_tol=args.bisect_tol, t_end_factor=args.t_end_factor,

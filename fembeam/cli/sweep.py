@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
             import distributed  # noqa: F401
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
-    journal = study_journal(args)
+    journal = study_journal(args, "sweep")
     res = sweep(a, b, elements=args.elements, backend=args.backend, direction=args.direction,
                 envelope=not args.no_envelope, envelope_embrace=env,
                 tmin_elements=args.tmin_elements, tmin_tol=args.tmin_tol, above=args.above, workers=args.workers,

@@ -72,16 +72,26 @@ class Journal:
 
     @staticmethod
     def key(task: Task) -> str:
-        """The function and its arguments; objects (a member) by their full ``repr``, the
-        dataclass fields that define them (arrays printed in full)."""
+        """fembeam's version, the function and its arguments; objects (a member) by their
+        full ``repr``, the dataclass fields that define them (arrays printed in full)."""
         import numpy as np
+
+        from .. import __version__
 
         f, kw = task
         with np.printoptions(threshold=sys.maxsize, precision=17):
-            return json.dumps([f.__module__, f.__qualname__, kw], sort_keys=True, default=repr)
+            return json.dumps([__version__, f.__module__, f.__qualname__, kw], sort_keys=True, default=repr)
 
     def add(self, key: str, result: Any) -> None:
-        with open(self.path, "a") as fh:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with open(self.path, "a+") as fh:
+            fh.seek(0, os.SEEK_END)
+            if fh.tell():                      # a line cut short by a kill: start a new one
+                fh.seek(fh.tell() - 1)
+                last = fh.read(1)
+                fh.seek(0, os.SEEK_END)
+                if last != "\n":
+                    fh.write("\n")
             fh.write(json.dumps({"key": key, "result": result}) + "\n")
             fh.flush()
             os.fsync(fh.fileno())
@@ -91,13 +101,15 @@ class Journal:
         self.path.unlink(missing_ok=True)
 
 
-def journal_for(output: str | Path | None) -> Journal | None:
-    """The journal kept beside a study's ``output`` file or directory (None: no journal)."""
+def journal_for(output: str | Path | None, command: str, directory: bool = False) -> Journal | None:
+    """The journal of ``command`` kept beside a study's ``output`` file, or in its output
+    ``directory`` (``DIR/.fembeam-COMMAND-journal.jsonl``, ``.NAME.COMMAND-journal.jsonl``;
+    None: no journal).  Nothing is created before the first task finishes."""
     if output is None:
         return None
     p = Path(output)
-    return Journal(p / ".fembeam-journal.jsonl" if p.is_dir() or not p.suffix else
-                   p.with_name(f".{p.name}.journal.jsonl"))
+    return Journal(p / f".fembeam-{command}-journal.jsonl" if directory else
+                   p.with_name(f".{p.name}.{command}-journal.jsonl"))
 
 
 def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, progress: bool = True,
@@ -124,9 +136,9 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
                disable=not progress, unit="case", dynamic_ncols=True)
     finished = [len(tasks) - len(todo)]
 
-    def done(i: int, result: Any) -> None:
+    def done(i: int, result: Any, keep: bool = True) -> None:
         out[i] = result
-        if journal is not None:
+        if journal is not None and keep:      # a lost task is not kept: a re-run tries it again
             journal.add(keys[i], result)
         finished[0] += 1
         bar.update()
@@ -145,8 +157,9 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
                     if lost is None:
                         raise SolverError(f"{desc}: a worker process died twice running {sub[broken[j]][0].__name__}"
                                           f"({sub[broken[j]][1]}): {res.message}")
-                    res = lost(sub[broken[j]], res.message)
-                done(todo[broken[j]], res)
+                    done(todo[broken[j]], lost(sub[broken[j]], res.message), keep=False)
+                else:
+                    done(todo[broken[j]], res)
     except BaseException as e:
         kept = f"; {finished[0]} of {len(tasks)} cases kept in {journal.path}, re-run the same command to resume" \
             if journal is not None else f"; {finished[0]} of {len(tasks)} cases had finished"

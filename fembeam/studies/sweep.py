@@ -132,8 +132,8 @@ def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEM
     a, b = float(embrace_deg), float(t_over_r)
     t0 = time.perf_counter()
     row = {"kind": "case", **fam.ident, fam.a_key: a, fam.b_key: b}
-    arch = fam.make(a, b)
     try:
+        arch = fam.make(a, b)
         if t_min_over_r is not None and b < t_min_over_r:
             lim = limit_analysis(discretize(arch, uniform_nodes(arch, elements)), direction)
             if lim.status == "cannot_stand":
@@ -183,7 +183,9 @@ def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_ele
     if th.outcome != "ok":
         return {**head, "outcome": th.outcome, "A_L": None, "r": None, fam.tmin_key: tmin, "error": None,
                 "time_s": time.perf_counter() - t0}
-    row = sweep_case(a, tmin * (1.0 + above), elements, backend, direction, shape=shape)
+    # just above t_min, but inside the shape's limit (where the intrados folds)
+    fold = base * fam.make(a, base).max_thickness_scale * (1.0 - 1e-9)
+    row = sweep_case(a, min(tmin * (1.0 + above), fold), elements, backend, direction, shape=shape)
     row.update({"kind": "envelope", fam.tmin_key: float(tmin), "time_s": time.perf_counter() - t0})
     return row
 
@@ -255,7 +257,7 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
     ``journal``: finished cases are kept there and taken from there
     (:class:`~fembeam.studies.parallel.Journal`: an interrupted sweep resumes)."""
     fam = family(shape)
-    n_cases = len(embrace) * len(t_over_r) + len(envelope_embrace or embrace)
+    n_cases = len(embrace) * len(t_over_r) + (len(envelope_embrace or embrace) if envelope else 0)
     if n_cases > MAX_CASES:
         raise InputError(f"{len(embrace)} x {len(t_over_r)} cases plus the envelope: {n_cases}; a sweep has at most "
                          f"{MAX_CASES} (about 0.3 s of CPU each)")
