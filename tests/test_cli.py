@@ -56,3 +56,23 @@ def test_physical_outcomes_in_json(capsys):
     assert main(["analyze", "--embrace", "80", "--t-over-r", "0.15", "--elements", "60", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["outcome"] == "arrested" and out["r"] == 0.0
+
+
+def test_help_lists_every_command_without_importing_them():
+    """``fembeam --help`` names every sub-command with the help line of its module, which it
+    does not import (the command runs import only themselves)."""
+    import argparse
+    import subprocess
+    import sys
+
+    from fembeam.cli.main import COMMANDS, build_parser
+
+    full = build_parser()
+    sub = next(a for a in full._actions if isinstance(a, argparse._SubParsersAction))
+    helps = {c.dest: c.help for c in sub._choices_actions}
+    assert helps == {name: h for name, (_, h) in COMMANDS.items()}
+    code = ("import sys; from fembeam.cli.main import main\n"
+            "try: main(['--help'])\nexcept SystemExit: pass\n"
+            "print(sorted(m for m in sys.modules if m.startswith(('scipy', 'skfem', 'fembeam.analysis'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip().splitlines()[-1] == "[]"

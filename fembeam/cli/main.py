@@ -11,7 +11,21 @@ import warnings
 import numpy as np
 
 from ..errors import FembeamError, InputError
-from .args import note_list_limits
+
+# sub-command -> (module of fembeam.cli, one-line help); a module is imported only when its
+# command runs (or for a full parser), so that ``fembeam --help`` stays quick
+COMMANDS = {
+    "analyze": ("analyze", "A_L, mechanism before the impact, r and the impulse line"),
+    "min-thickness": ("min_thickness", "smallest thickness at which the arch stands, and its mechanism"),
+    "convergence": ("convergence", "mesh-refinement study: A_L, r, hinges, errors and observed rates"),
+    "sweep": ("sweep", "parametric study: r_max vs t/R per embrace angle (or t/span per rise/span of another "
+                       "--shape), minimum-thickness envelope"),
+    "impact": ("impact", "four-hinge impact: r, alpha', impulse line and its admissibility"),
+    "report": ("report", "verification report: tables and plots against exact solutions and the paper"),
+    "rock": ("rock", "time history under a ground motion: impacts, rest or overturning"),
+    "spectrum": ("spectrum", "overturning amplitude against pulse period (safe regions above it too)"),
+    "collapse-scale": ("collapse_scale", "smallest scale factor of a record that overturns the member"),
+}
 
 
 def one_line(text: str) -> str:
@@ -29,15 +43,29 @@ class _Parser(argparse.ArgumentParser):
             (file or sys.stderr).write(message)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    from . import analyze, collapse_scale, convergence, impact, min_thickness, report, rock, spectrum, sweep
+def build_parser(only: str | None = None, full: bool = True) -> argparse.ArgumentParser:
+    """The parser of every sub-command (``full``), or of the sub-command ``only`` with the
+    others as names and help lines (``fembeam --help``: nothing imported)."""
+    import importlib
 
     p = _Parser(prog="fembeam", description="Rocking masonry arches: limit analysis, impact, impulse line.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for mod in (analyze, min_thickness, convergence, sweep, impact, report, rock, spectrum, collapse_scale):
-        mod.register(sub)
-    note_list_limits(p)
+    for name, (module, help_line) in COMMANDS.items():
+        if full or name == only:
+            importlib.import_module(f".{module}", __package__).register(sub)
+        else:
+            sub.add_parser(name, help=help_line)
+    if full or only in COMMANDS:
+        from .args import note_list_limits
+        note_list_limits(p)
     return p
+
+
+def _parser_for(argv: list[str] | None) -> argparse.ArgumentParser:
+    """Only the sub-command named in ``argv`` is built in full."""
+    words = sys.argv[1:] if argv is None else argv
+    command = next((w for w in words if not w.startswith("-")), None)
+    return build_parser(only=command, full=False)
 
 
 class Terminated(BaseException):
@@ -72,7 +100,7 @@ def _run(argv: list[str] | None) -> int:
         signal.signal(signal.SIGTERM, _terminate)
     try:
         try:
-            args = build_parser().parse_args(argv)
+            args = _parser_for(argv).parse_args(argv)
             code = int(args.func(args) or 0)
         except SystemExit as e:       # --help, or an argparse error
             code = e
