@@ -192,6 +192,7 @@ def summary(res: AnalysisResult) -> str:
     if res.continuum is not None and not res.continuum.exact_hinges:
         lines.append("  note: degenerate continuum optimum (hinges merging); mechanism and impact on the uniform mesh")
     t = res.timings
-    lines.append(f"  time: total {t.get('total', 0):.3f} s (LP {t.get('limit', 0):.3f} s, QP {t.get('impact', 0):.3f} s, "
+    lines.append(f"  time: total {t.get('total', 0):.3f} s (assembly {t.get('assembly', 0):.3f} s, "
+                 f"LP {t.get('limit', 0):.3f} s, continuum {t.get('continuum', 0):.3f} s, QP {t.get('impact', 0):.3f} s, "
                  f"{res.backend} {res.impact.iterations if res.impact else 0} iterations)")
     return "\n".join(lines)
