@@ -50,3 +50,22 @@ def test_a_bounded_fuzz_run_finds_nothing():
     rep = fuzz(runs=30, seed=7, timeout=10.0)
     assert rep.runs == 30 and not rep.failures, rep.summary()
     assert rep.codes.get(2, 0) > 0 and rep.codes.get(0, 0) > 0     # it reached both kinds of run
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["analyze", "--midcurve", "BIN", "--thickness", "0.3"], "not a text CSV file"),
+    (["spectrum", "--voussoirs", "7", "--pulse", "sine", "--periods", "0.3", "--scheduler", "out.xyz", "--quiet"],
+     "cannot connect to the Dask scheduler"),
+    (["sweep", "--embrace", "90", "--t-over-r", "0.2", "--scheduler", "out.xyz", "--quiet"],
+     "cannot connect to the Dask scheduler"),
+])
+def test_what_the_fuzzer_found(tmp_path, capsys, argv, words):
+    """Two findings of ``python -m fembeam.fuzz --runs 1000 --seed 2026``: a binary file given as
+    a surveyed mid-curve, and a scheduler address that is not one (both were tracebacks)."""
+    from fembeam.cli.main import main
+
+    binary = tmp_path / "figure.pdf"
+    binary.write_bytes(b"%PDF-1.4\n\xac\xff\xfe binary")
+    code = main([str(binary) if a == "BIN" else a for a in argv])
+    err = capsys.readouterr().err
+    assert code == 2 and words in err and len(err.strip().splitlines()) == 1, err

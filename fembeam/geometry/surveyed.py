@@ -63,6 +63,9 @@ def read_midcurve_csv(path) -> dict:
             rows = [r for r in csv.reader(line for line in f if line.strip() and not line.lstrip().startswith("#"))]
     except OSError as err:
         raise InputError(f"cannot read the mid-curve file {str(path)!r}: {err.strerror or err}") from None
+    except (UnicodeDecodeError, csv.Error):
+        raise InputError(f"the mid-curve file {str(path)!r} is not a text CSV file "
+                         "(expected columns x,y and optionally t, in metres)") from None
     if not rows:
         raise InputError(f"the mid-curve file {str(path)!r} is empty: expected columns x,y (and optionally t)")
 

@@ -25,7 +25,7 @@ import sys
 from pathlib import Path
 from typing import Any, Callable
 
-from ..errors import SolverError
+from ..errors import InputError, SolverError
 
 __all__ = ["run_tasks", "default_workers", "Journal", "journal_for"]
 
@@ -239,7 +239,10 @@ def _run_dask(tasks: list[Task], scheduler, done) -> None:
     from distributed import Client, as_completed
 
     own = not isinstance(scheduler, Client)
-    client = Client(scheduler) if own else scheduler
+    try:
+        client = Client(scheduler, timeout="10s") if own else scheduler
+    except (OSError, TimeoutError, ValueError, TypeError) as e:
+        raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
     try:
         futs = [client.submit(_call, f, kw, pure=False) for f, kw in tasks]
         index = {fut.key: i for i, fut in enumerate(futs)}

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..analysis import DEFAULT_ELEMENTS, analyze, minimum_thickness
 from ..analysis.thickness import MinimumThickness
-from ..errors import FembeamError, InputError, SolverError
+from ..errors import FembeamError, InputError
 from ..fem import discretize, uniform_nodes
 from ..geometry import CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch
 from ..geometry.arch import MIN_T_OVER_SPAN
@@ -270,8 +270,8 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
         from distributed import Client
         try:
             client = Client(scheduler, timeout="10s")
-        except (OSError, TimeoutError, ValueError) as e:
-            raise SolverError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
+        except (OSError, TimeoutError, ValueError, TypeError) as e:
+            raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
         scheduler = client
     try:
         env = run_tasks([(envelope_case, {"embrace_deg": a, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
