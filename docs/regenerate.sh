@@ -35,6 +35,8 @@ benchmarks() {
     python benchmarks/qp_backends.py > docs/data/qp_backends.txt
     python benchmarks/limit_scaling.py --max 1000000 --analyze 100000 --kinematic 10000 > docs/data/limit_scaling.txt
     python benchmarks/rocking.py > docs/data/rocking_benchmark.txt
+    python benchmarks/spectrum.py > docs/data/spectrum_benchmark.txt
+    python benchmarks/startup.py > docs/data/startup_benchmark.txt
 }
 
 dynamics() {
