@@ -109,3 +109,9 @@ def test_out_dir_files_are_valid_json(afile, capsys):
                    parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
     assert d["levels"] == [8, 16]
     assert sorted(os.listdir(afile / "res" / "conv")) == ["convergence.csv", "convergence.json", "convergence.png"]
+
+
+def test_report_output_in_the_way_fails_before_computing(tmp_path, capsys):
+    (tmp_path / "paper.png").mkdir()
+    code, out = _exit(capsys, ["report", "--out-dir", str(tmp_path), "--quick"])
+    assert code == 2 and "paper.png" in out.err and "is a directory" in out.err and out.out == ""

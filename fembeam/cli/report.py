@@ -2,10 +2,15 @@
 from __future__ import annotations
 
 import argparse
+import os
 
 from ..errors import InputError
 from ..output.files import check_dir
 from ..output.report import SECTIONS, ReportSettings, build_report, write_report
+
+
+REPORT_FILES = ("verification_report.md", "verification_report.json", "housner.png", "paper.png", "convergence.png",
+                "convergence_voussoirs.png", "fig13.png")
 
 
 def _sections(text: str) -> list[str]:
@@ -34,6 +39,9 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     check_dir(args.out_dir, "--out-dir")
+    for name in REPORT_FILES:            # a directory in the way fails now, not after the report
+        if os.path.isdir(os.path.join(args.out_dir, name)):
+            raise InputError(f"--out-dir: {os.path.join(args.out_dir, name)!r} is a directory")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     settings = ReportSettings.make(quick=args.quick, workers=args.workers)
