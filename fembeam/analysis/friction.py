@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from ..fem import Discretization, dof_scaling
 from ..geometry import MidCurve
 from ..mechanisms.hinge import HINGE_REL_TOL, Hinge
@@ -183,6 +183,9 @@ def continuum_support(disc: Discretization, direction: int, mu: float, tol: floa
             if not keep.any():
                 break
             cuts, fib = np.concatenate([cuts, s_new[keep]]), np.concatenate([fib, f_new[keep]])
+        else:
+            raise SolverError(f"limit analysis with friction: the sections between the joints still need "
+                              f"cuts after {max_rounds} rounds")
         status, lam = "ok", float(lp.z[k])
     s_all = np.concatenate([np.tile(disc.joint_s, R.shape[0] // J), cuts])
     w = np.abs(lp.y)
