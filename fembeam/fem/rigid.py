@@ -152,17 +152,29 @@ def _across_breaks(curve: MidCurve, nodes_s: np.ndarray, fr: dict, M: sp.spmatri
     return (K @ M @ K + sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=M.shape)).tocsr()
 
 
-def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 12) -> Discretization:
+def _default_order(curve: MidCurve, nodes_s: np.ndarray) -> int:
+    """Gauss order of the mass form for the largest turning of an element (sampled)."""
+    q = np.linspace(0.0, 1.0, 5)
+    s = nodes_s[:-1, None] + np.diff(nodes_s)[:, None] * q[None, :]
+    kh = float(np.max(np.abs(curve.curvature(s.ravel())).reshape(s.shape).max(1) * np.diff(nodes_s)))
+    return 12 if kh <= 2.0 else (24 if kh <= 4.0 else 40)
+
+
+def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None) -> Discretization:
     """Assemble ``M``, ``B_open`` and ``B_slide`` on the mesh with nodes ``nodes_s``.
 
-    ``intorder`` is the Gauss order of the mass form (round-off accuracy for a single
-    element spanning 120 degrees of a circle); an element containing one of the curve's
+    ``intorder`` is the Gauss order of the mass form; by default chosen from the largest
+    turning ``kappa h`` of an element: 12 up to 2 rad (round-off accuracy for a single element
+    spanning 120 degrees of a circle), 24 up to 4 rad, 40 beyond (coarse voussoirs on
+    strongly curved shapes, e.g. the springings of a flat ellipse); an element containing one of the curve's
     :attr:`~fembeam.geometry.MidCurve.breaks` gets its exact block instead.  At a kink
     (a node, when the mesh comes from :func:`~fembeam.fem.uniform_nodes`) the joint is
     the section the curve defines there: position, tangent (the bisector), normal and
     thickness at the kink; nothing else here assumes a smooth mid-curve.
     """
     nodes_s = check_nodes(curve, nodes_s)
+    if intorder is None:
+        intorder = _default_order(curve, nodes_s)
     if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or not 1 <= intorder <= 40:
         raise InputError(f"intorder must be an integer from 1 to 40 (Gauss order of the mass form), got {intorder!r}")
     mesh = MeshLine1.init_tensor(nodes_s)
