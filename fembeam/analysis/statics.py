@@ -174,7 +174,7 @@ def _order(disc: Discretization) -> int:
     of the curvature radius, and the n-point rule errs by ~(kappa h)^(2n) / (2n)!."""
     h = np.diff(disc.nodes_s)
     kh = float(np.max(np.abs(disc.curve.curvature(0.5 * (disc.nodes_s[:-1] + disc.nodes_s[1:]))) * h))
-    return 3 if kh < 0.02 else (5 if kh < 0.2 else 10)
+    return 3 if kh < 0.02 else (5 if kh < 0.2 else (10 if kh < 1.0 else 24))
 
 
 def _cumulative_inertia(disc: Discretization):
