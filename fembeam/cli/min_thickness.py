@@ -12,12 +12,8 @@ from __future__ import annotations
 import json
 import math
 
-from ..analysis import minimum_thickness
-from ..analysis.continuum import continuum_limit
-from ..analysis.friction import continuum_support
-from ..analysis.limit import limit_analysis
+from ..analysis import analyze, minimum_thickness
 from ..errors import InputError
-from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from .analyze import friction_coefficient
 from .args import add_arch, arch_from, arch_title, finite_float
@@ -52,20 +48,6 @@ def _check(args) -> None:
         raise InputError(f"--tol must be in [1e-12, 0.1], got {args.tol:g}")
 
 
-def collapse_mechanism(curve: MidCurve, nodes, continuum: bool, friction: float | None = None):
-    """The limit analysis of ``curve`` (which cannot stand) with its collapse certificate;
-    on the continuous arch the mesh is refined through the continuum's hinges."""
-    disc = discretize(curve, nodes)
-    if continuum:
-        if friction is None:
-            status, sections = (cont := continuum_limit(disc, 1)).status, cont.hinge_s
-        else:
-            status, _, sections = continuum_support(disc, 1, friction)
-        if status == "cannot_stand":
-            disc = discretize(curve, nodes_through(nodes, sections, keep=curve.kinks))
-    return limit_analysis(disc, 1, friction=friction)
-
-
 def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
                   tol: float = 1e-6, friction: float | None = None) -> dict:
     """Everything ``min-thickness --json`` prints (see :func:`run`)."""
@@ -82,9 +64,9 @@ def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int |
         span = desc.get("span")
         if span and "thickness" in law:
             out["t_min_over_span"] = th.scale * law["thickness"] / span
-        below = curve.with_thickness_scaled(th.lower)
-        nodes = uniform_nodes(below, n)
-        lim = collapse_mechanism(below, nodes, voussoirs is None, friction)
+        # the collapse certificate just below, on the mesh refined through its hinges (analyze's)
+        lim = analyze(curve.with_thickness_scaled(th.lower), elements=elements, voussoirs=voussoirs,
+                      friction=friction, tmin_tol=0.1).limit
         if lim.status == "cannot_stand":
             out["hinges"] = [h.to_dict() for h in lim.hinges]
             out["slides"] = list(lim.slides)
