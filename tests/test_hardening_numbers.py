@@ -139,8 +139,8 @@ def test_warnings_never_leak(capsys, monkeypatch):
         warnings.warn("a library's warning", UserWarning)
         raise SolverError("the solution failed verification")
 
-    def parser():
-        p = build()
+    def parser(**kw):
+        p = build(**kw)
         p.set_defaults(func=noisy)
         for action in p._actions:
             if action.choices and isinstance(action.choices, dict):

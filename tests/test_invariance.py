@@ -1,9 +1,9 @@
 """Property-based: A_L, r and the hinges do not depend on the units (radius, density) nor on
 the side the pulse comes from (mirror image), over random geometries.
 
-1000 geometries by default (about five minutes on one core), half here (embrace below 160
-degrees) and half in ``test_invariance_deep.py`` (160 to 300 degrees), so that the two halves
-run side by side; ``FEMBEAM_INVARIANCE_EXAMPLES`` sets another total (the larger sample quoted
+1000 geometries by default (about five minutes on one core): half here (embrace below 160
+degrees), a quarter in ``test_invariance_deep.py`` (160 to 230 degrees) and a quarter in
+``test_invariance_ring.py`` (230 to 300 degrees, the costliest), so that they run side by side; ``FEMBEAM_INVARIANCE_EXAMPLES`` sets another total (the larger sample quoted
 in docs/verification.md was run that way).
 """
 import math
