@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, ElementVector,
-                   FacetBasis, InteriorFacetBasis, MeshLine1, asm)
+                   FacetBasis, Functional, InteriorFacetBasis, MeshLine1, asm)
 
 from ..errors import InputError
 from ..geometry import MidCurve
@@ -119,37 +119,35 @@ def _element_frames(curve: MidCurve, mesh: MeshLine1) -> dict:
     return {"s": sm, "P": curve.position(sm), "t": curve.tangent(sm), "n": curve.normal(sm)}
 
 
-def _across_breaks(curve: MidCurve, nodes_s: np.ndarray, fr: dict, M: sp.spmatrix) -> sp.spmatrix:
-    """``M`` with the blocks of the elements containing one of ``curve.breaks`` (a kink,
-    a crown of a thickness law, a spline knot: the densities are not smooth there and the
-    cell quadrature would span it) replaced by the exact ones, from
-    :meth:`MidCurve.segment_inertia` (which integrates each smooth part).  With the
-    element's mass ``m``, first moment ``S`` and polar moment ``J`` about its midpoint
-    ``P``: ``2K = m |V|^2 + 2 omega V . (k x S) + J omega^2``, ``V = w t + v n``."""
+def _break_elements(curve: MidCurve, nodes_s: np.ndarray) -> np.ndarray:
+    """Elements containing one of ``curve.breaks`` (a kink, a crown of a thickness law, a
+    spline knot) inside them: the densities are not smooth there and a Gauss rule over the
+    element would span it."""
     br = np.asarray(getattr(curve, "breaks", ()), float)
     if br.size == 0:
-        return M
+        return np.zeros(0, int)
     tol = 1e-13 * curve.length
-    e = np.flatnonzero(np.any((br[None, :] > nodes_s[:-1, None] + tol) & (br[None, :] < nodes_s[1:, None] - tol), 1))
-    if e.size == 0:
-        return M
-    m, S0, J0 = curve.segment_inertia(nodes_s[e], nodes_s[e + 1])
-    P, te, ne = fr["P"][:, e], fr["t"][:, e], fr["n"][:, e]
+    return np.flatnonzero(np.any((br[None, :] > nodes_s[:-1, None] + tol) & (br[None, :] < nodes_s[1:, None] - tol), 1))
+
+
+def _mass_matrix(m: np.ndarray, S0: np.ndarray, J0: np.ndarray, fr: dict) -> sp.csr_matrix:
+    """Block-diagonal ``M`` from each element's mass ``m``, first moment ``S0`` (2, n) and
+    polar moment ``J0`` about the origin.  About the element's midpoint ``P``:
+    ``S = S0 - m P``, ``J = J0 - 2 P . S0 + m |P|^2`` and
+    ``2K = m |V|^2 + 2 omega V . (k x S) + J omega^2`` with ``V = w t + v n``."""
+    P, te, ne = fr["P"], fr["t"], fr["n"]
     S = S0 - m * P
     J = J0 - 2 * np.sum(P * S0, 0) + m * np.sum(P * P, 0)
     kS = np.array([-S[1], S[0]])
-    blocks = np.zeros((e.size, NDOF, NDOF))
+    blocks = np.zeros((m.size, NDOF, NDOF))
     blocks[:, 0, 0] = blocks[:, 1, 1] = m
     blocks[:, 0, 2] = blocks[:, 2, 0] = np.sum(te * kS, 0)
     blocks[:, 1, 2] = blocks[:, 2, 1] = np.sum(ne * kS, 0)
     blocks[:, 2, 2] = J
-    dof = NDOF * e[:, None] + np.arange(NDOF)                       # (ne, 3): M is block diagonal
-    keep = np.ones(M.shape[0])
-    keep[dof.ravel()] = 0.0
-    K = sp.diags(keep)
+    dof = NDOF * np.arange(m.size)[:, None] + np.arange(NDOF)
     rows = np.repeat(dof, NDOF, axis=1).ravel()
     cols = np.tile(dof, NDOF).ravel()
-    return (K @ M @ K + sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=M.shape)).tocsr()
+    return sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(NDOF * m.size,) * 2)
 
 
 def _default_order(curve: MidCurve, nodes_s: np.ndarray) -> int:
@@ -180,57 +178,68 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
     mesh = MeshLine1.init_tensor(nodes_s)
     fr = _element_frames(curve, mesh)
     E = ElementVector(ElementLineP0(), NDOF)
-    data = {"Px": fr["P"][0], "Py": fr["P"][1], "tx": fr["t"][0], "ty": fr["t"][1],
-            "nx": fr["n"][0], "ny": fr["n"][1], "sl": nodes_s[:-1]}
 
-    def interp(basis0):
-        return {k: basis0.interpolate(v) for k, v in data.items()}
+    def frames_at(basis) -> dict:
+        """The frame of the element each quadrature point belongs to, and the geometry of the
+        mid-curve there, as arrays (points x quadrature points): evaluated once per basis,
+        so that the forms below are arithmetic only."""
+        el = np.arange(basis.nelems) if getattr(basis, "tind", None) is None else basis.tind
+        s = basis.default_parameters()["x"].value[0]
+        one = np.ones((1, s.shape[1]))
+        w = {"Px": fr["P"][0][el][:, None] * one, "Py": fr["P"][1][el][:, None] * one,
+             "tx": fr["t"][0][el][:, None] * one, "ty": fr["t"][1][el][:, None] * one,
+             "nx": fr["n"][0][el][:, None] * one, "ny": fr["n"][1][el][:, None] * one,
+             "sl": nodes_s[:-1][el][:, None] * one}
+        return w, s
 
-    # kinetic energy 2K = d^T M d (cell form, exact annular-sector densities)
-    @BilinearForm
-    def mass(u, v, w):
-        s = w.x[0]
-        mu0, mu1, mu2 = curve.inertia_densities(s)
-        Sx, Sy = mu1[0] - mu0 * w.Px, mu1[1] - mu0 * w.Py      # first moment about P_e
-        J = mu2 - 2 * (w.Px * mu1[0] + w.Py * mu1[1]) + mu0 * (w.Px**2 + w.Py**2)
-        Vu = (u[0] * w.tx + u[1] * w.nx, u[0] * w.ty + u[1] * w.ny)
-        Vv = (v[0] * w.tx + v[1] * w.nx, v[0] * w.ty + v[1] * w.ny)
-        kS = (-Sy, Sx)                                          # k x S
-        return (mu0 * (Vu[0] * Vv[0] + Vu[1] * Vv[1])
-                + u[2] * (Vv[0] * kS[0] + Vv[1] * kS[1])
-                + v[2] * (Vu[0] * kS[0] + Vu[1] * kS[1])
-                + J * u[2] * v[2])
-
-    cb = CellBasis(mesh, E, intorder=intorder)
-    M = asm(mass, cb, **interp(CellBasis(mesh, ElementLineP0(), intorder=intorder)))
-    M = _across_breaks(curve, nodes_s, fr, M)
+    # kinetic energy 2K = d^T M d: each element's mass and moments (exact annular-sector
+    # densities) by the cell quadrature; an element across a break by its smooth parts
+    cb = CellBasis(mesh, ElementLineP0(), intorder=intorder)
+    s = cb.default_parameters()["x"].value[0]
+    mu0, mu1, mu2 = curve.inertia_densities(s)
+    integral = Functional(lambda w: w.f)
+    m = integral.elemental(cb, f=mu0 * np.ones_like(s))
+    S0 = np.array([integral.elemental(cb, f=mu1[0]), integral.elemental(cb, f=mu1[1])])
+    J0 = integral.elemental(cb, f=mu2)
+    e = _break_elements(curve, nodes_s)
+    if e.size:
+        m[e], S0[:, e], J0[e] = curve.segment_inertia(nodes_s[e], nodes_s[e + 1])
+    M = _mass_matrix(m, S0, J0, fr)
 
     # joint operators: contributions of one side of each joint, sign = -outward normal
     def joint_form(kind: str, y_sign: float):
         @BilinearForm
         def form(u, v, w):
-            s = w.x[0]
-            X, tj, nj = curve.position(s), curve.tangent(s), curve.normal(s)
-            y = 0.5 * y_sign * curve.thickness_at(s)
-            sign = np.where(w.sl < s, -1.0, 1.0)   # left element: -(+1); right: -(-1)
-            Q = X + y * nj
+            y = 0.5 * y_sign * w.h
+            sign = np.where(w.sl < w.s, -1.0, 1.0)   # left element: -(+1); right: -(-1)
+            Q = (w.Xx + y * w.njx, w.Xy + y * w.njy)
             vx = u[0] * w.tx + u[1] * w.nx - u[2] * (Q[1] - w.Py)
             vy = u[0] * w.ty + u[1] * w.ny + u[2] * (Q[0] - w.Px)
-            d = tj if kind == "open" else nj
+            d = (w.tjx, w.tjy) if kind == "open" else (w.njx, w.njy)
             return sign * (vx * d[0] + vy * d[1]) * v
         return form
 
-    bases = [(InteriorFacetBasis(mesh, E, side=i), InteriorFacetBasis(mesh, ElementLineP1(), side=0),
-              InteriorFacetBasis(mesh, ElementLineP0(), side=i)) for i in (0, 1)] if mesh.nelements > 1 else []
+    bases = [(InteriorFacetBasis(mesh, E, side=i), InteriorFacetBasis(mesh, ElementLineP1(), side=0))
+             for i in (0, 1)] if mesh.nelements > 1 else []
     bnd = [f for f, end in zip((0, mesh.p.shape[1] - 1), curve.ends) if end == "joint"]
     if bnd:
         bfacets = np.array([np.flatnonzero(mesh.facets[0] == n)[0] for n in bnd])
-        bases.append((FacetBasis(mesh, E, facets=bfacets), FacetBasis(mesh, ElementLineP1(), facets=bfacets),
-                      FacetBasis(mesh, ElementLineP0(), facets=bfacets)))
+        bases.append((FacetBasis(mesh, E, facets=bfacets), FacetBasis(mesh, ElementLineP1(), facets=bfacets)))
+
+    def joint_data(trial) -> dict:
+        w, s = frames_at(trial)
+        X, tj, nj = curve.position(s.ravel()), curve.tangent(s.ravel()), curve.normal(s.ravel())
+        shape = s.shape
+        return {**w, "s": s, "Xx": X[0].reshape(shape), "Xy": X[1].reshape(shape),
+                "tjx": tj[0].reshape(shape), "tjy": tj[1].reshape(shape),
+                "njx": nj[0].reshape(shape), "njy": nj[1].reshape(shape),
+                "h": np.broadcast_to(np.asarray(curve.thickness_at(s.ravel()), float), s.ravel().shape).reshape(shape)}
+
+    data = [joint_data(trial) for trial, _ in bases]
 
     def assemble(kind, y_sign):
         form = joint_form(kind, y_sign)
-        return sum(asm(form, trial, test, **interp(d0)) for trial, test, d0 in bases)
+        return sum(asm(form, trial, test, **w) for (trial, test), w in zip(bases, data))
 
     interior = np.arange(1, mesh.p.shape[1] - 1)
     joint_nodes = np.sort(np.concatenate([interior, np.array(bnd, dtype=int)]))
