@@ -18,6 +18,7 @@ left of ``s`` by the part on its right, so compression is ``I_t < 0``:
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -25,11 +26,15 @@ import numpy as np
 from ..errors import InputError
 from ..fem import Discretization, dof_scaling
 from ..mechanisms.hinge import Hinge, find_hinges
+from .active_set import project_chain
 from .qp import BACKENDS, solve_qp
 from .statics import statics
 from .verification import check
 
-__all__ = ["ImpactResult", "impact"]
+__all__ = ["ImpactResult", "impact", "IMPACT_BACKENDS"]
+
+IMPACT_BACKENDS = ("auto",) + BACKENDS + ("active-set",)
+AUTO_ELEMENTS = 5000   # "auto": Clarabel up to this many elements, the banded active set above
 
 ARREST_TOL = 1e-9  # r below this: the arch stops dead (no compatible motion does work)
 COMPATIBLE_TOL = 1e-9  # d0 closing or sliding no joint by more than this (relative): compatible, r = 1
@@ -73,7 +78,7 @@ class ImpactResult:
             return np.where(np.abs(It) > 1e-12 * np.max(np.abs(It), initial=0.0), self.moment / It, np.nan)
 
 
-def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol: float = 1e-10,
+def impact(disc: Discretization, d0: np.ndarray, backend: str = "auto", tol: float = 1e-10,
            verify: bool = True) -> ImpactResult:
     """Post-impact field, restitution coefficient and internal impulses for the
     pre-impact field ``d0`` (element DOFs).  The solution's figures (:func:`_verify`)
@@ -84,7 +89,13 @@ def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol:
     :data:`COMPATIBLE_TOL` of its largest opening rate, e.g. ``+u`` of the limit
     analysis, which opens its hinges) is its own projection onto the compatible cone:
     nothing is struck, ``d' = d0``, no impulses and ``r = 1`` exactly, without a QP
-    solve (``backend`` is then reported as ``"none"``)."""
+    solve (``backend`` is then reported as ``"none"``).
+
+    ``backend``: ``"clarabel"`` (interior point on the primal QP), ``"osqp"`` (ADMM with
+    polishing), ``"active-set"`` (the dual's banded interior point and active set,
+    :mod:`~fembeam.analysis.active_set`: O(N) per iteration, falls back to Clarabel when it
+    has no certified answer) or ``"auto"`` (Clarabel up to ``AUTO_ELEMENTS`` elements, the
+    active set above).  The backend used is reported in :attr:`ImpactResult.backend`."""
     if not isinstance(disc, Discretization):
         raise InputError(f"impact needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
     d0 = np.asarray(d0, float)
@@ -97,8 +108,10 @@ def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol:
         raise InputError("the pre-impact field has no kinetic energy")
     m = float(disc.rigid(V=(1.0, 0.0)) @ M @ disc.rigid(V=(1.0, 0.0)))
     sigma = np.sqrt(two_k / m)  # mean velocity of d0 (m/s): scale of the scaled problem
-    if backend not in BACKENDS:
-        raise InputError(f"unknown QP backend {backend!r}; allowed: {', '.join(BACKENDS)}")
+    if backend not in IMPACT_BACKENDS:
+        raise InputError(f"unknown QP backend {backend!r}; allowed: {', '.join(IMPACT_BACKENDS)}")
+    if backend == "auto":
+        backend = "active-set" if disc.n_elements > AUTO_ELEMENTS else "clarabel"
     eps0, slide0 = disc.B_open @ d0, disc.B_slide @ d0
     misfit = max(0.0, -np.min(eps0), np.max(np.abs(slide0), initial=0.0))
     if misfit <= COMPATIBLE_TOL * max(np.max(np.abs(eps0)), sigma):   # d0 is its own projection
@@ -107,16 +120,25 @@ def impact(disc: Discretization, d0: np.ndarray, backend: str = "clarabel", tol:
                            find_hinges(disc, d0), "none", 0, 0.0)
         res.verification = _verify(res, two_k)
         return res
-    P = (D @ M @ D / m).tocsc()
-    q = -(D @ (M @ d0)) / (m * sigma)
-    sol = solve_qp(P, q, disc.B_slide @ D, disc.B_open @ D, backend=backend, tol=tol)
-    d = sigma * (D @ sol.x)
-    J = disc.n_joints
-    mu = m * sigma * sol.mu.reshape(2, J)
-    lam = m * sigma * sol.lam
+    chain = None
+    if backend == "active-set":
+        t0 = time.perf_counter()
+        chain = project_chain(disc, d0)
+        solve_time = time.perf_counter() - t0
+    if chain is not None:
+        d, mu, lam, iterations = chain.d, chain.mu, chain.lam, chain.steps
+    else:   # the interior-point (or ADMM) QP, also when the active set has no certified answer
+        P = (D @ M @ D / m).tocsc()
+        q = -(D @ (M @ d0)) / (m * sigma)
+        sol = solve_qp(P, q, disc.B_slide @ D, disc.B_open @ D, backend="clarabel" if backend == "active-set"
+                       else backend, tol=tol)
+        d = sigma * (D @ sol.x)
+        mu = m * sigma * sol.mu.reshape(2, disc.n_joints)
+        lam = m * sigma * sol.lam
+        backend, iterations, solve_time = sol.backend, sol.iterations, sol.solve_time
     r = min(float(d @ M @ d) / two_k, 1.0)
     res = ImpactResult(disc, d0, d, r, mu, lam, find_hinges(disc, d) if r >= ARREST_TOL else [],
-                       sol.backend, sol.iterations, sol.solve_time)
+                       backend, iterations, solve_time)
     res.verification = _verify(res, two_k)
     if verify:
         check(res.verification, "impact QP")

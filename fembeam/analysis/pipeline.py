@@ -176,7 +176,7 @@ def _count(n, name: str, lowest: int) -> int:
 
 
 def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
-            direction: int = 1, backend: str = "clarabel", refine_hinges: bool = True,
+            direction: int = 1, backend: str = "auto", refine_hinges: bool = True,
             verify: bool = True, tmin_tol: float = 1e-6, friction: float | None = None) -> AnalysisResult:
     """Limit analysis and impact of ``curve`` (see the module docstring); ``friction``:
     Coulomb coefficient ``mu >= 0`` of the joints in the limit analysis (None: no sliding)."""

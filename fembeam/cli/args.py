@@ -11,7 +11,7 @@ from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
 from ..geometry import (CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch,
                         SurveyedArch)
-from ..analysis.qp import BACKENDS
+from ..analysis.impact import IMPACT_BACKENDS
 
 
 def finite_float(text: str) -> float:
@@ -144,8 +144,9 @@ def add_solver(p: argparse.ArgumentParser, elements_default: int | None = DEFAUL
                    help="discrete arch of N rigid voussoirs, hinges only at the N+1 joints")
     g.add_argument("--direction", type=int, choices=(1, -1), default=1,
                    help="+1: ground pulse from right to left, arch starts moving left to right (default); -1: mirrored")
-    g.add_argument("--backend", choices=BACKENDS, default="clarabel",
-                   help="QP solver for the impact (default clarabel: interior point, see docs/solvers.md)")
+    g.add_argument("--backend", choices=IMPACT_BACKENDS, default="auto",
+                   help="solver of the impact QP: auto (default: clarabel up to 5000 elements, active-set above), "
+                        "clarabel (interior point), osqp (ADMM), active-set (banded, O(N)); see docs/solvers.md")
     g.add_argument("--no-refine", action="store_true",
                    help="keep the incipient mechanism's hinges on the uniform mesh (no continuous refinement)")
 

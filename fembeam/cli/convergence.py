@@ -6,7 +6,7 @@ import json
 
 from ..studies.convergence import ConvergenceStudy, convergence_study, plot_convergence
 from ..errors import InputError
-from ..analysis.qp import BACKENDS
+from ..analysis.impact import IMPACT_BACKENDS
 from .args import add_arch, arch_from, arch_title, check_outputs, finite_float, int_list, write_outputs
 
 DEFAULT_ELEMENTS = [50, 100, 200, 400, 800, 1600]
@@ -29,7 +29,7 @@ def register(sub) -> None:
     g.add_argument("--reference-elements", type=int, default=1600, metavar="N",
                    help="with --voussoirs: elements of the continuous reference arch (default 1600)")
     g.add_argument("--direction", type=int, choices=(1, -1), default=1, help="load direction (default +1)")
-    g.add_argument("--backend", choices=BACKENDS, default="clarabel", help="impact QP solver (default clarabel)")
+    g.add_argument("--backend", choices=IMPACT_BACKENDS, default="auto", help="impact QP solver (default auto)")
     g.add_argument("--no-refine", action="store_true", help="no continuous refinement of the hinges before impact")
     g.add_argument("--tmin", action="store_true",
                    help="also the minimum thickness on every mesh (factor of the thickness law; ~20 LPs a mesh)")

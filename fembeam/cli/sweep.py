@@ -6,7 +6,7 @@ import json
 
 from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
-from ..analysis.qp import BACKENDS
+from ..analysis.impact import IMPACT_BACKENDS
 from ..studies.sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, family, plot_sweep, sweep
 from .args import SHAPES, check_outputs, finite_float, float_list, study_journal, write_outputs
 
@@ -38,7 +38,7 @@ def register(sub) -> None:
     g.add_argument("--elements", type=int, default=DEFAULT_ELEMENTS, metavar="N",
                    help=f"rigid elements per arch (default {DEFAULT_ELEMENTS}; hinges before impact are refined)")
     g.add_argument("--direction", type=int, choices=(1, -1), default=1, help="load direction (default +1)")
-    g.add_argument("--backend", choices=BACKENDS, default="clarabel", help="impact QP solver (default clarabel)")
+    g.add_argument("--backend", choices=IMPACT_BACKENDS, default="auto", help="impact QP solver (default auto)")
     e = p.add_argument_group("minimum-thickness envelope")
     e.add_argument("--no-envelope", action="store_true", help="skip the envelope")
     e.add_argument("--envelope-embrace", type=float_list, default=None, metavar="DEG[,DEG..|A:B:STEP]",

@@ -106,8 +106,9 @@ def find_hinges(disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_
     rot = (ei - ee) / disc.joint_thickness  # [omega] = (eps_+ - eps_-) / t
     j = np.flatnonzero(oi | oe)
     side = np.where(oi[j] & oe[j], "separated", np.where(oe[j], "intrados", "extrados"))
-    return [Hinge(float(disc.joint_s[k]), float(disc.joint_angle_deg[k]), str(sd), float(rot[k]), (int(k),))
-            for k, sd in zip(j, side)]
+    angle = np.atleast_1d(disc.curve.angle_deg(disc.joint_s[j]))
+    return [Hinge(float(disc.joint_s[k]), float(a), str(sd), float(rot[k]), (int(k),))
+            for k, a, sd in zip(j, angle, side)]
 
 
 def merge_adjacent(disc: Discretization, hinges: list[Hinge]) -> list[Hinge]:

@@ -235,7 +235,7 @@ def _quantity(h, x, order: float, reference: float | None, atol: float = 0.0) ->
 
 def convergence_study(curve: MidCurve, elements: list[int] | None = None, voussoirs: list[int] | None = None,
                       order: float = 2.0, reference_elements: int = 1600, direction: int = 1,
-                      backend: str = "clarabel", refine_hinges: bool = True, progress: bool = True,
+                      backend: str = "auto", refine_hinges: bool = True, progress: bool = True,
                       tmin: bool = False) -> ConvergenceStudy:
     """Run ``analyze`` on each mesh and fit the convergence (see module docstring).
 

@@ -119,7 +119,7 @@ def family(shape: str) -> Family:
         raise InputError(f"unknown shape {shape!r}: one of {', '.join(FAMILIES)}") from None
 
 
-def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEMENTS, backend: str = "clarabel",
+def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEMENTS, backend: str = "auto",
                direction: int = 1, t_min_over_r: float | None = None, shape: str = "circular") -> dict:
     """One case of the sweep as a flat dict (never raises on solver trouble: the outcome
     is ``"solver_error"`` with the message in ``error``).  For a ``shape`` other than the
@@ -160,7 +160,7 @@ def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEM
 
 
 def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_elements: int = 400,
-                  tmin_tol: float = 1e-6, above: float = 1e-3, backend: str = "clarabel",
+                  tmin_tol: float = 1e-6, above: float = 1e-3, backend: str = "auto",
                   direction: int = 1, shape: str = "circular") -> dict:
     """Minimum thickness of the arch ``embrace_deg`` (rise/span for a ``shape``) and the
     case at t_min (1 + above); without a t_min > 0 the outcome of the bisection
@@ -246,7 +246,7 @@ class SweepResult:
         return out
 
 
-def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_ELEMENTS, backend: str = "clarabel",
+def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_ELEMENTS, backend: str = "auto",
           direction: int = 1, envelope: bool = True, envelope_embrace: list[float] | None = None,
           tmin_elements: int = 400, tmin_tol: float = 1e-6, above: float = 1e-3, workers: int | None = None,
           scheduler=None, progress: bool = True, shape: str = "circular", journal: Journal | None = None
