@@ -38,17 +38,28 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
     elements left out cannot reach ``level``.
     """
     nodes = st.disc.nodes_s
-    ne = nodes.size - 1
-    q = (np.arange(1, SAMPLES + 1) / (SAMPLES + 1))
-    s = (nodes[:-1, None] + np.diff(nodes)[:, None] * q[None, :]).ravel()
-    f = _fibres(st, s, z).reshape(2, ne, SAMPLES)
-    fmin = f.min(2)
     L = nodes[-1] - nodes[0]
-    fib, el = np.nonzero(fmin < level + np.minimum(NEAR, 50.0 * (np.diff(nodes) / L) ** 2))
-    if el.size == 0:
+    h_all = np.diff(nodes)
+    # screening by the values at the nodes: inside an element a fibre force dips below the
+    # chord of its end values by at most f'' h^2 / 8; elements next to a kink (whose end
+    # value is that of the bisector cut) or across a break of the densities are kept
+    fn = _fibres(st, nodes, z)
+    ends = np.minimum(fn[:, :-1], fn[:, 1:]).min(0)
+    cand = ends < level + np.minimum(NEAR, 200.0 * (h_all / L) ** 2)
+    cand |= _irregular(st.disc.curve, nodes)
+    cand = np.flatnonzero(cand)
+    if cand.size == 0:
         return np.empty(0), np.empty(0, int), np.empty(0)
-    k = np.argmin(f[fib, el], 1)
-    h = np.diff(nodes)[el]
+    q = (np.arange(1, SAMPLES + 1) / (SAMPLES + 1))
+    s = (nodes[cand, None] + h_all[cand, None] * q[None, :]).ravel()
+    f = _fibres(st, s, z).reshape(2, cand.size, SAMPLES)
+    fmin = f.min(2)
+    fib, i = np.nonzero(fmin < level + np.minimum(NEAR, 50.0 * (h_all[cand] / L) ** 2))
+    if i.size == 0:
+        return np.empty(0), np.empty(0, int), np.empty(0)
+    el = cand[i]
+    k = np.argmin(f[fib, i], 1)
+    h = h_all[el]
     a = nodes[el] + h * np.where(k == 0, 0.0, q[np.maximum(k - 1, 0)])
     b = nodes[el] + h * np.where(k == SAMPLES - 1, 1.0, q[np.minimum(k + 1, SAMPLES - 1)])
     g = 0.5 * (np.sqrt(5.0) - 1.0)
@@ -74,6 +85,17 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
     if kinks.size:
         sm, vm = _one_sided(kinks, nodes, el, sm, vm, val, 2.0 * width)
     return sm, fib, vm
+
+
+def _irregular(curve, nodes: np.ndarray) -> np.ndarray:
+    """Elements with a kink at an end or a break of the densities inside or at an end."""
+    out = np.zeros(nodes.size - 1, bool)
+    pts = np.unique(np.concatenate([np.asarray(getattr(curve, "kinks", ()), float),
+                                    np.asarray(getattr(curve, "breaks", ()), float)]))
+    if pts.size:
+        tol = 1e-13 * (nodes[-1] - nodes[0])
+        out |= np.any((pts[None, :] >= nodes[:-1, None] - tol) & (pts[None, :] <= nodes[1:, None] + tol), 1)
+    return out
 
 
 def _one_sided(kinks, nodes, el, sm, vm, val, near):

@@ -94,7 +94,17 @@ class Statics:
 
 
 def statics(disc: Discretization) -> Statics:
-    """Factorise the equilibrium operator of ``disc`` (O(N): banded LU of a block-bidiagonal matrix)."""
+    """Factorise the equilibrium operator of ``disc`` (O(N): banded LU of a block-bidiagonal
+    matrix); computed once per discretisation (kept on it: the limit analysis, the
+    continuum search and the impact's verification share it)."""
+    st = disc.__dict__.get("_statics")
+    if st is None:
+        st = _statics(disc)
+        object.__setattr__(disc, "_statics", st)   # a cache, not a field of the frozen dataclass
+    return st
+
+
+def _statics(disc: Discretization) -> Statics:
     J = disc.n_joints
     n3 = disc.M.shape[0]
     k = 3 * J - n3
