@@ -46,6 +46,7 @@ __all__ = ["ChainProjection", "project_chain", "MAX_STEPS"]
 
 MAX_STEPS = 50          # active-set steps before giving up (then: the interior-point QP)
 IPM_TOL = 1e-9          # the interior point only finds the open rows: the active set ends it
+KKT_TOL = 1e-11         # relative violation of the sign conditions accepted as optimal
 REFINE = 1              # refinement steps of each active-set solve
 
 
@@ -197,10 +198,16 @@ def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray |
             d, g, z = out
         new = fibre & (g < z)
         key = (kkt_system is not None, new.tobytes())
-        if np.array_equal(new, open_) or key in seen:
+        # done when the sets repeat, or when the solution already satisfies the KKT
+        # conditions to KKT_TOL (rows with g and z both at round-off flip without changing it)
+        scale = max(np.max(np.abs(g)), np.max(np.abs(z[fibre])), 1e-300)
+        optimal = max(-np.min(g[fibre]), -np.min(z[fibre])) <= KKT_TOL * scale
+        if optimal or np.array_equal(new, open_) or key in seen:
             if kkt_system is not None:
                 break
             kkt_system = _KKT(disc, d0, P)
+            if optimal:
+                continue                                         # the same rows, solved accurately
         seen.add(key)
         open_ = new
     else:
