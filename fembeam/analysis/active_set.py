@@ -108,50 +108,47 @@ class _Dual:
     def interior_point(self, tol: float | None = None, max_iter: int = 80) -> np.ndarray | None:
         """Mehrotra's predictor-corrector on ``min 1/2 g^T Q g + c^T g, g_I >= 0``: the
         Newton matrix ``Q + diag(z/g)`` (fibre rows) keeps the band of ``Q``."""
-        I, c, Q = self.fibre, self.c, self.Q
+        c, Q, J = self.c, self.Q, self.J
         tol = IPM_TOL if tol is None else tol
-        n, nI = c.size, int(I.sum())
-        g = np.zeros(n)
-        gI = np.ones(nI)                                          # fibre impulses and their duals
-        zI = np.ones(nI)
-        g[I] = gI
+        g = np.zeros(3 * J)
+        gI = g.reshape(J, 3)[:, 1:]                              # views of the fibre rows
+        gI[:] = 1.0
+        zI = np.ones((J, 2))                                     # their duals (opening rates)
+        nI = 2 * J
         scale = max(1.0, np.max(np.abs(c)))
-        diag = np.zeros(n)
+        diag = np.zeros(3 * J)
         for it in range(max_iter):
             rd = Q @ g + c
-            rd[I] -= zI
-            mu = float(gI @ zI) / nI
+            rd.reshape(J, 3)[:, 1:] -= zI
+            mu = float(np.vdot(gI, zI)) / nI
             if np.max(np.abs(rd)) <= tol * scale and mu <= tol * tol * scale:
                 self.iterations = it
                 return g
-            diag[I] = zI / gI
+            diag.reshape(J, 3)[:, 1:] = zI / gI
             L = self.factor(diag)
             if L is None:
                 return None
 
             def newton(rc):
                 rhs = -rd
-                rhs[I] -= rc / gI
+                rhs.reshape(J, 3)[:, 1:] -= rc / gI
                 dg = self.solve(L, rhs)
                 if dg is None:
                     return None, None, None
-                dgI = dg[I]
+                dgI = dg.reshape(J, 3)[:, 1:]
                 return dg, dgI, (-rc - zI * dgI) / gI
 
             def boundary(dgI, dzI):
-                a = 1.0
-                for v, dv in ((gI, dgI), (zI, dzI)):
-                    neg = dv < 0
-                    if neg.any():
-                        a = min(a, float(np.min(-v[neg] / dv[neg])))
-                return a
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    return min(1.0, float(np.min(np.where(dgI < 0, gI / -dgI, np.inf))),
+                               float(np.min(np.where(dzI < 0, zI / -dzI, np.inf))))
 
             out = newton(gI * zI)                                 # affine predictor
             if out[0] is None:
                 return None
             dg, dgI, dzI = out
             a = boundary(dgI, dzI)
-            mu_aff = float((gI + a * dgI) @ (zI + a * dzI)) / nI
+            mu_aff = float(np.vdot(gI + a * dgI, zI + a * dzI)) / nI
             sig = (mu_aff / mu) ** 3
             out = newton(gI * zI + dgI * dzI - sig * mu)          # corrector
             if out[0] is None:
@@ -159,7 +156,9 @@ class _Dual:
             dg, dgI, dzI = out
             a = min(1.0, 0.995 * boundary(dgI, dzI))
             g += a * dg
-            gI, zI = g[I], zI + a * dzI
+            zI += a * dzI
+            if not (np.all(np.isfinite(g)) and np.all(np.isfinite(zI))):
+                return None
         return None
 
 
