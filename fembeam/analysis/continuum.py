@@ -21,6 +21,7 @@ __all__ = ["weakest_sections", "ContinuumLimit", "continuum_limit"]
 
 SAMPLES = 4          # interior samples per element
 GOLDEN_STEPS = 60    # at most; the bracket shrinks by 0.618 a step, down to 1e-7 of the length
+SCREEN_ELEMENTS = 1000  # meshes finer than this are screened by the forces at the nodes first
 NEAR = 0.05          # elements whose sampled fibre force is below this (units of weight) are searched
 
 
@@ -40,13 +41,17 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
     nodes = st.disc.nodes_s
     L = nodes[-1] - nodes[0]
     h_all = np.diff(nodes)
-    # screening by the values at the nodes: inside an element a fibre force dips below the
-    # chord of its end values by at most f'' h^2 / 8; elements next to a kink (whose end
-    # value is that of the bisector cut) or across a break of the densities are kept
-    fn = _fibres(st, nodes, z)
-    ends = np.minimum(fn[:, :-1], fn[:, 1:]).min(0)
-    cand = ends < level + np.minimum(NEAR, 200.0 * (h_all / L) ** 2)
-    cand |= _irregular(st.disc.curve, nodes)
+    # on fine meshes, screening by the values at the nodes: inside an element a fibre force
+    # dips below the chord of its end values by at most f'' h^2 / 8 (f'' grows with the load
+    # factor); elements next to a kink (whose end value is that of the bisector cut) or
+    # across a break of the densities are kept
+    cand = np.ones(h_all.size, bool)
+    if h_all.size > SCREEN_ELEMENTS:
+        fn = _fibres(st, nodes, z)
+        ends = np.minimum(fn[:, :-1], fn[:, 1:]).min(0)
+        load = 1.0 + abs(float(z[st.k]))
+        cand = ends < level + load * np.minimum(NEAR, 200.0 * (h_all / L) ** 2)
+        cand |= _irregular(st.disc.curve, nodes)
     cand = np.flatnonzero(cand)
     if cand.size == 0:
         return np.empty(0), np.empty(0, int), np.empty(0)
