@@ -25,6 +25,7 @@ COMMANDS = {
     "rock": ("rock", "time history under a ground motion: impacts, rest or overturning"),
     "spectrum": ("spectrum", "overturning amplitude against pulse period (safe regions above it too)"),
     "collapse-scale": ("collapse_scale", "smallest scale factor of a record that overturns the member"),
+    "simulate": ("simulate", "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"),
 }
 
 

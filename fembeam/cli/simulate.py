@@ -1,0 +1,245 @@
+"""``fembeam simulate``: the non-smooth multi-body time history of the rigid pieces of a member.
+
+Member and ground-motion options are those of ``fembeam rock`` (:func:`~.rock.add_member`,
+:func:`~.rock.add_ground`); the computation is :class:`fembeam.simulation.Simulator`; this module
+parses, prints and writes.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..output.files import atomic, atomic_group, check_output
+from .args import arch_title
+from .rock import _progress, add_ground, add_member, ground_from, member_from
+
+HELP = "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"
+
+
+def register(sub) -> None:
+    p = sub.add_parser("simulate", help=HELP,
+                       description="Non-smooth time stepping of the voussoirs (or rigid elements, or a block) "
+                                   "under gravity and a ground motion: at every step the free velocity is "
+                                   "projected onto the compatible cone in the kinetic metric (the impact QP of "
+                                   "fembeam impact), so hinges open and close anywhere.")
+    add_member(p)
+    add_ground(p)
+    t = p.add_argument_group("time")
+    t.add_argument("--dt", type=float, default=1e-3, metavar="S",
+                   help="time step (s; default 1e-3, in [1e-6, 0.05], at most 1e7 steps)")
+    t.add_argument("--t-end", type=float, default=None, metavar="S",
+                   help="end of the simulation (s; default: end of the ground motion + 20 sqrt(L/g))")
+    t.add_argument("--dt-out", type=float, default=None, metavar="S",
+                   help="sampling step of the history (s; default max(dt, duration/4000))")
+    o = p.add_argument_group("output")
+    o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
+    o.add_argument("--csv", metavar="PATH.csv", help="history: t, K, V, W_ground, dissipated, a_g, hinges, ...")
+    o.add_argument("--plot", metavar="PATH.png", help="figure of a_g, rotations, open hinges and energies")
+    o.add_argument("--vtk", metavar="PATH.pvd", help="ParaView time series of the bodies' polygons")
+    o.add_argument("--gif", metavar="PATH.gif", help="animation of the moving bodies")
+    o.add_argument("--frames", type=int, default=None, metavar="N",
+                   help="--vtk and --gif: at most N frames of the history (default 200 and 120)")
+    p.set_defaults(func=run)
+
+
+def summary(res) -> str:
+    geo = res.to_dict()["geometry"]
+    if geo.get("shape") == "block":
+        head = f"block {geo['width']:g} m x {geo['height']:g} m on a rigid base"
+    else:
+        head = (f"circular arch, embrace {geo.get('embrace_deg', 0):g} deg, t/R = {geo.get('t_over_R', 0):g}, "
+                f"R = {geo.get('radius', 0):g} m" if "embrace_deg" in geo else arch_title(geo))
+        head += f"; {res.n_bodies} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
+    lines = [f"fembeam simulate: {head}",
+             f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g); dt = {res.dt:g} s, "
+             f"simulated to t = {res.t_end:.4g} s ({res.steps} steps, {res.cut_steps} cut at landings)"]
+    if res.outcome == "overturned":
+        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s (centroid below its height at rest)")
+    elif res.outcome == "rest":
+        lines.append(f"  outcome: rest (at rest at t = {res.t_end:.4g} s)")
+    else:
+        lines.append(f"  outcome: survived (still moving at t = {res.t_end:.4g} s)")
+    if res.t_peak is not None:
+        lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s")
+    lines.append(f"  impacts: {len(res.impacts)}; most hinges open at once: {res.max_hinges}")
+    lines.append(f"  energy: dissipated {res.dissipated:.6g} J/m, ground work {res.ground_work:.6g} J/m, "
+                 f"balance error {res.energy_balance_error:.2e} (relative)")
+    lines.append(f"  wall time {res.time:.3g} s")
+    return "\n".join(lines)
+
+
+def write_csv(res, path) -> None:
+    with atomic(path) as tmp, open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(res.history))
+        w.writeheader()
+        w.writerows(res.csv_rows())
+
+
+def _frames(res, frames: int) -> np.ndarray:
+    from ..output.motion import frame_rows
+    return frame_rows(np.asarray(res.history["t"]), frames)
+
+
+def placed(res, i: int, outlines) -> list[np.ndarray]:
+    """Polygons ``(2, k)`` of the bodies at history row ``i`` (m)."""
+    q = res.positions[i]
+    out = []
+    for (x, y, phi), poly in zip(q, outlines):
+        c, s = math.cos(phi), math.sin(phi)
+        out.append(np.array([x + c * poly[0] - s * poly[1], y + s * poly[0] + c * poly[1]]))
+    return out
+
+
+def write_pvd(res, path: Path, frames: int = 200) -> int:
+    """``path`` (.pvd) and one ``.vtu`` per frame next to it (polygons of the bodies, cell data
+    ``body``), written as one atomic group.  Returns the number of frames."""
+    import meshio
+
+    from ..output.motion import _pvd_text
+    rows = _frames(res, frames)
+    outlines = res.bodies.outlines()
+    width = max(4, len(str(rows.size - 1)))
+    names = [path.with_name(f"{path.stem}_{j:0{width}d}.vtu") for j in range(rows.size)]
+    with atomic_group(names + [path]) as tmps:
+        for j, i in enumerate(rows):
+            polys = placed(res, int(i), outlines)
+            pts = np.hstack(polys).T
+            offsets = np.cumsum([0] + [p.shape[1] for p in polys])
+            cells = [("polygon", np.arange(a, b)[None, :]) for a, b in zip(offsets[:-1], offsets[1:])]
+            mesh = meshio.Mesh(np.column_stack([pts, np.zeros(len(pts))]), cells,
+                               cell_data={"body": [np.array([k], np.int32) for k in range(len(polys))]})
+            meshio.write(tmps[j], mesh, file_format="vtu")
+        entries = [(float(res.history["t"][i]), n.name) for i, n in zip(rows, names)]
+        Path(tmps[-1]).write_text(_pvd_text(entries), encoding="utf-8")
+    return rows.size
+
+
+def history_figure(res):
+    from ..output.motion import _pyplot
+    plt = _pyplot()
+    h = res.history
+    fig, ax = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+    ax[0].plot(h["t"], h["a_g"], lw=0.8)
+    ax[0].set_ylabel("a_g [g]")
+    ax[1].plot(h["t"], h["max_rotation"], lw=0.8)
+    ax[1].set_ylabel("max |phi| [rad]")
+    ax[2].step(h["t"], h["hinges"], where="post", lw=0.8, label="hinges")
+    ax[2].step(h["t"], h["separated"], where="post", lw=0.8, label="separated joints")
+    ax[2].set_ylabel("joints")
+    ax[2].legend(loc="upper right", fontsize=8)
+    ax[3].plot(h["t"], h["K"], lw=0.8, label="K")
+    ax[3].plot(h["t"], h["V"], lw=0.8, label="V")
+    ax[3].plot(h["t"], h["dissipated"], lw=0.8, label="dissipated")
+    ax[3].set_ylabel("J per m")
+    ax[3].set_xlabel("t [s]")
+    ax[3].legend(loc="upper right", fontsize=8)
+    if res.t_overturn is not None:
+        for a in ax:
+            a.axvline(res.t_overturn, color="red", lw=0.8, ls="--")
+    fig.suptitle(f"fembeam simulate: {res.outcome} - {res.ground.name}", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def plot_history(res, path) -> None:
+    from ..output.motion import _pyplot
+    fig = history_figure(res)
+    try:
+        with atomic(path) as tmp:
+            fig.savefig(tmp, dpi=120, format=Path(path).suffix[1:])
+    finally:
+        _pyplot().close(fig)
+
+
+def write_gif(res, path, frames: int = 120, fps: int = 20) -> None:
+    """Animation of the bodies' polygons (matplotlib's Pillow writer, headless)."""
+    from matplotlib.animation import FuncAnimation, PillowWriter
+    from matplotlib.patches import Polygon
+
+    from ..output.motion import _pyplot
+    plt = _pyplot()
+    rows = _frames(res, frames)
+    outlines = res.bodies.outlines()
+    allp = np.hstack([p for i in rows for p in placed(res, int(i), outlines)])
+    lo, hi = allp.min(axis=1), allp.max(axis=1)
+    pad = 0.08 * float(max(hi - lo))
+    fig, ax = plt.subplots(figsize=(6.0, 4.5))
+    try:
+        ax.set_aspect("equal")
+        ax.set_xlim(lo[0] - pad, hi[0] + pad)
+        ax.set_ylim(lo[1] - pad, hi[1] + pad)
+        ax.set_axis_off()
+        patches = [ax.add_patch(Polygon(p.T, closed=True, fc="lightsteelblue", ec="black", lw=0.8))
+                   for p in placed(res, int(rows[0]), outlines)]
+        text = ax.set_title("")
+
+        def draw(j):
+            for patch, p in zip(patches, placed(res, int(rows[j]), outlines)):
+                patch.set_xy(p.T)
+            text.set_text(f"t = {res.history['t'][rows[j]]:.3f} s   a_g = {res.history['a_g'][rows[j]]:+.3f} g")
+            return patches
+
+        anim = FuncAnimation(fig, draw, frames=len(rows), blit=False, repeat=False)
+        with atomic(path) as tmp:
+            anim.save(tmp, writer=PillowWriter(fps=fps), dpi=80)
+    finally:
+        plt.close(fig)
+
+
+def run(args) -> int:
+    from ..simulation import Simulator
+    from ..simulation.stepper import check_dt
+    outputs = {"csv": check_output(args.csv, "--csv", (".csv",)),
+               "plot": check_output(args.plot, "--plot", (".png", ".pdf", ".svg")),
+               "vtk": check_output(args.vtk, "--vtk", (".pvd",)),
+               "gif": check_output(args.gif, "--gif", (".gif",))}
+    if args.frames is not None and not 2 <= args.frames <= 100_000:
+        raise InputError(f"--frames must be in [2, 100000], got {args.frames}")
+    if args.history and not args.json:
+        raise InputError("--history adds the history to --json output; give --json too")
+    for name in ("dt", "t_end", "dt_out"):
+        x = getattr(args, name)
+        if x is not None and not math.isfinite(x):
+            raise InputError(f"--{name.replace('_', '-')} must be a finite number, got {x}")
+    curve, voussoirs, elements = member_from(args)
+    ground = ground_from(args)
+    t0 = float(ground.t[0])
+    t_end = args.t_end if args.t_end is not None else float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / 9.81)
+    if not t_end > t0:
+        raise InputError(f"--t-end must be after the start of the ground motion ({t0:g} s), got {t_end:g}")
+    check_dt(args.dt, t0, t_end)
+    sim = Simulator(curve, voussoirs=voussoirs) if voussoirs is not None else Simulator(curve, elements=elements)
+    update, bar = _progress(t_end)
+    try:
+        res = sim.run(ground, dt=args.dt, t_end=t_end, dt_out=args.dt_out, progress=update)
+    finally:
+        if bar is not None:
+            bar.close()
+    written = []
+    if outputs["csv"]:
+        write_csv(res, outputs["csv"])
+        written.append(f"CSV: {outputs['csv']}")
+    if outputs["plot"]:
+        plot_history(res, outputs["plot"])
+        written.append(f"figure: {outputs['plot']}")
+    if outputs["vtk"]:
+        k = write_pvd(res, outputs["vtk"], frames=args.frames or 200)
+        written.append(f"VTK: {outputs['vtk']} ({k} frames)")
+    if outputs["gif"]:
+        write_gif(res, outputs["gif"], frames=args.frames or 120)
+        written.append(f"animation: {outputs['gif']}")
+    if args.json:
+        print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
+    else:
+        print(summary(res))
+        for w in written:
+            print(f"  {w}")
+    sys.stdout.flush()
+    return 0

@@ -1,0 +1,112 @@
+"""The result of ``fembeam simulate``: outcome, figures, the sampled history; JSON and CSV rows."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..dynamics.ground import GroundMotion
+from ..geometry import MidCurve
+from .bodies import Bodies
+
+__all__ = ["SimulationResult", "OUTCOMES", "HISTORY_COLUMNS"]
+
+OUTCOMES = ("rest", "survived", "overturned")
+HISTORY_COLUMNS = ("t", "K", "V", "W_ground", "dissipated", "a_g", "hinges", "separated", "max_rotation")
+
+
+@dataclass
+class SimulationResult:
+    """``outcome``: ``"rest"`` (at rest at ``t_end``), ``"survived"`` (still moving at ``t_end``) or
+    ``"overturned"`` (the centroid of the member fell below its height at rest, at ``t_overturn``:
+    past the unstable equilibrium of whatever mechanism it moved on).  ``peak_rotation`` (rad): the
+    largest ``|phi|`` of any body (``fembeam rock``'s ``peak_piece_rotation``).  ``history`` columns
+    (:data:`HISTORY_COLUMNS`): ``t`` (s), ``K``, ``V``, ``W_ground``, ``dissipated`` (J per unit
+    depth), ``a_g`` (g), ``hinges`` (joints with exactly one corner open), ``separated`` (joints with
+    both corners open), ``max_rotation`` (rad); ``positions`` the ``(n, 3)`` states ``x, y, phi`` at
+    the same times."""
+
+    curve: MidCurve
+    ground: GroundMotion
+    bodies: Bodies
+    mode: str = "voussoirs"
+    dt: float = 1e-3
+    outcome: str = "rest"
+    t_end: float = 0.0
+    t_overturn: float | None = None
+    peak_rotation: float = 0.0
+    t_peak: float | None = None
+    max_hinges: int = 0
+    energy_balance_error: float = 0.0
+    dissipated: float = 0.0
+    ground_work: float = 0.0
+    projection_drift: float = 0.0
+    steps: int = 0
+    cut_steps: int = 0
+    pivots: int = 0
+    time: float = 0.0
+    history: dict = field(default_factory=lambda: {k: [] for k in HISTORY_COLUMNS})
+    positions: list = field(default_factory=list)
+    impacts: list = field(default_factory=list)     # (t, K before, K after) of each impact (a corner closes)
+
+    def record(self, t, q, v, K, V, W, D, a_g, gap, thickness) -> None:
+        """Append one history row (``gap`` ``(J, 2)`` and ``thickness`` ``(J, 1)``, m)."""
+        opened = gap > 1e-6 * thickness
+        k = opened.sum(axis=1)
+        row = (t, K, V, W, D, a_g, int(np.sum(k == 1)), int(np.sum(k == 2)), float(np.max(np.abs(q[:-1, 2]))))
+        for key, x in zip(HISTORY_COLUMNS, row):
+            self.history[key].append(float(x) if key not in ("hinges", "separated") else x)
+        self.positions.append(q[:-1].copy())
+
+    def finish(self, **kw) -> None:
+        for k, x in kw.items():
+            setattr(self, k, x)
+        self.history = {k: np.asarray(x, float) for k, x in self.history.items()}
+        self.max_hinges = int(np.max(self.history["hinges"], initial=0))
+
+    @property
+    def n_bodies(self) -> int:
+        return self.bodies.n
+
+    def to_dict(self, history: bool = False) -> dict:
+        """The JSON of ``fembeam simulate`` (strict: no NaN or infinity)."""
+        def num(x):
+            return None if x is None or not math.isfinite(x) else float(x)
+
+        h = self.history
+        out = {
+            "command": "simulate",
+            "outcome": self.outcome,
+            "geometry": self.curve.describe() if hasattr(self.curve, "describe") else {},
+            "mode": self.mode,
+            "bodies": self.n_bodies,
+            "joints": self.bodies.n_joints,
+            "ground_motion": {"name": self.ground.name, "duration_s": self.ground.duration, "pga_g": self.ground.pga},
+            "dt": self.dt,
+            "t_end": self.t_end,
+            "t_overturn": num(self.t_overturn),
+            "peak_rotation": float(self.peak_rotation),
+            "t_peak": num(self.t_peak),
+            "max_hinges": self.max_hinges,
+            "hinges_over_time": {"t": [float(x) for x in h["t"]], "hinges": [int(x) for x in h["hinges"]],
+                                 "separated": [int(x) for x in h["separated"]]},
+            "energy": {"K_end": num(h["K"][-1]) if len(h["K"]) else 0.0,
+                       "V_end": num(h["V"][-1]) if len(h["V"]) else 0.0,
+                       "ground_work": num(self.ground_work), "dissipated": num(self.dissipated),
+                       "projection_drift": num(self.projection_drift)},
+            "energy_balance_error": float(self.energy_balance_error),
+            "impacts": len(self.impacts),
+            "steps": self.steps,
+            "cut_steps": self.cut_steps,
+            "pivots": self.pivots,
+            "time_s": round(self.time, 4),
+        }
+        if history:
+            out["history"] = {k: [float(x) for x in v] for k, v in h.items()}
+        return out
+
+    def csv_rows(self) -> list[dict]:
+        h = self.history
+        return [{k: (int(x) if k in ("hinges", "separated") else float(x)) for k, x in zip(h, row)}
+                for row in zip(*(h[k] for k in h))]

@@ -1,0 +1,284 @@
+"""Moreau-Jean time stepping of the rigid bodies of a member under gravity and a ground motion.
+
+State: each body's centroid ``(x, y)`` (m) and angle ``phi`` (rad, counter-clockwise, 0 at rest),
+and its velocities ``(vx, vy, omega)``.  In the ground's frame every body carries its weight
+``-m g e_y`` and the inertia force ``-m a_g(t) g e_x`` (``a_g`` in g, positive along +x: the sign of
+``fembeam rock``).  One step of length ``h`` from ``(q_k, v_k)`` (theta = 1/2 on the positions):
+
+1. *events*: a corner that is open (gap above ``GAP_TOL`` of the member's thickness) and whose
+   predicted gap ``g + s v_n + s^2/2 a_n`` (free acceleration) reaches 0 at ``s < h`` cuts the step
+   to ``s``, so that it lands at the end of the step and its impact is computed there (a predicted
+   landing within ``MIN_STEP`` of the step: it closes now);
+2. *midpoint*: ``q_m = q_k + h/2 v_k``; the operators ``H`` of the closed corners (gap <= GAP_TOL)
+   are evaluated at ``q_m``: opening rates >= 0 at every closed corner and one sliding rate = 0 per
+   joint with a closed corner, at the corner of smaller gap;
+3. *free velocity*: ``v_free = v_k + h M^-1 f(t_k + h/2)``;
+4. *projection*: ``v_{k+1}`` = the projection of ``v_free`` onto the compatible cone in the kinetic
+   metric (:mod:`.projection`): the impact QP, so an impact keeps the most kinetic energy the
+   compatible motions allow (the paper's principle, hinges anywhere), and in a smooth phase it
+   supplies the contact impulses;
+5. *positions*: ``q_{k+1} = q_m + h/2 v_{k+1}``, then projected (``M``-orthogonally, one
+   Gauss-Newton step, velocities untouched) onto zero gap at the corners that carried an impulse
+   and zero slip at their joints: the drift of the hinges is removed without an artificial
+   restitution.
+
+Energy bookkeeping (J per unit depth): ``K``, ``V = g sum m (y - y_0)``, the ground's work ``W``
+(the inertia force times the displacements), the dissipation ``D`` (``K_free - K_{k+1}`` of each
+projection: ``1/2 |v_free - v_{k+1}|_M^2`` by Pythagoras on the cone); ``K + V = E_0 + W - D`` up to
+the discretisation error, reported as ``energy_balance_error``.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..dynamics.equation import GRAVITY
+from ..dynamics.ground import GroundMotion
+from ..errors import InputError
+from ..geometry import MidCurve
+from .bodies import Bodies
+from .contacts import Contacts
+from .contacts import BAND
+from .projection import REG, banded_solve, solve_mlcp
+from .result import SimulationResult
+
+__all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_ENERGY"]
+
+DT_RANGE = (1e-6, 0.05)     # s: admitted time steps
+MAX_STEPS = 10_000_000      # (t_end - t_0) / dt above this: InputError
+GAP_TOL = 1e-7              # corner closed: gap <= GAP_TOL * thickness
+OPEN_TOL = 1e-6             # hinge count: a corner open by more than OPEN_TOL * thickness
+MIN_STEP = 1e-6             # shortest step cut at a landing, relative to dt
+REST_ENERGY = 1e-12         # at rest: K below this fraction of m g L (L: the member's length)
+OVERTURN_DROP = 1e-6        # overturned: V below -OVERTURN_DROP m g L (the centroid below its rest height)
+
+
+class Simulator:
+    """Bodies and contacts of ``curve`` cut into ``voussoirs`` (discrete arch) or ``elements``
+    (continuous arch: rigid elements) equal pieces; a block (``StraightMember``) is one body.  Set up
+    once, run under any ground motions (:meth:`run`)."""
+
+    def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
+                 g: float = GRAVITY):
+        if voussoirs is not None and elements is not None:
+            raise InputError("give voussoirs or elements, not both")
+        n = voussoirs if voussoirs is not None else (elements if elements is not None else 100)
+        self.mode = "voussoirs" if voussoirs is not None else "continuous"
+        self.bodies = Bodies.from_curve(curve, n)
+        self.contacts = Contacts(self.bodies)
+        if not self.contacts.chain:
+            raise InputError("simulate needs a chain of bodies with a joint at every interior cut")
+        self.curve, self.g = curve, float(g)
+
+    def run(self, ground: GroundMotion, *, dt: float = 1e-3, t_end: float | None = None,
+            dt_out: float | None = None, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
+            stop_at_overturn: bool = True, progress=None) -> SimulationResult:
+        """Time history under ``ground`` from rest (or ``q0``, ``v0``: ``(n + 1, 3)`` arrays, the last
+        row the ground's zeros) with steps ``dt`` (s) to ``t_end`` (default: end of the ground motion
+        plus ``20 sqrt(L/g)``, as ``fembeam rock``); history sampled every ``dt_out`` (s; default
+        ``max(dt, duration / 4000)``)."""
+        return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+
+
+def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int | None = None,
+             dt: float = 1e-3, t_end: float | None = None, g: float = GRAVITY) -> SimulationResult:
+    """:meth:`Simulator.run` of a new :class:`Simulator`."""
+    return Simulator(curve, voussoirs=voussoirs, elements=elements, g=g).run(ground, dt=dt, t_end=t_end)
+
+
+def check_dt(dt, t0: float, t_end: float) -> float:
+    """``dt`` (s) as a float in :data:`DT_RANGE` with at most :data:`MAX_STEPS` steps; InputError otherwise."""
+    try:
+        dt = float(dt)
+    except (TypeError, ValueError):
+        raise InputError(f"dt must be a number of seconds, got {dt!r}") from None
+    lo, hi = DT_RANGE
+    if not (math.isfinite(dt) and lo <= dt <= hi):
+        raise InputError(f"dt must be in [{lo:g}, {hi:g}] s, got {dt:g}")
+    if (t_end - t0) / dt > MAX_STEPS:
+        raise InputError(f"{(t_end - t0) / dt:.3g} steps of {dt:g} s to t = {t_end:g} s; at most {MAX_STEPS:g} "
+                         f"(a larger dt or an earlier t_end)")
+    return dt
+
+
+def _roots(gap, vn, an):
+    """Smallest ``s`` in ``(0, inf)`` with ``gap + s vn + s^2/2 an = 0`` (``gap > 0``), inf if none."""
+    a2, a1 = 0.5 * an, vn
+    disc = a1 * a1 - 4.0 * a2 * gap
+    den = -a1 + np.sqrt(np.maximum(disc, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where((disc >= 0) & (den > 0), 2.0 * gap / den, np.inf)
+    return s
+
+
+def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
+    clock = time.perf_counter()
+    if not isinstance(ground, GroundMotion):
+        raise InputError(f"simulate needs a fembeam.dynamics.GroundMotion, got {type(ground).__name__}")
+    bodies, con, g = sim.bodies, sim.contacts, sim.g
+    L = sim.curve.length
+    t0 = float(ground.t[0])
+    if t_end is None:
+        t_end = float(ground.t[-1]) + 20.0 * math.sqrt(L / g)
+    t_end = float(t_end)
+    if not (math.isfinite(t_end) and t_end > t0):
+        raise InputError(f"t_end must be finite and after the start of the ground motion ({t0:g} s), got {t_end:g}")
+    dt = check_dt(dt, t0, t_end)
+    dt_out = max(dt, (t_end - t0) / 4000.0) if dt_out is None else float(dt_out)
+    if not (math.isfinite(dt_out) and dt_out > 0):
+        raise InputError(f"dt_out must be a positive number of seconds, got {dt_out!r}")
+    n = bodies.n
+    q = bodies.rest_state() if q0 is None else np.array(q0, float)
+    v = np.zeros((n + 1, 3)) if v0 is None else np.array(v0, float)
+    if q.shape != (n + 1, 3) or v.shape != (n + 1, 3):
+        raise InputError(f"q0 and v0 must be ({n + 1}, 3) arrays (the last row the ground)")
+    q[-1] = v[-1] = 0.0
+    minv = con.minv
+    m = bodies.m
+    mass = bodies.mass
+    y0 = bodies.G0[1]
+    E_unit = mass * g * L
+    thick = bodies.thickness[:, None]
+    gap_tol = GAP_TOL * thick
+    at = ground.scalar()
+    J = con.J
+
+    def potential(q_):
+        return g * float(m @ (q_[:-1, 1] - y0))
+
+    geo = con.evaluate(q)
+    res = SimulationResult(sim.curve, ground, bodies, mode=sim.mode, dt=dt)
+    mv = np.concatenate([np.repeat(m, 2).reshape(-1, 2), bodies.I[:, None], np.zeros((n, 0))], axis=1)
+    mv = np.vstack([mv, np.zeros((1, 3))]).ravel()             # (vx, vy, omega) weights of 2K
+
+    def kinetic(v_):
+        return 0.5 * float(mv @ (v_.ravel() ** 2))
+
+    E0 = kinetic(v) + potential(q)
+    W = D = drift = 0.0
+    working = None
+    t = t0
+    steps = cuts = pivots = 0
+    next_out = t0
+    peak, t_peak = 0.0, None
+    balance = 0.0
+    E_seen = max(abs(E0), 1e-9 * E_unit)
+    outcome, t_over = None, None
+    h_min = MIN_STEP * dt
+    rec = res.record
+    acc = np.zeros((n + 1, 3))
+    acc[:-1, 1] = -g
+    nonneg = np.zeros((J, 3), bool)
+    free = np.zeros((J, 3), bool)
+    jj = np.arange(J)
+    was_closed = geo.gap <= gap_tol
+    while True:
+        K = kinetic(v)
+        V = potential(q)
+        E_seen = max(E_seen, K + abs(V), abs(W), D)
+        balance = max(balance, abs(K + V - E0 - W + D) / E_seen)
+        rot = float(np.max(np.abs(q[:-1, 2])))
+        if rot > peak:
+            peak, t_peak = rot, t
+        done = t >= t_end - 1e-12 * dt
+        if V < -OVERTURN_DROP * E_unit and outcome is None:
+            outcome, t_over = "overturned", t
+            done = done or stop_at_overturn
+        if t >= next_out or done:
+            rec(t, q, v, K, V, W, D, float(at(t)), geo.gap, thick)
+            next_out = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
+            if progress is not None:
+                progress(t)
+        if done:
+            break
+        h = min(dt, t_end - t)
+        # 1. landings within the step: cut it there
+        closed = geo.gap <= gap_tol
+        a_g = at(t + 0.5 * h)
+        acc[:-1, 0] = -a_g * g
+        if not closed.all():
+            vn = con.apply(geo.rows, v).reshape(J, 3)[:, :2]
+            an = con.apply(geo.rows, acc).reshape(J, 3)[:, :2]
+            s = np.where(closed, np.inf, _roots(geo.gap, vn, an))
+            closed |= s < h_min
+            s_cut = float(np.min(np.where(closed, np.inf, s)))
+            if s_cut < h:
+                h = s_cut
+                cuts += 1
+                a_g = at(t + 0.5 * h)
+                acc[:-1, 0] = -a_g * g
+        # 2. impact: a corner closes at t (it landed at the end of the last step): the projection
+        #    of v alone, in this configuration (no force acts during an impact)
+        if (closed & ~was_closed).any():
+            g0 = con.evaluate(q)
+            sol, working = _project(con, g0.rows, v, closed, working, nonneg, free, g * h)
+            pivots += sol.pivots
+            K_in = kinetic(v)
+            v = v + minv * con.apply_t(g0.rows, sol.P)
+            K_out = kinetic(v)
+            D += K_in - K_out
+            res.impacts.append((t, K_in, K_out))
+        # 3. midpoint, free velocity
+        qm = q + 0.5 * h * v
+        v_free = v + h * acc
+        # 4. projection onto the compatible cone
+        P = None
+        if closed.any():
+            gm = con.evaluate(qm)
+            sol, working = _project(con, gm.rows, v_free, closed, working, nonneg, free, g * h)
+            pivots += sol.pivots
+            v_new = v_free + minv * con.apply_t(gm.rows, sol.P)
+            P = sol.P.reshape(J, 3)
+            ab = sol.ab
+        else:
+            v_new = v_free
+            working = None
+        was_closed = closed
+        # 5. positions, projected onto the loaded contacts (velocities untouched)
+        q_new = qm + 0.5 * h * v_new
+        geo = con.evaluate(q_new)
+        if P is not None:
+            loaded = closed & ((P[:, :2] > 0) | (geo.gap < 0))
+            if loaded.any():
+                on = np.zeros((J, 3), bool)
+                on[:, :2] = loaded
+                on[:, 2] = loaded.any(axis=1)
+                resid = np.concatenate([geo.gap, geo.slip[jj, geo.contact][:, None]], axis=1)
+                on = on.ravel()
+                lam = _solve_eq(con, ab, on, -np.where(on, resid.ravel(), 0.0))
+                dq = minv * con.apply_t(gm.rows, lam)
+                q_new = q_new + dq
+                dd = con.apply(geo.rows, dq).reshape(J, 3)
+                geo.gap = geo.gap + dd[:, :2]
+                geo.slip = geo.slip + dd[:, 2:3]
+                drift += g * float(m @ dq[:-1, 1]) + a_g * g * float(m @ dq[:-1, 0])
+        W += float(-a_g * g * (m @ (q_new[:-1, 0] - q[:-1, 0])))
+        q, v = q_new, v_new
+        t = t + h
+        steps += 1
+    if outcome is None:
+        outcome = "rest" if kinetic(v) < REST_ENERGY * E_unit else "survived"
+    res.finish(outcome=outcome, t_end=t, t_overturn=t_over, peak_rotation=peak, t_peak=t_peak,
+               energy_balance_error=balance, dissipated=D, ground_work=W, projection_drift=drift, steps=steps,
+               cut_steps=cuts, pivots=pivots, time=time.perf_counter() - clock)
+    return res
+
+
+def _project(con: Contacts, rows, v_free, closed, working, nonneg, free, floor):
+    """The MLCP of the projection of ``v_free`` with the closed corners ``closed`` ``(J, 2)``;
+    returns the solution (with its banded ``W`` as ``ab``) and the new working set."""
+    nonneg[:, :2] = closed
+    free[:, 2] = closed.any(axis=1)
+    ab = con.delassus(rows)
+    c = con.apply(rows, v_free)
+    vscale = max(float(np.max(np.abs(c))), floor, 1e-300)
+    sol = solve_mlcp(con, ab, c, free.ravel(), nonneg.ravel(), working, vscale)
+    sol.ab = ab
+    return sol, sol.working
+
+
+def _solve_eq(con: Contacts, ab: np.ndarray, on: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``(W + reg I)_on lam = rhs`` on the rows ``on`` (zero elsewhere)."""
+    return banded_solve(con.restrict(ab, on, REG * float(np.max(ab[BAND]))), rhs)
