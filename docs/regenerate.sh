@@ -5,7 +5,7 @@
 # About 20 minutes on 2 cores.  Run from anywhere with fembeam installed.
 #
 #   docs/regenerate.sh              everything
-#   docs/regenerate.sh studies      one group: studies | report | benchmarks | dynamics | shapes | pictures | splice
+#   docs/regenerate.sh studies      one group: studies | report | benchmarks | dynamics | shapes | simulation | pictures | splice
 #
 # After a run, read the diff: the prose of docs/studies.md, docs/elements.md and docs/solvers.md
 # quotes numbers of these tables (the drift test names any quote that no longer matches).
@@ -37,6 +37,13 @@ benchmarks() {
     python benchmarks/rocking.py > docs/data/rocking_benchmark.txt
     python benchmarks/spectrum.py > docs/data/spectrum_benchmark.txt
     python benchmarks/startup.py > docs/data/startup_benchmark.txt
+    python benchmarks/pipeline_scaling.py --max 1000000 --analyze 100000 > docs/data/pipeline_benchmark.txt
+    python benchmarks/simulate.py > docs/data/simulate_benchmark.txt
+}
+
+simulation() {
+    python docs/simulate_figure.py
+    python docs/compare_rock_simulate.py
 }
 
 dynamics() {
@@ -109,7 +116,7 @@ PY
 }
 
 case "$what" in
-    all) studies; report; benchmarks; dynamics; shapes; pictures; splice ;;
-    studies|report|benchmarks|dynamics|shapes|pictures|splice) "$what" ;;
-    *) echo "usage: $0 [all|studies|report|benchmarks|dynamics|shapes|pictures|splice]" >&2; exit 2 ;;
+    all) studies; report; benchmarks; dynamics; shapes; simulation; pictures; splice ;;
+    studies|report|benchmarks|dynamics|shapes|simulation|pictures|splice) "$what" ;;
+    *) echo "usage: $0 [all|studies|report|benchmarks|dynamics|shapes|simulation|pictures|splice]" >&2; exit 2 ;;
 esac

@@ -184,7 +184,7 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
         mid-curve there, as arrays (points x quadrature points): evaluated once per basis,
         so that the forms below are arithmetic only."""
         el = np.arange(basis.nelems) if getattr(basis, "tind", None) is None else basis.tind
-        s = basis.default_parameters()["x"].value[0]
+        s = np.asarray(basis.default_parameters()["x"])[0]
         one = np.ones((1, s.shape[1]))
         w = {"Px": fr["P"][0][el][:, None] * one, "Py": fr["P"][1][el][:, None] * one,
              "tx": fr["t"][0][el][:, None] * one, "ty": fr["t"][1][el][:, None] * one,
@@ -195,7 +195,7 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
     # kinetic energy 2K = d^T M d: each element's mass and moments (exact annular-sector
     # densities) by the cell quadrature; an element across a break by its smooth parts
     cb = CellBasis(mesh, ElementLineP0(), intorder=intorder)
-    s = cb.default_parameters()["x"].value[0]
+    s = np.asarray(cb.default_parameters()["x"])[0]
     mu0, mu1, mu2 = curve.inertia_densities(s)
     integral = Functional(lambda w: w.f)
     m = integral.elemental(cb, f=mu0 * np.ones_like(s))

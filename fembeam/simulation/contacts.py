@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.blas import dsbmv
 
 from .bodies import Bodies
 
@@ -152,13 +153,8 @@ class Contacts:
         return ab.reshape(BAND + 1, self.m)
 
     def banded_matvec(self, ab: np.ndarray, x: np.ndarray) -> np.ndarray:
-        """``W x`` from the upper banded storage."""
-        y = ab[BAND] * x
-        for d in range(1, BAND + 1):
-            band = ab[BAND - d, d:]
-            y[:-d] += band * x[d:]
-            y[d:] += band * x[:-d]
-        return y
+        """``W x`` from the upper banded storage (BLAS ``dsbmv``)."""
+        return dsbmv(BAND, 1.0, ab, x)
 
     def restrict(self, ab: np.ndarray, keep: np.ndarray, reg: float) -> np.ndarray:
         """``W`` with the rows and columns outside ``keep`` replaced by the identity, plus ``reg`` on

@@ -12,20 +12,24 @@ in its dual form, the mixed linear complementarity problem in the impulses ``P``
 
 with ``v+ = v_free + M^-1 H^T P``, warm-started from the previous step's working set: a few block
 principal pivots (Judice and Pires: all infeasible rows change sides at once; one or two solves
-in a smooth phase), then, if they have not converged, a primal active-set method on ``P`` whose
-objective decreases at every solve (finite, :func:`solve_mlcp`).  Rows
-that are not constraints this step (open corners) keep their place as identity rows of the banded
-``W``, so every linear solve has the same banded pattern (LAPACK ``pbtrf``/``pbtrs`` through
-:func:`scipy.linalg.solveh_banded`).  ``reg`` (1e-12 of the largest diagonal entry) makes ``W``
-definite when the closed joints are statically indeterminate (an arch at rest); it changes the
-velocities by about ``reg |P|``.  Every solution's KKT residuals are checked.
+in a smooth phase); if they have not converged, Mehrotra's predictor-corrector interior point
+(about 13 iterations, each one factorisation of ``W + diag`` on the same band), which does not care
+that the impulses are not unique (closed joints between two abutments: ``W`` singular, the
+self-stress states) nor that many rows are degenerate (``P = w = 0``: the locked joints at rest of
+an impact), the two things on which the pivots cycle; as a last resort a primal active-set method
+on ``P`` whose objective decreases at every solve.  Rows that are not constraints this step (open
+corners) keep their place as identity rows of the banded ``W``, so every linear solve has the same
+banded pattern (LAPACK ``pbsv``/``pbtrf``/``pbtrs``).  ``reg`` (1e-12 of the largest diagonal
+entry) makes ``W`` definite when the closed joints are statically indeterminate; it changes the
+velocities by about ``reg |P|``.  Every solution's KKT residuals are checked on the
+unregularised problem (``w = W P + c``): SolverError otherwise, never a wrong velocity.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg.lapack import dpbsv
+from scipy.linalg.lapack import dpbsv, dpbtrf, dpbtrs
 
 from ..errors import SolverError
 from .contacts import BAND, Contacts
@@ -36,6 +40,7 @@ REG = 1e-12          # regularisation, relative to the largest diagonal entry of
 KKT_TOL = 1e-8       # KKT residuals, relative to the scales of velocities and impulses
 MAX_PIVOTS = 1000    # linear solves of one projection
 BLOCK_PIVOTS = 8     # block principal pivots tried first
+IPM_ITERATIONS = 80  # interior-point iterations (one banded factorisation each) before the active set
 
 
 def banded_solve(ab: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -58,12 +63,14 @@ class MLCPSolution:
 
 
 def solve_mlcp(contacts: Contacts, ab: np.ndarray, c: np.ndarray, free: np.ndarray, nonneg: np.ndarray,
-               start: np.ndarray | None = None, vscale: float = 1.0) -> MLCPSolution:
+               start: np.ndarray | None = None, vscale: float = 1.0, block_pivots: int = BLOCK_PIVOTS) -> MLCPSolution:
     """Solve the MLCP above: ``ab`` is ``W`` in upper banded storage, ``free`` the equality rows
     (``T``), ``nonneg`` the unilateral rows (``N``); the others carry no impulse.  ``start``: the
     previous working set.  ``vscale`` (m/s): the velocity scale of the tolerances.
+    ``block_pivots``: block principal pivots tried before the interior point (0: straight to it).
+    ``pivots`` of the solution counts the banded solves and the interior point's iterations.
 
-    A primal active-set method on the dual (Lawson and Hanson's, for bounds): ``P`` stays feasible;
+    Last resort, a primal active-set method on the dual (Lawson and Hanson's, for bounds): ``P`` stays feasible;
     each iteration minimises on the working set ``F`` (one banded solve); an infeasible minimiser
     is approached up to the first bound that blocks (those bounds leave ``F``); a feasible one whose
     rates ``w`` are negative on rows outside ``F`` adds them.  The dual objective decreases
@@ -77,18 +84,30 @@ def solve_mlcp(contacts: Contacts, ab: np.ndarray, c: np.ndarray, free: np.ndarr
     F = free | (nonneg & (start if start is not None else True))
     wtol = 1e-12 * vscale
     pscale0 = vscale / max(dmax, 1e-300)
-    for k in range(BLOCK_PIVOTS):            # block principal pivoting: fast when it converges
+    for k in range(block_pivots):            # block principal pivoting: fast when it converges
         P = banded_solve(contacts.restrict(ab, F, reg), np.where(F, -c, 0.0))
         w = contacts.banded_matvec(ab, P) + reg * P + c
         ztol = 1e-12 * max(float(np.max(np.abs(P), initial=0.0)), pscale0)
         bad = nonneg & ((F & (P < -ztol)) | (~F & (w < -wtol)))
         if not bad.any():
             P[nonneg & (P < 0)] = 0.0
-            return _checked(P, w, F, free, nonneg, k + 1, vscale, dmax)
+            return _checked(P, contacts.banded_matvec(ab, P) + c, F, free, nonneg, k + 1, vscale, dmax)
         F = F ^ bad
+    try:                                     # degenerate or redundant contacts: interior point
+        P, its = _interior_point(contacts, ab, c, free, nonneg, reg, vscale)
+    except SolverError:
+        pass
+    else:
+        w = contacts.banded_matvec(ab, P) + c           # the rows whose impulse is below their rate
+        F = free | (nonneg & (P * vscale > np.maximum(w, 0.0) * max(float(np.max(np.abs(P))), pscale0)))
+        Z = np.where(F, P, 0.0)                          # (relative to the scales) carry none
+        try:
+            return _checked(Z, contacts.banded_matvec(ab, Z) + c, F, free, nonneg, block_pivots + its, vscale, dmax)
+        except SolverError:                              # unless their small impulses matter
+            return _checked(P, w, F, free, nonneg, block_pivots + its, vscale, dmax)
     F = free | (nonneg & (start if start is not None else True))
     P = np.zeros(m)
-    for pivots in range(BLOCK_PIVOTS + 1, MAX_PIVOTS + 1):
+    for pivots in range(block_pivots + 1, MAX_PIVOTS + 1):
         z = banded_solve(contacts.restrict(ab, F, reg), np.where(F, -c, 0.0))
         ztol = 1e-12 * max(float(np.max(np.abs(z), initial=0.0)), vscale / max(dmax, 1e-300))
         neg = nonneg & F & (z < -ztol)
@@ -104,7 +123,7 @@ def solve_mlcp(contacts: Contacts, ab: np.ndarray, c: np.ndarray, free: np.ndarr
             continue
         P = np.where(F, z, 0.0)
         P[nonneg & (P < 0)] = 0.0
-        w = contacts.banded_matvec(ab, P) + reg * P + c
+        w = contacts.banded_matvec(ab, P) + c
         add = nonneg & ~F & (w < -wtol)
         if not add.any():
             break
@@ -125,3 +144,57 @@ def _checked(P, w, F, free, nonneg, pivots, vscale, dmax) -> MLCPSolution:
     if not res <= KKT_TOL:
         raise SolverError(f"the step's impact QP failed its KKT check (residual {res:.3g})")
     return MLCPSolution(P, w, F, pivots, res)
+
+
+def _interior_point(contacts: Contacts, ab, c, free, nonneg, reg, vscale):
+    """Mehrotra's predictor-corrector on the MLCP (each iteration one banded factorisation of
+    ``W + reg + diag(w_N / P_N)`` and two solves): ``(P, iterations)``, with ``P_N > 0`` and the
+    rates ``w_N = (W P + c)_N > 0`` complementary to ``1e-13`` of the scales.  Unlike the pivoting
+    methods it is indifferent to redundant closed joints (``W`` singular: the impulses are not
+    unique, it converges to the centre of the optimal face) and to degenerate rows (``P = w = 0``).
+    SolverError if it has not converged in :data:`IPM_ITERATIONS`."""
+    act = (free | nonneg).astype(float)
+    base = contacts.restrict(ab, free | nonneg, reg)
+    dmax = float(np.max(ab[BAND]))
+    ps = vscale / max(dmax, 1e-300)
+    iN = np.flatnonzero(nonneg)
+    nN = max(iN.size, 1)
+    P = np.zeros(c.size)
+    P[iN] = ps
+    w = np.full(iN.size, vscale)                     # the rates of the rows N (compressed)
+    tol = 1e-11
+    diag = base[BAND].copy()
+    for it in range(1, IPM_ITERATIONS + 1):
+        rd = (contacts.banded_matvec(ab, P) + reg * P + c) * act
+        rd[iN] -= w
+        p = P[iN]
+        mu = float(p @ w) / nN
+        pscale = max(float(np.max(np.abs(P))), ps)
+        if float(np.max(np.abs(rd))) <= tol * vscale and mu <= 1e-2 * tol * vscale * pscale:
+            return P, it
+        base[BAND] = diag
+        base[BAND, iN] += w / p
+        cf, info = dpbtrf(base)
+        if info != 0:
+            break
+
+        def direction(rc):
+            rhs = -rd
+            rhs[iN] -= rc / p
+            dP, _ = dpbtrs(cf, rhs)
+            dp = dP[iN]
+            return dP, dp, (-rc - w * dp) / p
+
+        def longest(x, dx):                  # the longest step (at most 1) keeping x + a dx >= 0
+            r = np.divide(x, dx, out=np.full(x.size, -np.inf), where=dx < 0)
+            return min(1.0, -float(r.max(initial=-np.inf)))
+
+        pw = p * w
+        dPa, dpa, dwa = direction(pw)                                   # predictor (affine scaling)
+        mua = float((p + longest(p, dpa) * dpa) @ (w + longest(w, dwa) * dwa)) / nN
+        sigma = (mua / mu) ** 3 if mu > 0 else 0.0
+        dP, dp, dw = direction(pw + dpa * dwa - sigma * mu)                 # corrector
+        a = 0.995 * min(longest(p, dp), longest(w, dw))
+        P += a * dP
+        w += a * dw
+    raise SolverError("the interior point did not converge")

@@ -5,10 +5,13 @@ and its velocities ``(vx, vy, omega)``.  In the ground's frame every body carrie
 ``-m g e_y`` and the inertia force ``-m a_g(t) g e_x`` (``a_g`` in g, positive along +x: the sign of
 ``fembeam rock``).  One step of length ``h`` from ``(q_k, v_k)`` (theta = 1/2 on the positions):
 
-1. *events*: a corner that is open (gap above ``GAP_TOL`` of the member's thickness) and whose
-   predicted gap ``g + s v_n + s^2/2 a_n`` (free acceleration) reaches 0 at ``s < h`` cuts the step
-   to ``s``, so that it lands at the end of the step and its impact is computed there (a predicted
-   landing within ``MIN_STEP`` of the step: it closes now);
+1. *impact*: if a corner closes at ``t_k`` (it landed at the end of the last step, or its predicted
+   landing is within ``MIN_STEP`` of the step), ``v_k`` is projected onto the compatible cone of
+   this configuration (no force acts during an impact): the impact QP;
+   *events*: then a corner that is open (gap above ``GAP_TOL`` of the member's thickness) and whose
+   predicted gap ``g + s v_n + s^2/2 a_n`` (the velocity after the impact, the free acceleration)
+   reaches 0 at ``s < h`` cuts the step to ``s``, so that it lands at the end of the step and its
+   impact is computed there;
 2. *midpoint*: ``q_m = q_k + h/2 v_k``; the operators ``H`` of the closed corners (gap <= GAP_TOL)
    are evaluated at ``q_m``: opening rates >= 0 at every closed corner and one sliding rate = 0 per
    joint with a closed corner, at the corner of smaller gap;
@@ -23,9 +26,11 @@ and its velocities ``(vx, vy, omega)``.  In the ground's frame every body carrie
    restitution.
 
 Energy bookkeeping (J per unit depth): ``K``, ``V = g sum m (y - y_0)``, the ground's work ``W``
-(the inertia force times the displacements), the dissipation ``D`` (``K_free - K_{k+1}`` of each
-projection: ``1/2 |v_free - v_{k+1}|_M^2`` by Pythagoras on the cone); ``K + V = E_0 + W - D`` up to
-the discretisation error, reported as ``energy_balance_error``.
+(the inertia force times the displacements), the dissipation ``D`` (``K_- - K_+`` of the impacts of
+step 1); ``K + V = E_0 + W - D`` up to the discretisation error of the smooth phases (their
+projections, step 4, and the position projections, step 5), reported as ``energy_balance_error``;
+``projection_drift`` is what the position projections add to ``V - W`` (minus the loads' work on
+them).
 """
 from __future__ import annotations
 
@@ -41,7 +46,7 @@ from ..geometry import MidCurve
 from .bodies import Bodies
 from .contacts import Contacts
 from .contacts import BAND
-from .projection import REG, banded_solve, solve_mlcp
+from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
 from .result import SimulationResult
 
 __all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_ENERGY"]
@@ -52,6 +57,8 @@ GAP_TOL = 1e-7              # corner closed: gap <= GAP_TOL * thickness
 OPEN_TOL = 1e-6             # hinge count: a corner open by more than OPEN_TOL * thickness
 MIN_STEP = 1e-6             # shortest step cut at a landing, relative to dt
 REST_ENERGY = 1e-12         # at rest: K below this fraction of m g L (L: the member's length)
+IMPACT_PIVOTS = 2           # block pivots tried on an impact (its many locked joints at rest are degenerate
+                            # rows: the pivots seldom converge, the interior point does)
 OVERTURN_DROP = 1e-6        # overturned: V below -OVERTURN_DROP m g L (the centroid below its rest height)
 
 
@@ -134,6 +141,8 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     v = np.zeros((n + 1, 3)) if v0 is None else np.array(v0, float)
     if q.shape != (n + 1, 3) or v.shape != (n + 1, 3):
         raise InputError(f"q0 and v0 must be ({n + 1}, 3) arrays (the last row the ground)")
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+        raise InputError("q0 and v0 must be finite numbers")
     q[-1] = v[-1] = 0.0
     minv = con.minv
     m = bodies.m
@@ -158,7 +167,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
 
     E0 = kinetic(v) + potential(q)
     W = D = drift = 0.0
-    working = None
+    working = working_imp = None      # warm starts of the smooth projections and of the impacts
     t = t0
     steps = cuts = pivots = 0
     next_out = t0
@@ -174,6 +183,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     free = np.zeros((J, 3), bool)
     jj = np.arange(J)
     was_closed = geo.gap <= gap_tol
+    stale = False
     while True:
         K = kinetic(v)
         V = potential(q)
@@ -194,32 +204,45 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
         if done:
             break
         h = min(dt, t_end - t)
-        # 1. landings within the step: cut it there
+        # 1. impact: a corner closes at t (it landed at the end of the last step, or its predicted
+        #    landing is within MIN_STEP of t): the projection of v alone, in this configuration
+        #    (no force acts during an impact); then 2. the landings within the step, predicted
+        #    with the velocity after the impact, cut it there
         closed = geo.gap <= gap_tol
         a_g = at(t + 0.5 * h)
         acc[:-1, 0] = -a_g * g
-        if not closed.all():
+        K_in, hit, s = None, None, None
+        while True:
+            if (closed & ~was_closed).any() and (hit is None or (closed & ~hit).any()):
+                if K_in is None:
+                    K_in = kinetic(v)
+                if stale:
+                    geo, stale = con.evaluate(q), False
+                sol, working_imp = _project(con, geo.rows, v, closed, working_imp, nonneg, free, g * h, IMPACT_PIVOTS)
+                pivots += sol.pivots
+                v = v + minv * con.apply_t(geo.rows, sol.P)
+                hit = closed.copy()
+            if closed.all():
+                s = None
+                break
             vn = con.apply(geo.rows, v).reshape(J, 3)[:, :2]
             an = con.apply(geo.rows, acc).reshape(J, 3)[:, :2]
             s = np.where(closed, np.inf, _roots(geo.gap, vn, an))
-            closed |= s < h_min
-            s_cut = float(np.min(np.where(closed, np.inf, s)))
+            soon = s < h_min
+            if not soon.any():
+                break
+            closed |= soon
+        if K_in is not None:
+            K_out = kinetic(v)
+            D += K_in - K_out
+            res.impacts.append((t, K_in, K_out))
+        if s is not None:
+            s_cut = float(np.min(s))
             if s_cut < h:
                 h = s_cut
                 cuts += 1
                 a_g = at(t + 0.5 * h)
                 acc[:-1, 0] = -a_g * g
-        # 2. impact: a corner closes at t (it landed at the end of the last step): the projection
-        #    of v alone, in this configuration (no force acts during an impact)
-        if (closed & ~was_closed).any():
-            g0 = con.evaluate(q)
-            sol, working = _project(con, g0.rows, v, closed, working, nonneg, free, g * h)
-            pivots += sol.pivots
-            K_in = kinetic(v)
-            v = v + minv * con.apply_t(g0.rows, sol.P)
-            K_out = kinetic(v)
-            D += K_in - K_out
-            res.impacts.append((t, K_in, K_out))
         # 3. midpoint, free velocity
         qm = q + 0.5 * h * v
         v_free = v + h * acc
@@ -239,8 +262,9 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
         # 5. positions, projected onto the loaded contacts (velocities untouched)
         q_new = qm + 0.5 * h * v_new
         geo = con.evaluate(q_new)
+        stale = False
         if P is not None:
-            loaded = closed & ((P[:, :2] > 0) | (geo.gap < 0))
+            loaded = closed & (((P[:, :2] > 0) & working.reshape(J, 3)[:, :2]) | (geo.gap < 0))
             if loaded.any():
                 on = np.zeros((J, 3), bool)
                 on[:, :2] = loaded
@@ -250,9 +274,8 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                 lam = _solve_eq(con, ab, on, -np.where(on, resid.ravel(), 0.0))
                 dq = minv * con.apply_t(gm.rows, lam)
                 q_new = q_new + dq
-                dd = con.apply(geo.rows, dq).reshape(J, 3)
-                geo.gap = geo.gap + dd[:, :2]
-                geo.slip = geo.slip + dd[:, 2:3]
+                geo.gap = geo.gap + con.apply(geo.rows, dq).reshape(J, 3)[:, :2]   # to O(|dq|^2)
+                stale = True                 # rows, slips: of q_new before dq (re-evaluated at an impact)
                 drift += g * float(m @ dq[:-1, 1]) + a_g * g * float(m @ dq[:-1, 0])
         W += float(-a_g * g * (m @ (q_new[:-1, 0] - q[:-1, 0])))
         q, v = q_new, v_new
@@ -266,7 +289,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     return res
 
 
-def _project(con: Contacts, rows, v_free, closed, working, nonneg, free, floor):
+def _project(con: Contacts, rows, v_free, closed, working, nonneg, free, floor, block_pivots=BLOCK_PIVOTS):
     """The MLCP of the projection of ``v_free`` with the closed corners ``closed`` ``(J, 2)``;
     returns the solution (with its banded ``W`` as ``ab``) and the new working set."""
     nonneg[:, :2] = closed
@@ -274,7 +297,7 @@ def _project(con: Contacts, rows, v_free, closed, working, nonneg, free, floor):
     ab = con.delassus(rows)
     c = con.apply(rows, v_free)
     vscale = max(float(np.max(np.abs(c))), floor, 1e-300)
-    sol = solve_mlcp(con, ab, c, free.ravel(), nonneg.ravel(), working, vscale)
+    sol = solve_mlcp(con, ab, c, free.ravel(), nonneg.ravel(), working, vscale, block_pivots)
     sol.ab = ab
     return sol, sol.working
 
