@@ -186,7 +186,9 @@ def write_csv(res: RockingResult, path) -> None:
         w.writerows(rows)
 
 
-def run(args) -> int:
+def motion_outputs(args) -> dict:
+    """The outputs of a time-history command (``--csv``, ``--plot``, ``--vtk``, ``--gif``),
+    ``--frames`` and ``--history``, checked before computing."""
     outputs = {"csv": check_output(args.csv, "--csv", (".csv",)),
                "plot": check_output(args.plot, "--plot", (".png", ".pdf", ".svg")),
                "vtk": check_output(args.vtk, "--vtk", (".pvd",)),
@@ -195,6 +197,11 @@ def run(args) -> int:
         raise InputError(f"--frames must be in [2, 100000], got {args.frames}")
     if args.history and not args.json:
         raise InputError("--history adds the history to --json output; give --json too")
+    return outputs
+
+
+def run(args) -> int:
+    outputs = motion_outputs(args)
     curve, voussoirs, elements = member_from(args)
     ground = ground_from(args)
     rocker = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=args.backend, qp=not args.no_qp)

@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..output.files import atomic, atomic_group, check_output
+from ..output.files import atomic, atomic_group
 from .args import arch_title
-from .rock import _progress, add_ground, add_member, ground_from, member_from
+from .rock import _progress, add_ground, add_member, ground_from, member_from, motion_outputs
 
 HELP = "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"
 
@@ -196,14 +196,7 @@ def write_gif(res, path, frames: int = 120, fps: int = 20) -> None:
 def run(args) -> int:
     from ..simulation import Simulator
     from ..simulation.stepper import check_dt
-    outputs = {"csv": check_output(args.csv, "--csv", (".csv",)),
-               "plot": check_output(args.plot, "--plot", (".png", ".pdf", ".svg")),
-               "vtk": check_output(args.vtk, "--vtk", (".pvd",)),
-               "gif": check_output(args.gif, "--gif", (".gif",))}
-    if args.frames is not None and not 2 <= args.frames <= 100_000:
-        raise InputError(f"--frames must be in [2, 100000], got {args.frames}")
-    if args.history and not args.json:
-        raise InputError("--history adds the history to --json output; give --json too")
+    outputs = motion_outputs(args)
     for name in ("dt", "t_end", "dt_out"):
         x = getattr(args, name)
         if x is not None and not math.isfinite(x):
