@@ -22,6 +22,8 @@ banded Hessian.  It is solved in two stages:
    until it repeats: first with ``Q`` (cheap), then with the primal-dual system
    ``[[M, -B_F^T], [-B_F, 0]]`` numbered joint, element, joint, ... (banded LU), which
    gives ``d`` and ``g`` to round-off where ``Q``'s explicit product loses digits with N.
+   (The answer on ``Q`` alone, judged through ``d = d0 + M^-1 B^T g``, was measured at
+   10^5 elements with a work ``g.z`` of 4e-7 of the kinetic energy: not certifiable.)
 
 On a continuous arch the post-impact hinges are zones of many open joints; the interior
 point finds them at once, where an active set alone moves a zone's end by one joint per
@@ -117,40 +119,44 @@ class _Dual:
         nI = 2 * J
         scale = max(1.0, np.max(np.abs(c)))
         diag = np.zeros(3 * J)
+        dI = diag.reshape(J, 3)[:, 1:]
         for it in range(max_iter):
             rd = Q @ g + c
-            rd.reshape(J, 3)[:, 1:] -= zI
+            rdI = rd.reshape(J, 3)[:, 1:]
+            rdI -= zI
             mu = float(np.vdot(gI, zI)) / nI
             if np.max(np.abs(rd)) <= tol * scale and mu <= tol * tol * scale:
                 self.iterations = it
                 return g
-            diag.reshape(J, 3)[:, 1:] = zI / gI
+            inv = 1.0 / gI
+            np.multiply(zI, inv, out=dI)                          # z / g
             L = self.factor(diag)
             if L is None:
                 return None
 
-            def newton(rc):
+            def newton(rcg):
+                """Step for the complementarity residual ``rc`` given as ``rc / g``."""
                 rhs = -rd
-                rhs.reshape(J, 3)[:, 1:] -= rc / gI
+                rhs.reshape(J, 3)[:, 1:] -= rcg
                 dg = self.solve(L, rhs)
                 if dg is None:
                     return None, None, None
                 dgI = dg.reshape(J, 3)[:, 1:]
-                return dg, dgI, (-rc - zI * dgI) / gI
+                return dg, dgI, -rcg - dI * dgI
 
             def boundary(dgI, dzI):
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    return min(1.0, float(np.min(np.where(dgI < 0, gI / -dgI, np.inf))),
-                               float(np.min(np.where(dzI < 0, zI / -dzI, np.inf))))
+                def ratio(x, dx):
+                    return float(np.min(np.divide(x, -dx, out=np.full(x.shape, np.inf), where=dx < 0)))
+                return min(1.0, ratio(gI, dgI), ratio(zI, dzI))
 
-            out = newton(gI * zI)                                 # affine predictor
+            out = newton(zI)                                      # affine predictor (rc = g z)
             if out[0] is None:
                 return None
             dg, dgI, dzI = out
             a = boundary(dgI, dzI)
             mu_aff = float(np.vdot(gI + a * dgI, zI + a * dzI)) / nI
             sig = (mu_aff / mu) ** 3
-            out = newton(gI * zI + dgI * dzI - sig * mu)          # corrector
+            out = newton(zI + (dgI * dzI - sig * mu) * inv)      # corrector
             if out[0] is None:
                 return None
             dg, dgI, dzI = out
@@ -211,10 +217,7 @@ def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray |
         open_ = new
     else:
         return None
-    scale = max(np.max(np.abs(g)), np.max(np.abs(z[fibre])), 1e-300)
-    kkt = {"dual_infeasibility": float(max(0.0, -np.min(g[fibre])) / scale),
-           "primal_infeasibility": float(max(0.0, -np.min(z[fibre]), np.max(np.abs(z[~fibre]))) / scale),
-           "complementarity": float(np.max(np.abs(g[fibre] * z[fibre])) / scale**2)}
+    kkt = _kkt(g, z, fibre)
     if max(kkt.values()) > 1e-8:
         return None
     gj = (g * P.m * P.sigma).reshape(J, 3).T
@@ -238,26 +241,46 @@ class _KKT:
         self.perm = np.concatenate([6 * np.arange(n // 3)[:, None] + 3 + np.arange(3),
                                     6 * np.arange(self.J)[:, None] + np.arange(3)], axis=None)
         self.n = n
+        # the pattern of every F at once: B's entries (zeroed in the open rows) and a
+        # diagonal on the joint rows (1 in the open rows), built once
+        Mc, Bc, nj = self.Ms.tocoo(), self.Bs.tocoo(), 3 * self.J
+        self.row = self.perm[np.concatenate([Mc.row, Bc.col, n + Bc.row, n + np.arange(nj)])]
+        self.col = self.perm[np.concatenate([Mc.col, n + Bc.row, Bc.col, n + np.arange(nj)])]
+        self.data = np.concatenate([Mc.data, -Bc.data, -Bc.data, np.zeros(nj)])
+        self.b_row = np.concatenate([np.full(Mc.nnz, -1), Bc.row, Bc.row, np.full(nj, -1)])  # row of B, or -1
+        self.diag = np.arange(self.data.size - nj, self.data.size)
 
     def solve(self, open_: np.ndarray):
-        keep = sp.diags((~open_).astype(float))
-        K = sp.bmat([[self.Ms, -(keep @ self.Bs).T], [-(keep @ self.Bs), sp.diags(open_.astype(float))]]).tocoo()
-        p = self.perm
-        Kp = sp.csc_matrix((K.data, (p[K.row], p[K.col])), shape=K.shape)
+        data = self.data.copy()
+        data[(self.b_row >= 0) & open_[np.maximum(self.b_row, 0)]] = 0.0
+        data[self.diag] = open_
         try:
-            lu = _Banded(Kp)
+            lu = _Banded(None, (self.row, self.col, data, self.n + 3 * self.J))
         except SolverError:
             return None
-        x = np.empty(K.shape[0])
-        x[:] = lu.solve(_permute(self.rhs, p))[p]
+        keep, p = (~open_).astype(float), self.perm
+
+        def residual(x):
+            dt, g = x[:self.n], x[self.n:]
+            return self.rhs - np.concatenate([self.Ms @ dt - self.Bs.T @ (keep * g), -keep * (self.Bs @ dt) + open_ * g])
+
+        x = lu.solve(_permute(self.rhs, p))[p]
         for _ in range(REFINE):                                  # iterative refinement
-            r = self.rhs - K.tocsr() @ x
-            x += lu.solve(_permute(r, p))[p]
+            x += lu.solve(_permute(residual(x), p))[p]
         if not np.all(np.isfinite(x)):
             return None
         dt, g = x[:self.n], x[self.n:]
         g[open_] = 0.0
         return self.D @ dt * self.P.sigma, g, self.Bs @ dt
+
+
+def _kkt(g: np.ndarray, z: np.ndarray, fibre: np.ndarray) -> dict:
+    """Relative KKT figures of impulses ``g`` and rates ``z`` (fibre rows: ``g, z >= 0``,
+    ``g z = 0``; sliding rows: ``z = 0``)."""
+    scale = max(np.max(np.abs(g)), np.max(np.abs(z[fibre])), 1e-300)
+    return {"dual_infeasibility": float(max(0.0, -np.min(g[fibre])) / scale),
+            "primal_infeasibility": float(max(0.0, -np.min(z[fibre]), np.max(np.abs(z[~fibre]))) / scale),
+            "complementarity": float(np.max(np.abs(g[fibre] * z[fibre])) / scale**2)}
 
 
 def _permute(v: np.ndarray, p: np.ndarray) -> np.ndarray:

@@ -140,14 +140,18 @@ class _Banded:
     banded (element ``e`` touches joints ``e`` and ``e + 1``: bandwidths 5 and 2), so the
     factorisation costs O(N) with a small constant."""
 
-    def __init__(self, K: sp.spmatrix):
+    def __init__(self, K: sp.spmatrix | None, entries: tuple | None = None):
+        """Factor ``K``, or the ``n x n`` matrix of ``entries = (row, col, data, n)``
+        (no duplicates; the bandwidths are those of the pattern, zeros included)."""
         from scipy.linalg import get_lapack_funcs
 
-        C = K.tocoo()
-        self.n = K.shape[0]
-        self.l, self.u = int(np.max(C.row - C.col)), int(np.max(C.col - C.row))
+        if entries is None:
+            C = K.tocoo()
+            entries = (C.row, C.col, C.data, K.shape[0])
+        row, col, data, self.n = entries
+        self.l, self.u = int(np.max(row - col)), int(np.max(col - row))
         ab = np.zeros((2 * self.l + self.u + 1, self.n))
-        ab[self.l + self.u + C.row - C.col, C.col] = C.data
+        ab[self.l + self.u + row - col, col] = data
         self.gbtrf, self.gbtrs = get_lapack_funcs(("gbtrf", "gbtrs"), (ab,))
         self.lu, self.piv, info = self.gbtrf(ab, self.l, self.u)
         if info != 0:
