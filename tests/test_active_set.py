@@ -80,3 +80,61 @@ def test_unknown_backend_is_an_input_error():
     res = analyze(CircularArch.from_ratio(157.5, 0.15), voussoirs=7)
     with pytest.raises(InputError, match="active-set"):
         impact(res.impact.disc, res.impact.d0, backend="simplex")
+
+
+def test_glued_chain_is_the_coarse_mesh():
+    """Elements glued in groups of K are the rigid pieces of the mesh of the group
+    boundaries: the dual operator Q = B M^-1 B^T (invariant under a change of the
+    pieces' DOFs) equals that of the coarse mesh assembled directly, and the glued
+    pre-impact field keeps the momentum of d0."""
+    from fembeam.analysis.active_set import _Dual, _glued
+    from fembeam.fem import discretize, uniform_nodes
+
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    disc = discretize(arch, uniform_nodes(arch, 203))          # 203 = 12 x 16 + 11: a short last group
+    d0 = np.random.default_rng(0).normal(size=disc.M.shape[0])
+    chain, q0 = _glued(disc, d0, 16)
+    coarse = discretize(arch, disc.nodes_s[chain.joints])
+    assert coarse.n_elements == 13 and chain.n_joints == coarse.n_joints
+    a, b = _Dual(chain, q0), _Dual(coarse, coarse.rigid(V=(1.0, 0.0)))
+    assert np.max(np.abs((a.Q - b.Q).toarray())) <= 1e-10 * np.max(np.abs(b.Q.toarray()))
+    lead = np.arange(0, disc.n_elements, 16)
+    t, n = disc.frames["t"][:, lead], disc.frames["n"][:, lead]
+    for V in [np.array([1.0, 0.0]), np.array([0.0, 1.0])]:
+        rigid_q = np.stack([V @ t, V @ n, np.zeros(lead.size)], 1).ravel()   # translation V, glued DOFs
+        assert float(rigid_q @ chain.M @ q0) == pytest.approx(float(disc.rigid(V=V) @ disc.M @ d0), rel=1e-12)
+
+
+@pytest.mark.parametrize("beta, t_over_r, direction", [(157.5, 0.15, 1), (180.0, 0.2, -1), (100.0, 0.1, 1)])
+def test_multilevel_start_gives_the_same_projection(monkeypatch, beta, t_over_r, direction):
+    """The open rows guessed on glued chains (coarsest 64 pieces here) lead the active
+    set to the same certified projection as the interior point's rows."""
+    import fembeam.analysis.active_set as A
+
+    res = analyze(CircularArch.from_ratio(beta, t_over_r), elements=4000, direction=direction, backend="clarabel")
+    disc, d0 = res.impact.disc, res.impact.d0
+    monkeypatch.setattr(A, "MULTILEVEL_ELEMENTS", 10 ** 9)
+    ref = A.project_chain(disc, d0)
+    monkeypatch.setattr(A, "MULTILEVEL_ELEMENTS", 1000)
+    monkeypatch.setattr(A, "COARSE_ELEMENTS", 64)
+    guess, steps = A._coarse_open(disc, d0)
+    assert guess is not None and steps > 0
+    ml = A.project_chain(disc, d0)
+    assert ml is not None and max(ml.kkt.values()) < 1e-9
+    assert np.array_equal(ml.open, ref.open)
+    assert np.max(np.abs(ml.d - ref.d)) <= 1e-9 * np.max(np.abs(ref.d))
+    assert np.max(np.abs(ml.mu - ref.mu)) <= 1e-8 * np.max(np.abs(ref.mu))
+    assert float(ml.d @ disc.M @ ml.d) / float(d0 @ disc.M @ d0) == pytest.approx(res.r, abs=1e-9)
+
+
+def test_prolong_opens_between_open_coarse_joints():
+    from fembeam.analysis.active_set import _prolong
+
+    coarse = np.array([0, 4, 8, 10])
+    o = np.zeros((4, 3), bool)
+    o[1, 1] = o[2, 1] = True          # fibre 1 open at joints 4 and 8
+    o[3, 2] = True                    # fibre 2 open at the last joint only
+    out = _prolong(o.ravel(), coarse, np.arange(11)).reshape(11, 3)
+    assert not out[:, 0].any()
+    assert np.flatnonzero(out[:, 1]).tolist() == [4, 5, 6, 7, 8]
+    assert np.flatnonzero(out[:, 2]).tolist() == [10]

@@ -27,7 +27,11 @@ banded Hessian.  It is solved in two stages:
 
 On a continuous arch the post-impact hinges are zones of many open joints; the interior
 point finds them at once, where an active set alone moves a zone's end by one joint per
-step.  The result is checked like any other solve (dual and primal feasibility and
+step.  On fine meshes (``MULTILEVEL_ELEMENTS``) the interior point runs on a chain of
+the elements glued in groups (:func:`_glued`, exactly the chain of a coarser mesh), and
+active-set steps carry its open rows through chains 4, 16, ... times finer down to the
+mesh (:func:`_coarse_open`): a few steps per level instead of ~20 factorisations of
+the whole chain.  The result is checked like any other solve (dual and primal feasibility and
 complementarity to 1e-8); ``None`` means "no certified answer" (no convergence, or a
 singular system, as for an arch arrested by the impact) and the caller then solves the
 primal QP with an interior-point solver.
@@ -47,6 +51,8 @@ from ..fem import Discretization, dof_scaling
 __all__ = ["ChainProjection", "project_chain", "MAX_STEPS"]
 
 MAX_STEPS = 50          # active-set steps before giving up (then: the interior-point QP)
+MULTILEVEL_ELEMENTS = 16384   # from this size the open rows are guessed on glued chains
+COARSE_ELEMENTS = 1024  # pieces of the coarsest glued chain: at least this many
 IPM_TOL = 1e-9          # the interior point only finds the open rows: the active set ends it
 KKT_TOL = 1e-11         # relative violation of the sign conditions accepted as optimal
 REFINE = 1              # refinement steps of each active-set solve
@@ -170,58 +176,161 @@ class _Dual:
 
 def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray | None = None,
                   max_steps: int = MAX_STEPS) -> ChainProjection | None:
-    """Projection of ``d0`` onto the compatible cone of ``disc``: the interior point gives
-    the open rows (``start_open``: a (2, J) mask instead), the active-set steps the exact
-    solution; None when there is no certified answer (see the module docstring)."""
+    """Projection of ``d0`` onto the compatible cone of ``disc``: the open rows from
+    ``start_open`` (a (2, J) mask), else from the coarse chains (meshes of at least
+    ``MULTILEVEL_ELEMENTS`` elements), else from the interior point; the active-set steps
+    give the exact solution; None when there is no certified answer (module docstring)."""
     P = _Dual(disc, d0)
-    J, fibre, c, Qs = P.J, P.fibre, P.c, P.Q
-    if start_open is None:
-        g = P.interior_point()
-        if g is None:
-            return None
-        open_ = fibre & (g < Qs @ g + c)
-    else:
+    J, fibre = P.J, P.fibre
+    coarse_steps = 0
+    open_ = None
+    if start_open is not None:
         open_ = np.zeros((J, 3), bool)
         open_[:, 1:] = np.asarray(start_open, bool).T
         open_ = open_.ravel()
+    elif disc.n_elements >= MULTILEVEL_ELEMENTS:
+        open_, coarse_steps = _coarse_open(disc, d0)
+    if open_ is None:
+        g = P.interior_point()
+        if g is None:
+            return None
+        open_ = fibre & (g < P.Q @ g + P.c)
     # active-set steps on Q (cheap, O(N) banded Cholesky) until the open rows repeat, then on
     # the primal-dual system (accurate) until they repeat there too
+    out = _active_set(P, open_, max_steps)
+    if out is None:
+        return None
+    used, new, _, g, z, steps, optimal = out
+    out = _active_set(P, used if optimal else new, max_steps - steps, _KKT(disc, d0, P))
+    if out is None:
+        return None
+    open_, _, d, g, z, more, _ = out
+    kkt = _kkt(g, z, fibre)
+    if max(kkt.values()) > 1e-8:
+        return None
+    gj = (g * P.m * P.sigma).reshape(J, 3).T
+    return ChainProjection(d, gj[1:], gj[0], open_.reshape(J, 3).T[1:].copy(),
+                           P.iterations + coarse_steps + steps + more, kkt)
+
+
+def _active_set(P: _Dual, open_: np.ndarray, max_steps: int, kkt_system: "_KKT | None" = None):
+    """Active-set steps from the open rows ``open_`` (joint-major mask), on ``Q`` or, with
+    ``kkt_system``, on the primal-dual system, until the open rows repeat (or cycle) or
+    the solution satisfies the KKT sign conditions to ``KKT_TOL`` (rows with ``g`` and
+    ``z`` both at round-off flip without changing it).  Returns ``(open rows used, next
+    open rows, d (None on Q), g, z, steps, optimal)``, None when a system is singular
+    (no mechanism left) or the steps run out."""
+    fibre, c = P.fibre, P.c
     seen = set()
-    kkt_system = None
     for step in range(1, max_steps + 1):
         if kkt_system is None:
             L = P.factor(open_=open_)                            # Q_FF, the open rows decoupled
             g = None if L is None else P.solve(L, np.where(open_, 0.0, -c))
             if g is None:
-                return None                                      # Q_FF singular: no mechanism left
+                return None
             g[open_] = 0.0
-            z = Qs @ g + c
+            d, z = None, P.Q @ g + c
         else:
             out = kkt_system.solve(open_)
             if out is None:
                 return None
             d, g, z = out
         new = fibre & (g < z)
-        key = (kkt_system is not None, new.tobytes())
-        # done when the sets repeat, or when the solution already satisfies the KKT
-        # conditions to KKT_TOL (rows with g and z both at round-off flip without changing it)
         scale = max(np.max(np.abs(g)), np.max(np.abs(z[fibre])), 1e-300)
         optimal = max(-np.min(g[fibre]), -np.min(z[fibre])) <= KKT_TOL * scale
+        key = new.tobytes()
         if optimal or np.array_equal(new, open_) or key in seen:
-            if kkt_system is not None:
-                break
-            kkt_system = _KKT(disc, d0, P)
-            if optimal:
-                continue                                         # the same rows, solved accurately
+            return open_, new, d, g, z, step, optimal
         seen.add(key)
         open_ = new
-    else:
-        return None
-    kkt = _kkt(g, z, fibre)
-    if max(kkt.values()) > 1e-8:
-        return None
-    gj = (g * P.m * P.sigma).reshape(J, 3).T
-    return ChainProjection(d, gj[1:], gj[0], open_.reshape(J, 3).T[1:].copy(), P.iterations + step, kkt)
+    return None
+
+
+@dataclass
+class _Glued:
+    """The chain of ``disc`` with the elements glued in groups of ``K`` (a rigid piece
+    each), as the operators :class:`_Dual` reads; ``joints``: the joints of ``disc``
+    left between the pieces."""
+
+    M: sp.csr_matrix
+    B_slide: sp.csr_matrix
+    B_open: sp.csr_matrix
+    curve: object
+    joints: np.ndarray
+
+    @property
+    def n_joints(self) -> int:
+        return self.joints.size
+
+
+def _glued(disc: Discretization, d0: np.ndarray, K: int) -> tuple[_Glued, np.ndarray]:
+    """Groups of ``K`` consecutive elements moving as rigid pieces: ``d = T q`` with ``q``
+    the velocity of each group's first element (its own frame), so the pieces' operators
+    are ``T^T M T`` and the rows of ``B`` at the joints between groups times ``T``, and
+    the pre-impact field is ``d0``'s projection ``(T^T M T)^-1 T^T M d0`` (the same
+    momentum).  Exact: the glued chain is the mesh of the group boundaries."""
+    n, J = disc.n_elements, disc.n_joints
+    e = np.arange(n)
+    lead = (e // K) * K
+    Pm, te, ne = disc.frames["P"], disc.frames["t"], disc.frames["n"]
+    r = Pm - Pm[:, lead]
+    rp = np.stack([-r[1], r[0]])                      # k x r: velocity per unit rotation
+    tl, nl = te[:, lead], ne[:, lead]
+    col = 3 * (e // K)
+    rows = np.concatenate([3 * e, 3 * e, 3 * e, 3 * e + 1, 3 * e + 1, 3 * e + 1, 3 * e + 2])
+    cols = np.concatenate([col, col + 1, col + 2, col, col + 1, col + 2, col + 2])
+    vals = np.concatenate([np.sum(tl * te, 0), np.sum(nl * te, 0), np.sum(rp * te, 0),
+                           np.sum(tl * ne, 0), np.sum(nl * ne, 0), np.sum(rp * ne, 0), np.ones(n)])
+    T = sp.csr_matrix((vals, (rows, cols)), shape=(3 * n, 3 * (-(-n // K))))
+    M = disc.M.tocsr()
+    MT = M @ T
+    Mg = (T.T @ MT).tocsr()
+    joints = np.unique(np.r_[np.arange(0, J, K), J - 1])
+    chain = _Glued(Mg, (disc.B_slide.tocsr()[joints] @ T).tocsr(),
+                   (disc.B_open.tocsr()[np.r_[joints, J + joints]] @ T).tocsr(), disc.curve, joints)
+    return chain, _block_inverse(Mg) @ (MT.T @ d0)
+
+
+def _prolong(open_: np.ndarray, coarse: np.ndarray, fine: np.ndarray) -> np.ndarray:
+    """Open rows (joint-major mask) on the joints ``fine`` from those on ``coarse`` (a
+    subset): a joint of both keeps its rows; one between two coarse joints is open in
+    a fibre where both are."""
+    o = open_.reshape(-1, 3)
+    i = np.searchsorted(coarse, fine)
+    at = coarse[np.minimum(i, coarse.size - 1)] == fine
+    lo, hi = np.maximum(i - 1, 0), np.minimum(i, coarse.size - 1)
+    out = np.where(at[:, None], o[np.minimum(i, coarse.size - 1)], o[lo] & o[hi])
+    out[:, 0] = False
+    return out.ravel()
+
+
+def _coarse_open(disc: Discretization, d0: np.ndarray) -> tuple[np.ndarray | None, int]:
+    """The open rows of ``disc``'s projection guessed from glued chains (:func:`_glued`)
+    of ``COARSE_ELEMENTS`` to ``4 COARSE_ELEMENTS`` pieces, then 4, 16, ... times finer:
+    the interior point on the coarsest, active-set steps from the rows of the level
+    below on the others.  Returns the guess on ``disc``'s joints (None if a level fails)
+    and the steps spent."""
+    K = 1
+    while disc.n_elements // (4 * K) >= COARSE_ELEMENTS:
+        K *= 4
+    open_, joints, steps = None, None, 0
+    while K > 1:
+        chain, q0 = _glued(disc, d0, K)
+        P = _Dual(chain, q0)
+        if open_ is None:
+            g = P.interior_point()
+            if g is None:
+                return None, steps
+            start = P.fibre & (g < P.Q @ g + P.c)
+            steps += P.iterations
+        else:
+            start = _prolong(open_, joints, chain.joints)
+        out = _active_set(P, start, MAX_STEPS)
+        if out is None:
+            return None, steps
+        open_, joints, steps = out[0], chain.joints, steps + out[5]
+        K //= 4
+    return _prolong(open_, joints, np.arange(disc.n_joints)), steps
 
 
 class _KKT:
