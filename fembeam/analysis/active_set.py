@@ -188,7 +188,7 @@ def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray |
         open_ = np.zeros((J, 3), bool)
         open_[:, 1:] = np.asarray(start_open, bool).T
         open_ = open_.ravel()
-    elif disc.n_elements >= MULTILEVEL_ELEMENTS:
+    elif disc.n_elements >= MULTILEVEL_ELEMENTS and disc.n_joints == disc.n_elements + 1:   # joint j at node j
         open_, coarse_steps = _coarse_open(disc, d0)
     if open_ is None:
         g = P.interior_point()
