@@ -195,7 +195,9 @@ def test_cocchetti_rizzi_frictionless_and_true_centroids():
     t_c = minimum_thickness(CircularArch.from_ratio(180, 0.15), elements=200, tol=1e-10).t_over_R
     assert t_h == pytest.approx(0.107426, abs=5e-7)          # Cocchetti & Rizzi
     assert t_c == pytest.approx(0.107478, abs=5e-7)          # true centroids (Milankovitch)
-    assert minimum_thickness(HEYMAN, elements=200, tol=1e-10, friction=0.4).t_over_R == pytest.approx(t_h, abs=1e-12)
+    # the same root, each bracketed to tol = 1e-10 (the root finder's points depend on the margins,
+    # which the friction rows change, so the brackets need not coincide)
+    assert minimum_thickness(HEYMAN, elements=200, tol=1e-10, friction=0.4).t_over_R == pytest.approx(t_h, rel=1e-10)
 
 
 def test_cocchetti_rizzi_mixed_range_and_no_equilibrium_below():

@@ -5,8 +5,9 @@ the load factor of a mechanism with hinges at joints: an upper bound of the cont
 member's ``A_L``.  Between the joints the same forces follow from the equilibrium of
 the part left of each section (:func:`~fembeam.analysis.statics.section_forces`); this
 module finds, in every element, the sections where a fibre force is smallest: samples
-inside every element, then a bracketed golden-section search (vectorised over the
-elements) around the smallest sample of those that come close to zero.
+inside every element, then a bracketed Brent search (parabolic steps safeguarded by
+golden-section steps, vectorised over the elements) around the smallest sample of those
+that come close to zero.
 """
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ from .statics import Statics, section_force_rows, statics
 __all__ = ["weakest_sections", "ContinuumLimit", "continuum_limit"]
 
 SAMPLES = 4          # interior samples per element
-GOLDEN_STEPS = 60    # at most; the bracket shrinks by 0.618 a step, down to 1e-7 of the length
+SEARCH_STEPS = 100   # at most; Brent's bracket shrinks down to 1e-7 of the length (~6-10 steps)
 SCREEN_ELEMENTS = 1000  # meshes finer than this are screened by the forces at the nodes first
 NEAR = 0.05          # elements whose sampled fibre force is below this (units of weight) are searched
 
@@ -67,29 +68,106 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
     h = h_all[el]
     a = nodes[el] + h * np.where(k == 0, 0.0, q[np.maximum(k - 1, 0)])
     b = nodes[el] + h * np.where(k == SAMPLES - 1, 1.0, q[np.minimum(k + 1, SAMPLES - 1)])
-    g = 0.5 * (np.sqrt(5.0) - 1.0)
-    c, d = b - g * (b - a), a + g * (b - a)
+    # the interpolation points of the first (parabolic) step: the two samples nearest the
+    # smallest one (both neighbours inside, else the next two towards the inside)
+    jw = np.where(k == 0, 1, k - 1)
+    jv = np.where(k == 0, 2, np.where(k == SAMPLES - 1, SAMPLES - 3, k + 1))
+    rows = np.arange(fib.size)
+    fs = f[fib, i]
 
-    def val(x):
-        return _fibres(st, x, z)[fib, np.arange(fib.size)]
+    def val(x, sel=slice(None)):
+        return _fibres(st, x, z)[fib[sel], np.arange(x.size)]
 
-    fc, fd = val(c), val(d)
     width = 1e-7 * (nodes[-1] - nodes[0])   # f(s* +- ds) - f(s*) ~ f'' ds^2: 1e-14 of the weight
-    for _ in range(GOLDEN_STEPS):
-        if np.max(b - a) <= width:
-            break
-        left = fc < fd                       # the minimum lies in [a, d]: drop (d, b]
-        b = np.where(left, d, b)
-        a = np.where(left, a, c)
-        x = np.where(left, b - g * (b - a), a + g * (b - a))
-        fx = val(x)
-        c, d, fd, fc = (np.where(left, x, d), np.where(left, c, x),
-                        np.where(left, fc, fx), np.where(left, fx, fd))
-    sm, vm = np.where(fc < fd, c, d), np.minimum(fc, fd)
+    x, fx = nodes[el] + h * q[k], fs[rows, k]
+    w, fw, v, fv = nodes[el] + h * q[jw], fs[rows, jw], nodes[el] + h * q[jv], fs[rows, jv]
+    # smallest sample next to a node: the minimum is often the node itself, where a search
+    # of the bracket would creep up to it by golden steps; two probes at 1/4 and 3/4 of
+    # ``width`` from the node settle it (for a unimodal f, f(u1) <= f(u2) puts the minimum
+    # in [node, u2]), else the bracket starts at u1
+    end = np.where(k == 0, a, np.where(k == SAMPLES - 1, b, np.nan))
+    probe = np.flatnonzero(np.isfinite(end))
+    at_node = np.zeros(fib.size, bool)
+    if probe.size:
+        inward = np.where(k[probe] == 0, 1.0, -1.0)
+        u = np.concatenate([end[probe] + 0.25 * width * inward, end[probe] + 0.75 * width * inward])
+        fu = val(u, np.tile(probe, 2))
+        u1, u2, f1, f2 = u[:probe.size], u[probe.size:], fu[:probe.size], fu[probe.size:]
+        settled = f1 <= f2
+        at_node[probe[settled]] = True
+        x[probe[settled]], fx[probe[settled]] = u1[settled], f1[settled]
+        go = probe[~settled]
+        gl = inward[~settled] > 0
+        a[go], b[go] = np.where(gl, u1[~settled], a[go]), np.where(gl, b[go], u1[~settled])
+        better = f2[~settled] < fx[go]   # u2 replaces the worst interpolation point (or becomes x)
+        v[go], fv[go] = np.where(better, w[go], u2[~settled]), np.where(better, fw[go], f2[~settled])
+        w[go], fw[go] = np.where(better, x[go], w[go]), np.where(better, fx[go], fw[go])
+        x[go], fx[go] = np.where(better, u2[~settled], x[go]), np.where(better, f2[~settled], fx[go])
+    sm, vm = x.copy(), fx.copy()
+    todo = np.flatnonzero(~at_node)
+    if todo.size:
+        sm[todo], vm[todo] = brent_minimise(lambda s, sel: val(s, todo[sel]), a[todo], b[todo], x[todo], fx[todo],
+                                            w[todo], fw[todo], v[todo], fv[todo], width)
     kinks = np.asarray(getattr(st.disc.curve, "kinks", ()), float)
     if kinks.size:
         sm, vm = _one_sided(kinks, nodes, el, sm, vm, val, 2.0 * width)
     return sm, fib, vm
+
+
+def brent_minimise(f, a, b, x, fx, w, fw, v, fv, width: float, max_steps: int = SEARCH_STEPS):
+    """Brent's minimisation (parabolic interpolation safeguarded by golden-section steps,
+    as in ``scipy.optimize.fminbound``), vectorised over independent searches.
+
+    ``f(u, sel)`` evaluates the searches ``sel`` (an index array) at ``u``; each search
+    starts from its bracket ``[a, b]`` around a minimum, the best point ``x`` and two more
+    points ``w``, ``v`` (with values; they may lie outside the bracket and may coincide,
+    which only makes the first step a golden one).  A search stops when ``b - a <= width``
+    with ``x`` inside (Brent's test ``|x - (a+b)/2| <= 2 tol - (b-a)/2``, ``tol = width/4``;
+    steps are at least ``tol``): for a unimodal ``f`` the minimiser is within ``width``
+    of ``x``, as for a golden-section search to that width.  Returns ``(x, f(x))``."""
+    cg = 0.5 * (3.0 - np.sqrt(5.0))
+    tol1 = 0.25 * width
+    tol2 = 2.0 * tol1
+    a, b, x, fx, w, fw, v, fv = (np.array(y, float) for y in (a, b, x, fx, w, fw, v, fv))
+    d = np.zeros_like(x)
+    e = b - a            # the "step before last": the whole bracket, so that the first step may be parabolic
+    for _ in range(max_steps):
+        xm = 0.5 * (a + b)
+        act = np.flatnonzero(np.abs(x - xm) > tol2 - 0.5 * (b - a))
+        if act.size == 0:
+            break
+        A, B, X, W, V, FX, FW, FV, D, E, XM = (y[act] for y in (a, b, x, w, v, fx, fw, fv, d, e, xm))
+        r = (X - W) * (FX - FV)
+        qq = (X - V) * (FX - FW)
+        p = (X - V) * qq - (X - W) * r
+        qq = 2.0 * (qq - r)
+        p = np.where(qq > 0.0, -p, p)
+        qq = np.abs(qq)
+        # parabolic step: shorter than half the step before last, and inside the bracket
+        para = (np.abs(E) > tol1) & (np.abs(p) < np.abs(0.5 * qq * E)) & (p > qq * (A - X)) & (p < qq * (B - X))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dp = np.where(para, p / qq, 0.0)
+        U = X + dp
+        dp = np.where(para & ((U - A < tol2) | (B - U < tol2)), np.where(XM >= X, tol1, -tol1), dp)
+        eg = np.where(X >= XM, A - X, B - X)
+        E = np.where(para, D, eg)
+        D = np.where(para, dp, cg * eg)
+        U = np.where(np.abs(D) >= tol1, X + D, X + np.where(D >= 0.0, tol1, -tol1))
+        FU = f(U, act)
+        better = FU <= FX
+        # bracket: the best point's other side moves in
+        A = np.where(better, np.where(U >= X, X, A), np.where(U < X, U, A))
+        B = np.where(better, np.where(U >= X, B, X), np.where(U < X, B, U))
+        # interpolation points: best x, second best w, third v
+        second = ~better & ((FU <= FW) | (W == X))
+        third = ~better & ~second & ((FU <= FV) | (V == X) | (V == W))
+        shift = better | second
+        V, FV = np.where(shift, W, np.where(third, U, V)), np.where(shift, FW, np.where(third, FU, FV))
+        W, FW = np.where(better, X, np.where(second, U, W)), np.where(better, FX, np.where(second, FU, FW))
+        X, FX = np.where(better, U, X), np.where(better, FU, FX)
+        for y, Y in ((a, A), (b, B), (x, X), (w, W), (v, V), (fx, FX), (fw, FW), (fv, FV), (d, D), (e, E)):
+            y[act] = Y
+    return x, fx
 
 
 def _irregular(curve, nodes: np.ndarray) -> np.ndarray:
@@ -106,7 +184,7 @@ def _irregular(curve, nodes: np.ndarray) -> np.ndarray:
 def _one_sided(kinks, nodes, el, sm, vm, val, near):
     """At a kink (a node) the fibre force of the element's own normal cuts tends to a limit
     that differs from its value on the kink's cut (the bisector): a minimum there lies at
-    the end of the element, where the golden search stops ``near`` short of it, a first-
+    the end of the element, where the search stops ``near`` short of it, a first-
     order error.  Searches that ended that close to a kink are evaluated at the kink's
     one-sided section (one ulp inside the element: the element's own tangent) instead,
     when it is weaker."""
@@ -282,28 +360,44 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     free = ~fixed
     ds = 1e-5 * L
 
-    def fibre(s, z):
-        return np.einsum("nj,j->n", section_force_rows(st, s)[1 + fib, np.arange(s.size)], z)
-
     def unpack(p):
         s = s0.copy()
         s[free] = p[k + 1:] * L
         return p[:k], p[k], s
 
+    fib3 = np.tile(fib, 3)
+
     def F(p):
         x, lam, s = unpack(p)
         z = np.r_[x, direction * lam, 1.0]
-        slope = (fibre(np.clip(s + ds, 0, L), z) - fibre(np.clip(s - ds, 0, L), z)) / (2 * ds) * L
-        return np.r_[fibre(s, z), slope[free]]
+        # the hinges and their neighbours +- ds in one evaluation
+        s3 = np.concatenate([s, np.clip(s + ds, 0, L), np.clip(s - ds, 0, L)])
+        f, fp, fm = np.split(np.einsum("nj,j->n", section_force_rows(st, s3)[1 + fib3, np.arange(s3.size)], z), 3)
+        return np.r_[f, ((fp - fm) / (2 * ds) * L)[free]]
 
     p0 = np.r_[x0, lam0, s0[free] / L]
     sol = root(F, p0, method="hybr", options={"xtol": 1e-14})
+    # the fibre forces are linear in (x, lambda): at the solved hinges they are made to vanish
+    # to round-off by one linear solve (MINPACK stops where the slopes' central-difference
+    # noise, ~1e-11, hides the fibre residual; the correction moves the slopes by as little)
+    # (kept when the fibre residuals are no worse: an ill-conditioned system, degenerate
+    # hinges, could spoil them; the slopes are judged below with the rest)
     x, lam, s = unpack(sol.x)
-    res = F(sol.x)
+    C = section_force_rows(st, s)[1 + fib, np.arange(s.size)]
+    C[:, k] *= direction
+    p, res = sol.x, F(sol.x)
+    try:
+        p_lin = np.r_[np.linalg.solve(C[:, :k + 1], -C[:, k + 1]), sol.x[k + 1:]]
+        res_lin = F(p_lin)
+        if np.max(np.abs(res_lin[:k + 1])) <= np.max(np.abs(res[:k + 1])):
+            p, res = p_lin, res_lin
+    except np.linalg.LinAlgError:
+        pass
+    x, lam, s = unpack(p)
     # the residuals' round-off floor grows with the size of the terms that cancel in a fibre
     # force (~1/t for thin sections): thresholds relative to that size, not absolute
     z = np.r_[x, direction * lam, 1.0]
-    scale = max(1.0, float(np.max(np.abs(section_force_rows(st, s)[1 + fib, np.arange(s.size)]) @ np.abs(z))))
+    scale = max(1.0, float(np.max(np.abs(C) @ np.abs(z))))
     # judged by the residual (MINPACK may stop at the noise floor and call it slow progress):
     # fibre forces and slopes ~1e-11 (the noise of the central difference, eps / ds)
     if (np.max(np.abs(res[:k + 1])) > 1e-10 * scale or np.max(np.abs(res[k + 1:]), initial=0) > 1e-8 * scale
@@ -315,9 +409,11 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     return x, float(lam), s, scale
 
 
-def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int):
+def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int, converge: bool = False):
     """Largest margin under gravity on the continuum: the LP's value bounds it from above,
-    the smallest fibre force of the LP's state along the whole member from below."""
+    the smallest fibre force of the LP's state along the whole member from below.  The
+    rounds stop as soon as that state stands, or with ``converge`` only when the bounds
+    agree to ``tol`` (or the joints alone cannot stand)."""
     from .limit import STAND_TOL, _unboxed, stand_lp
 
     k = st.k
@@ -327,19 +423,21 @@ def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: in
         s_new, f_new, v = weakest_sections(st, z_c, stand.value)
         margin = min(stand.value, float(np.min(v, initial=np.inf)))
         keep = v < stand.value - tol
-        if margin >= -STAND_TOL or stand.value < -STAND_TOL or not keep.any():
+        if (margin >= -STAND_TOL and not converge) or stand.value < -STAND_TOL or not keep.any():
             break
         cuts, fib = np.concatenate([cuts, s_new[keep]]), np.concatenate([fib, f_new[keep]])
     return stand, margin, cuts, fib, rounds
 
 
-def continuum_stands(disc, tol: float = 1e-10, max_rounds: int = 50) -> tuple[bool, float]:
+def continuum_stands(disc, tol: float = 1e-10, max_rounds: int = 50, converge: bool = False) -> tuple[bool, float]:
     """Whether the continuous member meshed by ``disc`` stands under gravity, and the
-    margin (units of weight; a lower bound when it stands, the LP's bound when not)."""
+    margin (units of weight; a lower bound when it stands, the LP's bound when not).
+    ``converge``: the margin to ``tol`` also when it stands (more LP rounds), a continuous
+    function of the thickness for a root finder (unless the joints alone cannot stand)."""
     from .limit import STAND_TOL, joint_rows
 
     st = statics(disc)
-    stand, margin, *_ = _stand(st, 1, joint_rows(st, 1), np.empty(0), np.empty(0, int), tol, max_rounds)
+    stand, margin, *_ = _stand(st, 1, joint_rows(st, 1), np.empty(0), np.empty(0, int), tol, max_rounds, converge)
     if stand.value < -STAND_TOL:
         return False, stand.value
     return margin >= -STAND_TOL, margin

@@ -211,6 +211,26 @@ def _prefix_inertia(st: "Statics", s: np.ndarray):
     return m, S
 
 
+def _abutment(st: Statics) -> tuple[np.ndarray, np.ndarray]:
+    """Force ``F0`` (2, k + 2) and moment about the origin ``M0`` (k + 2) of the abutment
+    on the member at ``s = 0``, per unit vector of ``(x, lambda, 1)`` (units of weight,
+    and weight x m); computed once per ``st`` (kept on it)."""
+    out = st.__dict__.get("_abutment")
+    if out is None:
+        curve, k = st.disc.curve, st.k
+        g0 = np.zeros((3, k + 2))
+        g0[:, :k] = st.G_x[:, 0, :]
+        g0[:, k] = st.G_lambda[:, 0]
+        g0[:, k + 1] = st.G0[:, 0]
+        t0, n0, X0 = curve.tangent(0.0), curve.normal(0.0), curve.position(0.0)
+        h0 = float(curve.thickness_at(0.0))
+        F0 = np.outer(t0, g0[1] + g0[2]) + np.outer(n0, g0[0])            # (2, k+2)
+        M0 = X0[0] * F0[1] - X0[1] * F0[0] + 0.5 * h0 * (g0[1] - g0[2])    # about the origin
+        out = (F0, M0)
+        object.__setattr__(st, "_abutment", out)   # a cache, not a field of the frozen dataclass
+    return out
+
+
 def section_force_rows(st: Statics, s: np.ndarray) -> np.ndarray:
     """Coefficients ``C`` (3, ns, k + 2) with forces ``(S, N+, N-)`` at sections ``s``
     equal to ``C @ (x, lambda, 1)``, from the equilibrium of the part left of ``s``.
@@ -219,19 +239,10 @@ def section_force_rows(st: Statics, s: np.ndarray) -> np.ndarray:
     part left of ``s`` is loaded by the body forces and the abutment force, which is
     then itself determinate: it is taken from the joint forces of ``st``.
     """
-    disc = st.disc
-    curve = disc.curve
+    curve = st.disc.curve
     s = np.atleast_1d(np.asarray(s, float))
     ns, k = s.size, st.k
-    # abutment force on the member at s = 0, for the unit vectors of (x, lambda, 1)
-    g0 = np.zeros((3, k + 2))
-    g0[:, :k] = st.G_x[:, 0, :]
-    g0[:, k] = st.G_lambda[:, 0]
-    g0[:, k + 1] = st.G0[:, 0]
-    t0, n0, X0 = curve.tangent(0.0), curve.normal(0.0), curve.position(0.0)
-    h0 = float(curve.thickness_at(0.0))
-    F0 = np.outer(t0, g0[1] + g0[2]) + np.outer(n0, g0[0])            # (2, k+2)
-    M0 = X0[0] * F0[1] - X0[1] * F0[0] + 0.5 * h0 * (g0[1] - g0[2])    # about the origin
+    F0, M0 = _abutment(st)
     mu, S1 = _prefix_inertia(st, s)
     mu, S1 = mu / st.mass, S1 / st.mass
     F = np.repeat(F0[:, None, :], ns, 1)

@@ -5,9 +5,12 @@ under gravity alone inside every section), on the arch actually analysed: the jo
 the mesh (voussoirs, or a mesh with hinges at joints only) or, for the continuous member,
 every section (:func:`~fembeam.analysis.continuum.continuum_stands`).  The mid-curve and
 the mesh stay fixed; the thickness law is scaled by a factor ``k``.  The bracket
-``[lower, scale]`` (``lower`` does not stand, ``scale`` does) is halved until
-``scale - lower <= tol * scale``: at most ``log2(1/tol)`` solves after the bracket is
-found, which itself takes at most ~60 doublings or halvings.
+``[lower, scale]`` (``lower`` does not stand, ``scale`` does), found by at most ~60
+doublings or halvings, is shrunk until ``scale - lower <= tol * scale`` by regula falsi
+on the margin (Anderson-Bjorck variant: superlinear, ~4-6 solves at ``tol = 1e-6`` instead
+of ~20 for a bisection), whose every point keeps the bracket; every step that does not halve
+the bracket counts, and after four of them bisection takes over: at most ``log2(1/tol) + 4``
+solves follow.
 
 With a Coulomb coefficient ``friction`` the joint forces must also lie in the friction
 cone ``|S| <= mu (N+ + N-)`` (:mod:`~fembeam.analysis.friction`): checked at the joints of
@@ -30,7 +33,7 @@ from .friction import check_friction
 from .limit import STAND_TOL, _unboxed, joint_rows, stand_lp
 from .statics import statics
 
-__all__ = ["MinimumThickness", "minimum_thickness", "thickness_on"]
+__all__ = ["MinimumThickness", "minimum_thickness", "thickness_on", "shrink_bracket"]
 
 MAX_DOUBLINGS_SCALE = 2.0 ** 40   # a member that does not stand 10^12 times thicker never does
 
@@ -67,16 +70,58 @@ class MinimumThickness:
                 "continuum": self.continuum, "friction": self.friction}
 
 
-def _stands(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float | None = None) -> bool:
+def _margin(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float | None = None) -> float:
+    """Standing margin under gravity (units of weight): the member stands exactly when it is
+    ``>= -STAND_TOL``.  The continuum's is converged to 1e-10 on both sides of zero, so that
+    it is continuous in the thickness factor near the root (the root finder's function)."""
     disc = discretize(curve, nodes)
     if continuum and friction is None:
-        return continuum_stands(disc)[0]
+        return float(continuum_stands(disc, converge=True)[1])
     st = statics(disc)
     R = joint_rows(st, 1, friction)
     if continuum:    # fibre rows between the joints too, friction rows at the joints
-        stand, margin, *_ = _stand(st, 1, R, np.empty(0), np.empty(0, int), 1e-10, 50)
-        return stand.value >= -STAND_TOL and margin >= -STAND_TOL
-    return _unboxed(stand_lp, R, st.k).value >= -STAND_TOL
+        stand, margin, *_ = _stand(st, 1, R, np.empty(0), np.empty(0, int), 1e-10, 50, converge=True)
+        return float(min(stand.value, margin))
+    return float(_unboxed(stand_lp, R, st.k).value)
+
+
+def _stands(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float | None = None) -> bool:
+    return _margin(curve, nodes, continuum, friction) >= -STAND_TOL
+
+
+def shrink_bracket(g, lo: float, glo: float, hi: float, ghi: float, tol: float,
+                   max_slow: int = 4) -> tuple[float, float]:
+    """Shrink ``[lo, hi]`` with ``g(lo) < 0 <= g(hi)`` until ``hi - lo <= tol * hi`` and return
+    it: every evaluated point replaces the end of its sign, so the bracket always holds.
+
+    Points by regula falsi with the Anderson-Bjorck modification (the value of an end kept
+    twice in a row is scaled by ``1 - g_new / g_old`` of the other end, or halved: superlinear,
+    like the Illinois variant but exact for a linear ``g``), moved by ``tol * hi / 4`` towards the end
+    the last step kept (once the estimate is that accurate the next point lands on that
+    side, and the bracket closes within ``tol * hi / 2`` of the root).  After ``max_slow``
+    steps that did not halve the bracket (a margin with kinks or noise), bisection only."""
+    kept = 0           # +1: the last step kept lo (hi moved), -1: it kept hi
+    slow = 0
+    while hi - lo > tol * hi:
+        w, eps = hi - lo, 0.5 * tol * hi
+        if slow >= max_slow:
+            k = 0.5 * (lo + hi)
+        else:
+            k = hi - ghi * (w / (ghi - glo)) - 0.5 * eps * kept
+            k = min(max(k, lo + 0.5 * eps), hi - 0.5 * eps)
+        gk = g(k)
+        if gk >= 0.0:
+            if kept == 1:
+                m = 1.0 - gk / ghi
+                glo *= m if m > 0.0 else 0.5
+            hi, ghi, kept = k, gk, 1
+        else:
+            if kept == -1:
+                m = 1.0 - gk / glo
+                ghi *= m if m > 0.0 else 0.5
+            lo, glo, kept = k, gk, -1
+        slow += hi - lo > 0.5 * w
+    return lo, hi
 
 
 def minimum_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
@@ -105,25 +150,33 @@ def thickness_on(curve: MidCurve, nodes: np.ndarray, continuum: bool, tol: float
     cap = curve.max_thickness_scale * (1 - 1e-9)
     solves = 0
 
-    def stands(k: float) -> bool:
+    def g(k: float) -> float:
+        """Margin at factor ``k`` shifted by the standing tolerance: ``>= 0`` stands."""
         nonlocal solves
         solves += 1
-        return _stands(curve.with_thickness_scaled(k), nodes, continuum, mu)
+        return _margin(curve.with_thickness_scaled(k), nodes, continuum, mu) + STAND_TOL
 
     floor = curve.min_thickness_scale
-    if stands(1.0):
-        lo, hi = max(0.5, floor), 1.0
-        while stands(lo):
+    g1 = g(1.0)
+    if g1 >= 0.0:
+        hi, ghi = 1.0, g1
+        lo = max(0.5, floor)
+        glo = g(lo)
+        while glo >= 0.0:
             if lo <= floor:   # stands down to the thinnest section the shape admits
                 return MinimumThickness(curve, 0.0, 0.0, solves, continuum, mu)
-            lo, hi = max(0.5 * lo, floor), lo
+            hi, ghi = lo, glo
+            lo = max(0.5 * lo, floor)
+            glo = g(lo)
     else:
-        lo, hi = 1.0, min(2.0, cap)
-        while not stands(hi):
+        lo, glo = 1.0, g1
+        hi = min(2.0, cap)
+        ghi = g(hi)
+        while ghi < 0.0:
             if hi >= cap or hi >= MAX_DOUBLINGS_SCALE:
                 return MinimumThickness(curve, math.inf, hi, solves, continuum, mu)
-            lo, hi = hi, min(2.0 * hi, cap)
-    while hi - lo > tol * hi:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if stands(mid) else (mid, hi)
+            lo, glo = hi, ghi
+            hi = min(2.0 * hi, cap)
+            ghi = g(hi)
+    lo, hi = shrink_bracket(g, lo, glo, hi, ghi, tol)
     return MinimumThickness(curve, hi, lo, solves, continuum, mu)
