@@ -107,24 +107,45 @@ def test_glued_chain_is_the_coarse_mesh():
 
 @pytest.mark.parametrize("beta, t_over_r, direction", [(157.5, 0.15, 1), (180.0, 0.2, -1), (100.0, 0.1, 1)])
 def test_multilevel_start_gives_the_same_projection(monkeypatch, beta, t_over_r, direction):
-    """The open rows guessed on glued chains (coarsest 64 pieces here) lead the active
-    set to the same certified projection as the interior point's rows."""
+    """The open rows guessed on glued chains (coarsest 62 pieces of 64 elements and a short
+    last one, here) lead the active set to the same certified projection as the interior
+    point's rows, without an interior point on the mesh itself."""
     import fembeam.analysis.active_set as A
 
-    res = analyze(CircularArch.from_ratio(beta, t_over_r), elements=4000, direction=direction, backend="clarabel")
+    res = analyze(CircularArch.from_ratio(beta, t_over_r), elements=4001, direction=direction, backend="clarabel")
     disc, d0 = res.impact.disc, res.impact.d0
     monkeypatch.setattr(A, "MULTILEVEL_ELEMENTS", 10 ** 9)
     ref = A.project_chain(disc, d0)
     monkeypatch.setattr(A, "MULTILEVEL_ELEMENTS", 1000)
-    monkeypatch.setattr(A, "COARSE_ELEMENTS", 64)
-    guess, steps = A._coarse_open(disc, d0)
-    assert guess is not None and steps > 0
+    monkeypatch.setattr(A, "COARSE_ELEMENTS", 60)
+    sizes = []
+    ipm = A._Dual.interior_point
+    monkeypatch.setattr(A._Dual, "interior_point", lambda self, *a, **k: sizes.append(self.J) or ipm(self, *a, **k))
     ml = A.project_chain(disc, d0)
+    assert sizes == [64]                      # the coarsest glued chain only: joints 0, 64, ..., 3968, 4001
     assert ml is not None and max(ml.kkt.values()) < 1e-9
     assert np.array_equal(ml.open, ref.open)
     assert np.max(np.abs(ml.d - ref.d)) <= 1e-9 * np.max(np.abs(ref.d))
     assert np.max(np.abs(ml.mu - ref.mu)) <= 1e-8 * np.max(np.abs(ref.mu))
     assert float(ml.d @ disc.M @ ml.d) / float(d0 @ disc.M @ d0) == pytest.approx(res.r, abs=1e-9)
+
+
+def test_a_failed_guess_hands_over_to_the_interior_point(monkeypatch):
+    """A guess that leads nowhere (every row closed: the zones would have to grow joint by
+    joint) is dropped and the interior point on the mesh decides: the same projection."""
+    import fembeam.analysis.active_set as A
+
+    res = analyze(CircularArch.from_ratio(157.5, 0.15), elements=4001, backend="clarabel")
+    disc, d0 = res.impact.disc, res.impact.d0
+    ref = A.project_chain(disc, d0)
+    monkeypatch.setattr(A, "MULTILEVEL_ELEMENTS", 1000)
+    monkeypatch.setattr(A, "_coarse_open", lambda disc, d0, m: (np.zeros(3 * disc.n_joints, bool), 0))
+    sizes = []
+    ipm = A._Dual.interior_point
+    monkeypatch.setattr(A._Dual, "interior_point", lambda self, *a, **k: sizes.append(self.J) or ipm(self, *a, **k))
+    out = A.project_chain(disc, d0)
+    assert sizes == [disc.n_joints]
+    assert np.array_equal(out.open, ref.open) and out.steps == ref.steps
 
 
 def test_prolong_opens_between_open_coarse_joints():

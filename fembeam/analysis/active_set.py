@@ -177,26 +177,30 @@ class _Dual:
 def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray | None = None,
                   max_steps: int = MAX_STEPS) -> ChainProjection | None:
     """Projection of ``d0`` onto the compatible cone of ``disc``: the open rows from
-    ``start_open`` (a (2, J) mask), else from the coarse chains (meshes of at least
-    ``MULTILEVEL_ELEMENTS`` elements), else from the interior point; the active-set steps
-    give the exact solution; None when there is no certified answer (module docstring)."""
+    ``start_open`` (a (2, J) mask), else from the glued chains (meshes of at least
+    ``MULTILEVEL_ELEMENTS`` elements; when that guess leads to no certified answer, the
+    interior point is tried), else from the interior point; the active-set steps give the
+    exact solution; None when there is no certified answer (module docstring)."""
     P = _Dual(disc, d0)
-    J, fibre = P.J, P.fibre
-    coarse_steps = 0
-    open_ = None
     if start_open is not None:
-        open_ = np.zeros((J, 3), bool)
+        open_ = np.zeros((P.J, 3), bool)
         open_[:, 1:] = np.asarray(start_open, bool).T
-        open_ = open_.ravel()
-    elif disc.n_elements >= MULTILEVEL_ELEMENTS and disc.n_joints == disc.n_elements + 1:   # joint j at node j
-        open_, coarse_steps = _coarse_open(disc, d0)
-    if open_ is None:
-        g = P.interior_point()
-        if g is None:
-            return None
-        open_ = fibre & (g < P.Q @ g + P.c)
-    # active-set steps on Q (cheap, O(N) banded Cholesky) until the open rows repeat, then on
-    # the primal-dual system (accurate) until they repeat there too
+        return _finish(disc, d0, P, open_.ravel(), max_steps, 0)
+    if disc.n_elements >= MULTILEVEL_ELEMENTS and disc.n_joints == disc.n_elements + 1:   # joint j at node j
+        guess, coarse_steps = _coarse_open(disc, d0, max_steps)
+        out = None if guess is None else _finish(disc, d0, P, guess, max_steps, coarse_steps)
+        if out is not None:
+            return out                                           # else: the interior point decides
+    g = P.interior_point()
+    if g is None:
+        return None
+    return _finish(disc, d0, P, P.fibre & (g < P.Q @ g + P.c), max_steps, P.iterations)
+
+
+def _finish(disc, d0, P: "_Dual", open_: np.ndarray, max_steps: int, spent: int) -> ChainProjection | None:
+    """Active-set steps on ``Q`` (cheap, O(N) banded Cholesky) from the open rows ``open_``
+    until they repeat, then on the primal-dual system (accurate) until they repeat there
+    too; the answer if its KKT conditions hold to 1e-8 (``spent``: steps already taken)."""
     out = _active_set(P, open_, max_steps)
     if out is None:
         return None
@@ -205,12 +209,12 @@ def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray |
     if out is None:
         return None
     open_, _, d, g, z, more, _ = out
-    kkt = _kkt(g, z, fibre)
+    kkt = _kkt(g, z, P.fibre)
     if max(kkt.values()) > 1e-8:
         return None
+    J = P.J
     gj = (g * P.m * P.sigma).reshape(J, 3).T
-    return ChainProjection(d, gj[1:], gj[0], open_.reshape(J, 3).T[1:].copy(),
-                           P.iterations + coarse_steps + steps + more, kkt)
+    return ChainProjection(d, gj[1:], gj[0], open_.reshape(J, 3).T[1:].copy(), spent + steps + more, kkt)
 
 
 def _active_set(P: _Dual, open_: np.ndarray, max_steps: int, kkt_system: "_KKT | None" = None):
@@ -304,15 +308,17 @@ def _prolong(open_: np.ndarray, coarse: np.ndarray, fine: np.ndarray) -> np.ndar
     return out.ravel()
 
 
-def _coarse_open(disc: Discretization, d0: np.ndarray) -> tuple[np.ndarray | None, int]:
+def _coarse_open(disc: Discretization, d0: np.ndarray, max_steps: int = MAX_STEPS) -> tuple[np.ndarray | None, int]:
     """The open rows of ``disc``'s projection guessed from glued chains (:func:`_glued`)
     of ``COARSE_ELEMENTS`` to ``4 COARSE_ELEMENTS`` pieces, then 4, 16, ... times finer:
     the interior point on the coarsest, active-set steps from the rows of the level
     below on the others.  Returns the guess on ``disc``'s joints (None if a level fails)
-    and the steps spent."""
+    and the steps spent (interior-point iterations and ``max_steps`` at most per level)."""
     K = 1
     while disc.n_elements // (4 * K) >= COARSE_ELEMENTS:
         K *= 4
+    if K == 1:
+        return None, 0                                   # too few elements for a coarser chain
     open_, joints, steps = None, None, 0
     while K > 1:
         chain, q0 = _glued(disc, d0, K)
@@ -325,7 +331,7 @@ def _coarse_open(disc: Discretization, d0: np.ndarray) -> tuple[np.ndarray | Non
             steps += P.iterations
         else:
             start = _prolong(open_, joints, chain.joints)
-        out = _active_set(P, start, MAX_STEPS)
+        out = _active_set(P, start, max_steps)
         if out is None:
             return None, steps
         open_, joints, steps = out[0], chain.joints, steps + out[5]
@@ -353,6 +359,8 @@ class _KKT:
         # the pattern of every F at once: B's entries (zeroed in the open rows) and a
         # diagonal on the joint rows (1 in the open rows), built once
         Mc, Bc, nj = self.Ms.tocoo(), self.Bs.tocoo(), 3 * self.J
+        Mc.sum_duplicates()
+        Bc.sum_duplicates()                                      # the band storage takes each entry once
         self.row = self.perm[np.concatenate([Mc.row, Bc.col, n + Bc.row, n + np.arange(nj)])]
         self.col = self.perm[np.concatenate([Mc.col, n + Bc.row, Bc.col, n + np.arange(nj)])]
         self.data = np.concatenate([Mc.data, -Bc.data, -Bc.data, np.zeros(nj)])
