@@ -151,8 +151,10 @@ def test_sweep_envelope_is_an_independent_minimum_thickness(local_sweep):
 
     env = {e["embrace_deg"]: e for e in local_sweep.envelope}[180.0]
     t_min = minimum_thickness(CircularArch.from_ratio(180.0, 0.2), elements=60, tol=1e-4).t_over_R
-    assert env["t_min_over_R"] == pytest.approx(t_min, rel=1e-12)
-    assert env["t_over_R"] == pytest.approx(t_min * (1 + 1e-3), rel=1e-12)
+    # the same root bracketed to tol = 1e-4 from another start (t/R = 0.5 in the sweep): the
+    # root finder's points depend on the start, so the two agree to the tolerance
+    assert env["t_min_over_R"] == pytest.approx(t_min, rel=1e-4)
+    assert env["t_over_R"] == pytest.approx(env["t_min_over_R"] * (1 + 1e-3), rel=1e-12)
     res = analyze(CircularArch.from_ratio(180.0, env["t_over_R"]), elements=60)
     assert (env["outcome"], env["A_L"], env["r"]) == (res.outcome, res.A_L, res.r)
     # just above t_min the arch barely stands: A_L is tiny, r the largest of its embrace
