@@ -358,9 +358,8 @@ class _KKT:
         self.n = n
         # the pattern of every F at once: B's entries (zeroed in the open rows) and a
         # diagonal on the joint rows (1 in the open rows), built once
+        # (products of sparse matrices hold each entry once, as the band storage needs)
         Mc, Bc, nj = self.Ms.tocoo(), self.Bs.tocoo(), 3 * self.J
-        Mc.sum_duplicates()
-        Bc.sum_duplicates()                                      # the band storage takes each entry once
         self.row = self.perm[np.concatenate([Mc.row, Bc.col, n + Bc.row, n + np.arange(nj)])]
         self.col = self.perm[np.concatenate([Mc.col, n + Bc.row, Bc.col, n + np.arange(nj)])]
         self.data = np.concatenate([Mc.data, -Bc.data, -Bc.data, np.zeros(nj)])
