@@ -51,6 +51,10 @@ from ..fem import Discretization, dof_scaling
 __all__ = ["ChainProjection", "project_chain", "MAX_STEPS"]
 
 MAX_STEPS = 50          # active-set steps before giving up (then: the interior-point QP)
+Q_STEPS = 10            # steps on Q at most: beyond ~10^6 elements its round-off moves rows at random
+Q_JOINTS = 600_000      # chains with more joints take no steps on Q (its rates' round-off ~1e-3 at 10^6)
+GUESS_Q_JOINTS = 200_000  # glued chains with more joints take primal-dual steps: an exact guess
+RATIO = 4               # glued chains: groups RATIO times smaller from one level to the next
 MULTILEVEL_ELEMENTS = 16384   # from this size the open rows are guessed on glued chains
 COARSE_ELEMENTS = 1024  # pieces of the coarsest glued chain: at least this many
 IPM_TOL = 1e-9          # the interior point only finds the open rows: the active set ends it
@@ -201,10 +205,13 @@ def _finish(disc, d0, P: "_Dual", open_: np.ndarray, max_steps: int, spent: int)
     """Active-set steps on ``Q`` (cheap, O(N) banded Cholesky) from the open rows ``open_``
     until they repeat, then on the primal-dual system (accurate) until they repeat there
     too; the answer if its KKT conditions hold to 1e-8 (``spent``: steps already taken)."""
-    out = _active_set(P, open_, max_steps)
-    if out is None:
-        return None
-    used, new, _, g, z, steps, optimal = out
+    steps, optimal, used = 0, False, open_
+    new = open_
+    if P.J <= Q_JOINTS:
+        out = _active_set(P, open_, min(Q_STEPS, max_steps), partial=True)
+        if out is None:
+            return None
+        used, new, _, g, z, steps, optimal = out
     out = _active_set(P, used if optimal else new, max_steps - steps, _KKT(disc, d0, P))
     if out is None:
         return None
@@ -217,13 +224,14 @@ def _finish(disc, d0, P: "_Dual", open_: np.ndarray, max_steps: int, spent: int)
     return ChainProjection(d, gj[1:], gj[0], open_.reshape(J, 3).T[1:].copy(), spent + steps + more, kkt)
 
 
-def _active_set(P: _Dual, open_: np.ndarray, max_steps: int, kkt_system: "_KKT | None" = None):
+def _active_set(P: _Dual, open_: np.ndarray, max_steps: int, kkt_system: "_KKT | None" = None,
+                partial: bool = False):
     """Active-set steps from the open rows ``open_`` (joint-major mask), on ``Q`` or, with
     ``kkt_system``, on the primal-dual system, until the open rows repeat (or cycle) or
     the solution satisfies the KKT sign conditions to ``KKT_TOL`` (rows with ``g`` and
     ``z`` both at round-off flip without changing it).  Returns ``(open rows used, next
     open rows, d (None on Q), g, z, steps, optimal)``, None when a system is singular
-    (no mechanism left) or the steps run out."""
+    (no mechanism left) or the steps run out (with ``partial``: the last step's)."""
     fibre, c = P.fibre, P.c
     seen = set()
     for step in range(1, max_steps + 1):
@@ -247,7 +255,7 @@ def _active_set(P: _Dual, open_: np.ndarray, max_steps: int, kkt_system: "_KKT |
             return open_, new, d, g, z, step, optimal
         seen.add(key)
         open_ = new
-    return None
+    return (open_, new, d, g, z, max_steps, False) if partial and max_steps > 0 else None
 
 
 @dataclass
@@ -315,8 +323,8 @@ def _coarse_open(disc: Discretization, d0: np.ndarray, max_steps: int = MAX_STEP
     below on the others.  Returns the guess on ``disc``'s joints (None if a level fails)
     and the steps spent (interior-point iterations and ``max_steps`` at most per level)."""
     K = 1
-    while disc.n_elements // (4 * K) >= COARSE_ELEMENTS:
-        K *= 4
+    while disc.n_elements // (RATIO * K) >= COARSE_ELEMENTS:
+        K *= RATIO
     if K == 1:
         return None, 0                                   # too few elements for a coarser chain
     open_, joints, steps = None, None, 0
@@ -331,11 +339,12 @@ def _coarse_open(disc: Discretization, d0: np.ndarray, max_steps: int = MAX_STEP
             steps += P.iterations
         else:
             start = _prolong(open_, joints, chain.joints)
-        out = _active_set(P, start, max_steps)
+        accurate = _KKT(chain, q0, P) if P.J > GUESS_Q_JOINTS else None
+        out = _active_set(P, start, max_steps, accurate, partial=True)
         if out is None:
             return None, steps
         open_, joints, steps = out[0], chain.joints, steps + out[5]
-        K //= 4
+        K //= RATIO
     return _prolong(open_, joints, np.arange(disc.n_joints)), steps
 
 
