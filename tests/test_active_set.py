@@ -159,3 +159,24 @@ def test_prolong_opens_between_open_coarse_joints():
     assert not out[:, 0].any()
     assert np.flatnonzero(out[:, 1]).tolist() == [4, 5, 6, 7, 8]
     assert np.flatnonzero(out[:, 2]).tolist() == [10]
+
+
+def test_primal_dual_steps_only_on_large_chains(monkeypatch):
+    """Chains above the size where Q's round-off reaches the rates take primal-dual steps
+    only (glued levels and the mesh): the same certified projection (the thresholds are
+    lowered here so that a 4001-element mesh takes those routes)."""
+    import fembeam.analysis.active_set as A
+
+    res = analyze(CircularArch.from_ratio(157.5, 0.15), elements=4001, backend="clarabel")
+    disc, d0 = res.impact.disc, res.impact.d0
+    ref = A.project_chain(disc, d0)
+    for name, value in (("MULTILEVEL_ELEMENTS", 1000), ("COARSE_ELEMENTS", 60), ("GUESS_Q_JOINTS", 100),
+                        ("Q_JOINTS", 1000)):
+        monkeypatch.setattr(A, name, value)
+    kkt_sizes = []
+    solve = A._KKT.solve
+    monkeypatch.setattr(A._KKT, "solve", lambda self, o: kkt_sizes.append(self.J) or solve(self, o))
+    out = A.project_chain(disc, d0)
+    assert {252, 1002, 4002} <= set(kkt_sizes)    # joints of the glued chains (K = 16, 4) and of the mesh
+    assert out is not None and max(out.kkt.values()) < 1e-9 and np.array_equal(out.open, ref.open)
+    assert np.max(np.abs(out.d - ref.d)) <= 1e-9 * np.max(np.abs(ref.d))
