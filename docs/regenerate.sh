@@ -38,6 +38,7 @@ benchmarks() {
     python benchmarks/spectrum.py > docs/data/spectrum_benchmark.txt
     python benchmarks/startup.py > docs/data/startup_benchmark.txt
     python benchmarks/pipeline_scaling.py --max 1000000 --analyze 100000 > docs/data/pipeline_benchmark.txt
+    fembeam sweep --quiet | tail -2 > docs/data/sweep_benchmark.txt
     python benchmarks/simulate.py > docs/data/simulate_benchmark.txt
 }
 
