@@ -13,15 +13,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import highspy
 import numpy as np
-from scipy.optimize import linprog
 
 from ..errors import SolverError
 
 __all__ = ["SmallLP", "maximise"]
 
 FEAS_TOL = 1e-10      # row violation accepted (rows are in units of the total weight)
-HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+HIGHS_OPTIONS = {"output_flag": False, "primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 
 
 @dataclass
@@ -55,37 +55,63 @@ def _runs_argmin(r: np.ndarray, bad: np.ndarray, seq: int) -> np.ndarray:
 def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | None = None,
              start: np.ndarray | None = None, initial: int = 64, max_rounds: int = 100,
              per_round: int = 256) -> SmallLP:
-    """Solve ``max c.z s.t. A z + b >= 0`` (see the module docstring); ``bounds`` as for
-    :func:`scipy.optimize.linprog`; rows come in sequences of ``seq`` ordered along the
-    member (default: one sequence); ``start``: rows to put in the working set first."""
+    """Solve ``max c.z s.t. A z + b >= 0`` (see the module docstring); ``bounds``: one
+    ``(lower, upper)`` per unknown (None: unbounded); rows come in sequences of ``seq``
+    ordered along the member (default: one sequence); ``start``: rows to put in the
+    working set first.  One HiGHS model (the ``highspy`` API) takes the rows of every
+    round, so each round's simplex starts from the last optimal basis."""
     A, b, c = np.asarray(A, float), np.asarray(b, float), np.asarray(c, float)
-    nr = A.shape[0]
+    nr, nv = A.shape
     seq = nr if seq is None else seq
     work = np.unique(np.concatenate([np.linspace(0, nr - 1, min(nr, initial * max(1, nr // seq))).astype(np.int64),
                                      np.asarray([] if start is None else start, dtype=np.int64)]))
+    h = _highs(c, _bounds_list(bounds, nv))
+    rows = work
     for rnd in range(1, max_rounds + 1):
-        res = linprog(-c, A_ub=-A[work], b_ub=b[work], bounds=bounds, method="highs", options=HIGHS_OPTIONS)
-        if res.status != 0:
-            raise SolverError(f"HiGHS failed on a {work.size}-row working set (status {res.status}: {res.message})")
-        z = res.x
+        _add_rows(h, A[rows], b[rows])       # the rows joining the working set (a warm start after the first)
+        h.run()
+        status = h.getModelStatus()
+        if status != highspy.HighsModelStatus.kOptimal:
+            raise SolverError(f"HiGHS failed on a {work.size}-row working set ({h.modelStatusToString(status)})")
+        sol = h.getSolution()
+        z = np.array(sol.col_value)
         r = A @ z + b
         bad = r < -FEAS_TOL
         bad[work] = False   # rows of the working set hold to HiGHS's own tolerance
         if not bad.any():
             break
-        add = _runs_argmin(r, bad, seq)
-        if add.size > per_round:
-            add = add[np.argsort(r[add])[:per_round]]
-        work = np.union1d(work, add)
+        rows = _runs_argmin(r, bad, seq)
+        if rows.size > per_round:
+            rows = rows[np.argsort(r[rows])[:per_round]]
+        work = np.concatenate([work, rows])  # in the order of the model's rows
     else:
         raise SolverError(f"constraint generation did not converge in {max_rounds} rounds")
     y = np.zeros(nr)
-    y[work] = -np.asarray(res.ineqlin.marginals)
+    y[work] = np.array(sol.row_dual)         # >= 0 (a minimisation of -c with rows A z >= -b)
     # a bound binds when it is active and its reduced cost is not zero: a free self-stress
     # parked at its bound by the simplex does not hold the optimum
-    reduced = np.abs(np.asarray(res.lower.marginals)) + np.abs(np.asarray(res.upper.marginals))
-    at_bound = reduced > 1e-9 * max(1.0, float(np.max(np.abs(c))))
+    at_bound = np.abs(np.array(sol.col_dual)) > 1e-9 * max(1.0, float(np.max(np.abs(c))))
     return SmallLP(z, float(c @ z), y, rnd, int(work.size), float(np.min(r)), at_bound)
+
+
+def _highs(c: np.ndarray, bounds: list) -> "highspy.Highs":
+    """A HiGHS model ``min -c.z`` over the box ``bounds`` (None: infinite), no rows yet."""
+    h = highspy.Highs()
+    for k, v in HIGHS_OPTIONS.items():
+        h.setOptionValue(k, v)
+    inf = highspy.kHighsInf
+    lo = np.array([-inf if lb is None else lb for lb, _ in bounds], float)
+    up = np.array([inf if ub is None else ub for _, ub in bounds], float)
+    h.addVars(c.size, lo, up)
+    h.changeColsCost(c.size, np.arange(c.size, dtype=np.int32), -c)
+    return h
+
+
+def _add_rows(h: "highspy.Highs", A: np.ndarray, b: np.ndarray) -> None:
+    """Rows ``A z >= -b`` (dense ``A``, a few columns)."""
+    n, nv = A.shape
+    h.addRows(n, -b, np.full(n, highspy.kHighsInf), n * nv, np.arange(0, n * nv, nv, dtype=np.int32),
+              np.tile(np.arange(nv, dtype=np.int32), n), np.ascontiguousarray(A, float).ravel())
 
 
 def _bounds_list(bounds, n):
