@@ -94,8 +94,37 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
     return SmallLP(z, float(c @ z), y, rnd, int(work.size), float(np.min(r)), at_bound)
 
 
+_BANNER = []   # the first construction in a process is done (HiGHS >= 1.16 prints a banner there)
+
+
+def _first_highs() -> None:
+    """Construct a first HiGHS object with the C-level stdout sent to /dev/null: HiGHS >= 1.16
+    prints its banner on the first construction in a process, before any option can be
+    set, and the commands' stdout must stay pure (JSON)."""
+    if _BANNER:
+        return
+    import ctypes
+    import os
+    import sys
+
+    sys.stdout.flush()
+    libc = ctypes.CDLL(None)
+    libc.fflush(None)
+    saved, null = os.dup(1), os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        highspy.Highs()
+        libc.fflush(None)
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+    _BANNER.append(True)
+
+
 def _highs(c: np.ndarray, bounds: list) -> "highspy.Highs":
     """A HiGHS model ``min -c.z`` over the box ``bounds`` (None: infinite), no rows yet."""
+    _first_highs()
     h = highspy.Highs()
     for k, v in HIGHS_OPTIONS.items():
         h.setOptionValue(k, v)
