@@ -158,3 +158,17 @@ def test_block_on_a_mesh_of_elements():
     res = analyze(StraightMember(2.0, 0.6), elements=8)
     a = np.arctan(0.3)
     assert res.A_L == pytest.approx(0.3, rel=1e-12) and res.r == pytest.approx((1 - 1.5 * np.sin(a) ** 2) ** 2, abs=1e-8)
+
+
+def test_lp_prints_nothing_on_stdout():
+    """HiGHS (>= 1.16) prints a banner on the first construction of a solver in a process:
+    the LP keeps stdout silent (the commands print one JSON object there)."""
+    import subprocess
+    import sys
+
+    code = ("import numpy as np; from fembeam.analysis.lp import maximise; "
+            "s = maximise(np.array([1.0]), np.array([[-1.0], [1.0]]), np.array([2.0, 1.0]), [(None, None)]); "
+            "assert abs(s.value - 2.0) < 1e-12 and abs(s.y[0] - 1.0) < 1e-12")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout == ""

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import threading
+
 import highspy
 import numpy as np
 
@@ -95,6 +97,7 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
 
 
 _BANNER = []   # the first construction in a process is done (HiGHS >= 1.16 prints a banner there)
+_LOCK = threading.Lock()
 
 
 def _first_highs() -> None:
@@ -107,19 +110,22 @@ def _first_highs() -> None:
     import os
     import sys
 
-    sys.stdout.flush()
-    libc = ctypes.CDLL(None)
-    libc.fflush(None)
-    saved, null = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(null, 1)
-        highspy.Highs()
+    with _LOCK:                      # threads of one process (a Dask worker) redirect once
+        if _BANNER:
+            return
+        sys.stdout.flush()
+        libc = ctypes.CDLL(None)
         libc.fflush(None)
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(null)
-    _BANNER.append(True)
+        saved, null = os.dup(1), os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, 1)
+            highspy.Highs()
+            libc.fflush(None)
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+            os.close(null)
+        _BANNER.append(True)
 
 
 def _highs(c: np.ndarray, bounds: list) -> "highspy.Highs":
