@@ -133,3 +133,15 @@ def test_minimum_thickness_root_finder_certificate_and_solves(arch):
     assert th.scale - th.lower <= 1e-8 * th.scale
     bracketing = 2 + math.ceil(abs(math.log2(th.scale)))    # doublings or halvings from 1
     assert th.solves < bracketing + 0.5 * math.log2(1e8)
+
+
+def test_shrink_bracket_with_a_zero_margin_and_a_nan():
+    """A margin exactly zero where it stands keeps the bracket (no division by zero); a
+    margin that is not a number is an error, not a bracket of NaN."""
+    from fembeam.analysis.thickness import shrink_bracket
+    from fembeam.errors import SolverError
+
+    lo, hi = shrink_bracket(lambda k: 0.0 if k >= 0.7 else -1.0, 0.5, -1.0, 1.0, 0.0, 1e-6)
+    assert lo < 0.7 <= hi and hi - lo <= 1e-6 * hi
+    with pytest.raises(SolverError, match="margin"):
+        shrink_bracket(lambda k: float("nan"), 0.5, -1.0, 1.0, 1.0, 1e-6)

@@ -172,3 +172,27 @@ def test_lp_prints_nothing_on_stdout():
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     assert p.stdout == ""
+
+
+def test_lp_without_a_stdout_still_solves():
+    """The banner's redirect is best effort: with fd 1 closed the LP still solves."""
+    import subprocess
+    import sys
+
+    code = ("import os, sys; os.close(1); sys.stdout = None; import numpy as np; "
+            "from fembeam.analysis.lp import maximise; "
+            "s = maximise(np.array([1.0]), np.array([[-1.0]]), np.array([2.0]), [(None, None)]); "
+            "assert abs(s.value - 2.0) < 1e-12")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+
+
+def test_rows_highs_rejects_are_a_solver_error():
+    """HiGHS rejects rows with entries of 1e15 and more: an error, not the optimum of the
+    rows it kept (which would be a wrong answer)."""
+    from fembeam.analysis.lp import maximise
+    from fembeam.errors import SolverError
+
+    with pytest.raises(SolverError, match="rejected"):
+        maximise(np.array([1.0, 1.0]), np.array([[-1.0, 0.0], [0.0, -1e16]]), np.array([1.0, 1e16]),
+                 [(-5, 5)] * 2, initial=1)

@@ -71,11 +71,13 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
     rows = work
     for rnd in range(1, max_rounds + 1):
         _add_rows(h, A[rows], b[rows])       # the rows joining the working set (a warm start after the first)
-        h.run()
+        ran = h.run()
         status = h.getModelStatus()
-        if status != highspy.HighsModelStatus.kOptimal:
+        if ran == highspy.HighsStatus.kError or status != highspy.HighsModelStatus.kOptimal:
             raise SolverError(f"HiGHS failed on a {work.size}-row working set ({h.modelStatusToString(status)})")
         sol = h.getSolution()
+        if len(sol.row_dual) != work.size:
+            raise SolverError(f"HiGHS holds {len(sol.row_dual)} rows of the {work.size}-row working set")
         z = np.array(sol.col_value)
         r = A @ z + b
         bad = r < -FEAS_TOL
@@ -113,18 +115,27 @@ def _first_highs() -> None:
     with _LOCK:                      # threads of one process (a Dask worker) redirect once
         if _BANNER:
             return
-        sys.stdout.flush()
-        libc = ctypes.CDLL(None)
-        libc.fflush(None)
-        saved, null = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-        try:
-            os.dup2(null, 1)
-            highspy.Highs()
+        try:                         # best effort: without a usable fd 1 there is nothing to protect
+            if sys.stdout is not None:
+                sys.stdout.flush()
+            libc = ctypes.CDLL(None)
             libc.fflush(None)
+            saved = os.dup(1)
+        except (OSError, TypeError, AttributeError, ValueError):
+            highspy.Highs()
+            _BANNER.append(True)
+            return
+        try:
+            null = os.open(os.devnull, os.O_WRONLY)
+            try:
+                os.dup2(null, 1)
+                highspy.Highs()
+                libc.fflush(None)
+            finally:
+                os.dup2(saved, 1)
+                os.close(null)
         finally:
-            os.dup2(saved, 1)
             os.close(saved)
-            os.close(null)
         _BANNER.append(True)
 
 
@@ -145,8 +156,12 @@ def _highs(c: np.ndarray, bounds: list) -> "highspy.Highs":
 def _add_rows(h: "highspy.Highs", A: np.ndarray, b: np.ndarray) -> None:
     """Rows ``A z >= -b`` (dense ``A``, a few columns)."""
     n, nv = A.shape
-    h.addRows(n, -b, np.full(n, highspy.kHighsInf), n * nv, np.arange(0, n * nv, nv, dtype=np.int32),
+    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
+        raise SolverError("limit LP: a constraint row is not finite")
+    added = h.addRows(n, -b, np.full(n, highspy.kHighsInf), n * nv, np.arange(0, n * nv, nv, dtype=np.int32),
               np.tile(np.arange(nv, dtype=np.int32), n), np.ascontiguousarray(A, float).ravel())
+    if added == highspy.HighsStatus.kError:   # e.g. an entry of 1e15 or more: HiGHS rejects the rows
+        raise SolverError(f"HiGHS rejected {n} constraint rows (entries too large?)")
 
 
 def _bounds_list(bounds, n):

@@ -9,7 +9,7 @@ the mesh stay fixed; the thickness law is scaled by a factor ``k``.  The bracket
 doublings or halvings, is shrunk until ``scale - lower <= tol * scale`` by regula falsi
 on the margin (Anderson-Bjorck variant: superlinear, ~4-6 solves at ``tol = 1e-6`` instead
 of ~20 for a bisection), whose every point keeps the bracket; every step that does not halve
-the bracket counts, and after four of them bisection takes over: at most ``log2(1/tol) + 4``
+the bracket counts, and after four of them bisection takes over: at most ``log2(1/tol) + 5``
 solves follow.
 
 With a Coulomb coefficient ``friction`` the joint forces must also lie in the friction
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from ..fem import discretize, uniform_nodes
 from ..geometry import MidCurve
 from .continuum import _stand, continuum_stands
@@ -110,14 +110,16 @@ def shrink_bracket(g, lo: float, glo: float, hi: float, ghi: float, tol: float,
             k = hi - ghi * (w / (ghi - glo)) - 0.5 * eps * kept
             k = min(max(k, lo + 0.5 * eps), hi - 0.5 * eps)
         gk = g(k)
+        if not math.isfinite(gk):
+            raise SolverError(f"minimum thickness: the standing margin at factor {k:g} is {gk}")
         if gk >= 0.0:
             if kept == 1:
-                m = 1.0 - gk / ghi
+                m = 1.0 - gk / ghi if ghi > 0.0 else 0.5
                 glo *= m if m > 0.0 else 0.5
             hi, ghi, kept = k, gk, 1
         else:
             if kept == -1:
-                m = 1.0 - gk / glo
+                m = 1.0 - gk / glo if glo < 0.0 else 0.5
                 ghi *= m if m > 0.0 else 0.5
             lo, glo, kept = k, gk, -1
         slow += hi - lo > 0.5 * w
