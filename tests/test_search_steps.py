@@ -145,3 +145,20 @@ def test_shrink_bracket_with_a_zero_margin_and_a_nan():
     assert lo < 0.7 <= hi and hi - lo <= 1e-6 * hi
     with pytest.raises(SolverError, match="margin"):
         shrink_bracket(lambda k: float("nan"), 0.5, -1.0, 1.0, 1.0, 1e-6)
+
+
+def test_brent_out_of_steps_is_finished_by_golden_sections():
+    """With the step budget cut to 2 (a kinked minimum takes Brent many steps), the searches
+    still wider than ``width`` are finished by golden sections, down to that width."""
+    m = np.array([0.37, 0.61])
+
+    def f(u, sel):
+        return np.abs(u - m[sel]) + 0.01 * u
+
+    a, b = np.zeros(2), np.ones(2)
+    x, w, v = np.full(2, 0.5), np.full(2, 0.2), np.full(2, 0.8)
+    idx = np.arange(2)
+    width = 1e-7
+    s, val = brent_minimise(f, a, b, x, f(x, idx), w, f(w, idx), v, f(v, idx), width, max_steps=2)
+    assert np.all(np.abs(s - m) <= width)
+    assert np.allclose(val, 0.01 * m, atol=2 * width)

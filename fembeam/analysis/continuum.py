@@ -124,7 +124,8 @@ def brent_minimise(f, a, b, x, fx, w, fw, v, fv, width: float, max_steps: int = 
     which only makes the first step a golden one).  A search stops when ``b - a <= width``
     with ``x`` inside (Brent's test ``|x - (a+b)/2| <= 2 tol - (b-a)/2``, ``tol = width/4``;
     steps are at least ``tol``): for a unimodal ``f`` the minimiser is within ``width``
-    of ``x``, as for a golden-section search to that width.  Returns ``(x, f(x))``."""
+    of ``x``, as for a golden-section search to that width; searches still wider after
+    ``max_steps`` are finished by golden sections.  Returns ``(x, f(x))``."""
     cg = 0.5 * (3.0 - np.sqrt(5.0))
     tol1 = 0.25 * width
     tol2 = 2.0 * tol1
@@ -167,6 +168,22 @@ def brent_minimise(f, a, b, x, fx, w, fw, v, fv, width: float, max_steps: int = 
         X, FX = np.where(better, U, X), np.where(better, FU, FX)
         for y, Y in ((a, A), (b, B), (x, X), (w, W), (v, V), (fx, FX), (fw, FW), (fv, FV), (d, D), (e, E)):
             y[act] = Y
+    act = np.flatnonzero(b - a > width)
+    if act.size:       # steps ran out (very flat minima, |s - m|^16): golden sections finish them
+        g = 0.5 * (np.sqrt(5.0) - 1.0)
+        A, B = a[act], b[act]
+        C, D = B - g * (B - A), A + g * (B - A)
+        FC, FD = f(C, act), f(D, act)
+        while np.max(B - A) > width:
+            left = FC < FD                       # the minimum lies in [A, D]: drop (D, B]
+            B, A = np.where(left, D, B), np.where(left, A, C)
+            U = np.where(left, B - g * (B - A), A + g * (B - A))
+            FU = f(U, act)
+            C, D, FD, FC = (np.where(left, U, D), np.where(left, C, U),
+                            np.where(left, FC, FU), np.where(left, FU, FD))
+        XU, FXU = np.where(FC < FD, C, D), np.minimum(FC, FD)
+        better = FXU < fx[act]
+        x[act], fx[act] = np.where(better, XU, x[act]), np.where(better, FXU, fx[act])
     return x, fx
 
 
