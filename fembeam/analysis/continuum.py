@@ -383,17 +383,33 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
         return p[:k], p[k], s
 
     fib3 = np.tile(fib, 3)
+    fi = np.flatnonzero(free)
+    nf = fi.size
 
-    def F(p):
+    def FJ(p):
+        """Residuals and their Jacobian: the fibre forces are linear in (x, lambda), their
+        slopes and curvatures along the member by central differences (step ``ds``)."""
         x, lam, s = unpack(p)
-        z = np.r_[x, direction * lam, 1.0]
         # the hinges and their neighbours +- ds in one evaluation
         s3 = np.concatenate([s, np.clip(s + ds, 0, L), np.clip(s - ds, 0, L)])
-        f, fp, fm = np.split(np.einsum("nj,j->n", section_force_rows(st, s3)[1 + fib3, np.arange(s3.size)], z), 3)
-        return np.r_[f, ((fp - fm) / (2 * ds) * L)[free]]
+        C3 = section_force_rows(st, s3)[1 + fib3, np.arange(s3.size)]
+        C3[:, k] *= direction
+        C, Cp, Cm = np.split(C3, 3)
+        y = np.r_[x, lam, 1.0]
+        f, fp, fm = C @ y, Cp @ y, Cm @ y
+        slope = (fp - fm) / (2 * ds) * L
+        J = np.zeros((k + 1 + nf, k + 1 + nf))
+        J[:k + 1, :k + 1] = C[:, :k + 1]
+        J[fi, k + 1 + np.arange(nf)] = slope[fi]
+        J[k + 1:, :k + 1] = ((Cp - Cm)[:, :k + 1] / (2 * ds) * L)[fi]
+        J[k + 1 + np.arange(nf), k + 1 + np.arange(nf)] = ((fp - 2 * f + fm) / ds**2 * L * L)[fi]
+        return np.r_[f, slope[fi]], J
+
+    def F(p):
+        return FJ(p)[0]
 
     p0 = np.r_[x0, lam0, s0[free] / L]
-    sol = root(F, p0, method="hybr", options={"xtol": 1e-14})
+    sol = root(FJ, p0, jac=True, method="hybr", options={"xtol": 1e-14})
     # the fibre forces are linear in (x, lambda): at the solved hinges they are made to vanish
     # to round-off by one linear solve (MINPACK stops where the slopes' central-difference
     # noise, ~1e-11, hides the fibre residual; the correction moves the slopes by as little)
