@@ -380,7 +380,7 @@ class _KKT:
         data[(self.b_row >= 0) & open_[np.maximum(self.b_row, 0)]] = 0.0
         data[self.diag] = open_
         try:
-            lu = _Banded(None, (self.row, self.col, data, self.n + 3 * self.J))
+            lu = _Banded.from_entries(self.row, self.col, data, self.n + 3 * self.J)
         except SolverError:
             return None
         keep, p = (~open_).astype(float), self.perm

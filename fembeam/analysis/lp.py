@@ -98,7 +98,7 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
     return SmallLP(z, float(c @ z), y, rnd, int(work.size), float(np.min(r)), at_bound)
 
 
-_BANNER = []   # the first construction in a process is done (HiGHS >= 1.16 prints a banner there)
+_BANNER_DONE = False   # the first construction in this process is done (HiGHS >= 1.16 prints a banner there)
 _LOCK = threading.Lock()
 
 
@@ -106,14 +106,15 @@ def _first_highs() -> None:
     """Construct a first HiGHS object with the C-level stdout sent to /dev/null: HiGHS >= 1.16
     prints its banner on the first construction in a process, before any option can be
     set, and the commands' stdout must stay pure (JSON)."""
-    if _BANNER:
+    global _BANNER_DONE
+    if _BANNER_DONE:
         return
     import ctypes
     import os
     import sys
 
     with _LOCK:                      # threads of one process (a Dask worker) redirect once
-        if _BANNER:
+        if _BANNER_DONE:
             return
         try:                         # best effort: without a usable fd 1 there is nothing to protect
             if sys.stdout is not None:
@@ -123,7 +124,7 @@ def _first_highs() -> None:
             saved = os.dup(1)
         except (OSError, TypeError, AttributeError, ValueError):
             highspy.Highs()
-            _BANNER.append(True)
+            _BANNER_DONE = True
             return
         try:
             null = os.open(os.devnull, os.O_WRONLY)
@@ -136,7 +137,7 @@ def _first_highs() -> None:
                 os.close(null)
         finally:
             os.close(saved)
-        _BANNER.append(True)
+        _BANNER_DONE = True
 
 
 def _highs(c: np.ndarray, bounds: list) -> "highspy.Highs":

@@ -140,15 +140,22 @@ class _Banded:
     banded (element ``e`` touches joints ``e`` and ``e + 1``: bandwidths 5 and 2), so the
     factorisation costs O(N) with a small constant."""
 
-    def __init__(self, K: sp.spmatrix | None, entries: tuple | None = None):
-        """Factor ``K``, or the ``n x n`` matrix of ``entries = (row, col, data, n)``
-        (no duplicates; the bandwidths are those of the pattern, zeros included)."""
+    def __init__(self, K: sp.spmatrix):
+        C = K.tocoo()
+        self._factor(C.row, C.col, C.data, K.shape[0])
+
+    @classmethod
+    def from_entries(cls, row: np.ndarray, col: np.ndarray, data: np.ndarray, n: int) -> "_Banded":
+        """Factor the ``n x n`` matrix of the entries (no duplicates; the bandwidths are
+        those of the pattern, zeros included), without building a sparse matrix."""
+        lu = cls.__new__(cls)
+        lu._factor(row, col, data, n)
+        return lu
+
+    def _factor(self, row, col, data, n: int) -> None:
         from scipy.linalg import get_lapack_funcs
 
-        if entries is None:
-            C = K.tocoo()
-            entries = (C.row, C.col, C.data, K.shape[0])
-        row, col, data, self.n = entries
+        self.n = n
         self.l, self.u = int(np.max(row - col)), int(np.max(col - row))
         ab = np.zeros((2 * self.l + self.u + 1, self.n))
         ab[self.l + self.u + row - col, col] = data
