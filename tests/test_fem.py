@@ -104,3 +104,44 @@ def test_fine_meshes_use_fewer_gauss_points_at_round_off(n):
         nodes = uniform_nodes(curve, n)
         M, ref = discretize(curve, nodes).M, discretize(curve, nodes, intorder=40).M
         assert abs(M - ref).max() <= 1e-14 * abs(ref).max()
+
+
+def _same_operators(a, b):
+    for A, B in ((a.M, b.M), (a.B_open, b.B_open), (a.B_slide, b.B_slide)):
+        assert A.shape == B.shape and A.nnz == B.nnz
+        assert abs(A - B).max() <= 1e-15 * abs(B).max()
+    assert np.array_equal(a.joint_s, b.joint_s) and np.array_equal(a.nodes_s, b.nodes_s)
+    for k in b.frames:
+        np.testing.assert_allclose(a.frames[k], b.frames[k], rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("make, n", [
+    (lambda: CircularArch(), 300),
+    (lambda: __import__("fembeam").PointedArch(span=1.0, rise=0.8, thickness=0.1), 301),   # a kink at the crown
+    (lambda: __import__("fembeam").StraightMember(height=1.0, width=0.2), 120),            # a free end
+])
+def test_local_update_equals_the_full_assembly(make, n):
+    """discretize(..., like=old) after nodes are moved or inserted (next to the springings
+    too) gives the operators of the full assembly; a mesh mostly new, or another curve,
+    is assembled in full; the same mesh gives the old discretisation back."""
+    from fembeam import nodes_through
+    from fembeam.fem.rigid import _update
+
+    curve = make()
+    nodes = uniform_nodes(curve, n)
+    old = discretize(curve, nodes)
+    L, h = curve.length, curve.length / n
+    moved = nodes_through(nodes, [0.3 * h, 0.31 * L, 0.5 * L + 0.2 * h, L - 0.4 * h], keep=curve.kinks)
+    inserted = nodes_through(moved, [0.7777 * L, 0.5 * h], keep=moved)      # no node may move: inserted
+    assert inserted.size > moved.size
+    for x in (moved, inserted):
+        assert _update(old, curve, x, old.intorder) is not None          # the local path, not the fallback
+        _same_operators(discretize(curve, x, like=old), discretize(curve, x))
+    assert discretize(curve, nodes, like=old) is old
+    coarse = uniform_nodes(curve, n // 2)
+    assert _update(old, curve, coarse, old.intorder) is None
+    _same_operators(discretize(curve, coarse, like=old), discretize(curve, coarse))
+    other = CircularArch(thickness=0.2)
+    x = nodes_through(uniform_nodes(other, n), [0.31 * other.length])
+    _same_operators(discretize(other, x, like=discretize(other, uniform_nodes(other, n))), discretize(other, x))
+    _same_operators(discretize(other, x, like=old), discretize(other, x))

@@ -57,6 +57,7 @@ class Discretization:
     joint_s: np.ndarray
     frames: dict = field(repr=False)
     element: str = "rigid"       # "rigid" (this module) or "p1" (fembeam.fem.p1)
+    intorder: int = 0            # Gauss order of the mass form (rigid elements)
 
     @property
     def n_elements(self) -> int:
@@ -113,27 +114,27 @@ def dof_scaling(disc: Discretization) -> sp.dia_matrix:
     return sp.diags(s)
 
 
-def _element_frames(curve: MidCurve, mesh: MeshLine1) -> dict:
-    sn = mesh.p[0]
-    sm = 0.5 * (sn[:-1] + sn[1:])
+def _element_frames(curve: MidCurve, a: np.ndarray, b: np.ndarray) -> dict:
+    """Frames of the elements ``[a, b]`` at their midpoints."""
+    sm = 0.5 * (a + b)
     return {"s": sm, "P": curve.position(sm), "t": curve.tangent(sm), "n": curve.normal(sm)}
 
 
-def _break_elements(curve: MidCurve, nodes_s: np.ndarray) -> np.ndarray:
-    """Elements containing one of ``curve.breaks`` (a kink, a crown of a thickness law, a
-    spline knot) inside them: the densities are not smooth there and a Gauss rule over the
-    element would span it."""
+def _break_elements(curve: MidCurve, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Elements ``[a, b]`` containing one of ``curve.breaks`` (a kink, a crown of a thickness
+    law, a spline knot) inside them: the densities are not smooth there and a Gauss rule
+    over the element would span it."""
     br = np.asarray(getattr(curve, "breaks", ()), float)
     if br.size == 0:
         return np.zeros(0, int)
     tol = 1e-13 * curve.length
-    return np.flatnonzero(np.any((br[None, :] > nodes_s[:-1, None] + tol) & (br[None, :] < nodes_s[1:, None] - tol), 1))
+    return np.flatnonzero(np.any((br[None, :] > a[:, None] + tol) & (br[None, :] < b[:, None] - tol), 1))
 
 
-def _mass_matrix(m: np.ndarray, S0: np.ndarray, J0: np.ndarray, fr: dict) -> sp.csr_matrix:
-    """Block-diagonal ``M`` from each element's mass ``m``, first moment ``S0`` (2, n) and
-    polar moment ``J0`` about the origin.  About the element's midpoint ``P``:
-    ``S = S0 - m P``, ``J = J0 - 2 P . S0 + m |P|^2`` and
+def _mass_blocks(m: np.ndarray, S0: np.ndarray, J0: np.ndarray, fr: dict) -> np.ndarray:
+    """The 3x3 blocks ``(n, 3, 3)`` of ``M`` from each element's mass ``m``, first moment
+    ``S0`` (2, n) and polar moment ``J0`` about the origin.  About the element's midpoint
+    ``P``: ``S = S0 - m P``, ``J = J0 - 2 P . S0 + m |P|^2`` and
     ``2K = m |V|^2 + 2 omega V . (k x S) + J omega^2`` with ``V = w t + v n``."""
     P, te, ne = fr["P"], fr["t"], fr["n"]
     S = S0 - m * P
@@ -144,10 +145,15 @@ def _mass_matrix(m: np.ndarray, S0: np.ndarray, J0: np.ndarray, fr: dict) -> sp.
     blocks[:, 0, 2] = blocks[:, 2, 0] = np.sum(te * kS, 0)
     blocks[:, 1, 2] = blocks[:, 2, 1] = np.sum(ne * kS, 0)
     blocks[:, 2, 2] = J
-    dof = NDOF * np.arange(m.size)[:, None] + np.arange(NDOF)
+    return blocks
+
+
+def _block_diagonal(blocks: np.ndarray) -> sp.csr_matrix:
+    n = blocks.shape[0]
+    dof = NDOF * np.arange(n)[:, None] + np.arange(NDOF)
     rows = np.repeat(dof, NDOF, axis=1).ravel()
     cols = np.tile(dof, NDOF).ravel()
-    return sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(NDOF * m.size,) * 2)
+    return sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(NDOF * n,) * 2)
 
 
 def _default_order(curve: MidCurve, nodes_s: np.ndarray) -> int:
@@ -160,39 +166,21 @@ def _default_order(curve: MidCurve, nodes_s: np.ndarray) -> int:
     return 12 if kh <= 2.0 else (24 if kh <= 4.0 else 40)
 
 
-def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None) -> Discretization:
-    """Assemble ``M``, ``B_open`` and ``B_slide`` on the mesh with nodes ``nodes_s``.
-
-    ``intorder`` is the Gauss order of the mass form; by default chosen from the largest
-    turning ``kappa h`` of an element: 5 up to 0.005 rad, 7 up to 0.03 rad, 12 up to 2 rad (round-off accuracy for a single element
-    spanning 120 degrees of a circle), 24 up to 4 rad, 40 beyond (coarse voussoirs on
-    strongly curved shapes, e.g. the springings of a flat ellipse); an element containing one of the curve's
-    :attr:`~fembeam.geometry.MidCurve.breaks` gets its exact block instead.  At a kink
-    (a node, when the mesh comes from :func:`~fembeam.fem.uniform_nodes`) the joint is
-    the section the curve defines there: position, tangent (the bisector), normal and
-    thickness at the kink; nothing else here assumes a smooth mid-curve.
-    """
-    nodes_s = check_nodes(curve, nodes_s)
-    if intorder is None:
-        intorder = _default_order(curve, nodes_s)
-    if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or not 1 <= intorder <= 40:
-        raise InputError(f"intorder must be an integer from 1 to 40 (Gauss order of the mass form), got {intorder!r}")
-    mesh = MeshLine1.init_tensor(nodes_s)
-    fr = _element_frames(curve, mesh)
+def _elements(curve: MidCurve, a: np.ndarray, b: np.ndarray, ends: np.ndarray, intorder: int):
+    """Assemble the elements ``[a_e, b_e]`` (increasing; runs of consecutive elements,
+    possibly several) with scikit-fem: the mesh of these elements, their frames, their
+    mass blocks ``(n, 3, 3)`` and, on the points of the mesh, the joint rows
+    ``(B_open+, B_open-, B_slide)`` as CSR matrices (rows: points, columns: the DOFs of
+    these elements).  Rows are assembled at the points shared by two elements and at the
+    points ``ends`` (springings against an abutment)."""
+    if np.array_equal(a[1:], b[:-1]):                 # one run: the points in order
+        p, i = np.append(a, b[-1]), np.arange(a.size)
+        mesh = MeshLine1(p[None, :], np.array([i, i + 1]))
+    else:
+        p = np.unique(np.concatenate([a, b]))
+        mesh = MeshLine1(p[None, :], np.array([np.searchsorted(p, a), np.searchsorted(p, b)]))
+    fr = _element_frames(curve, a, b)
     E = ElementVector(ElementLineP0(), NDOF)
-
-    def frames_at(basis) -> dict:
-        """The frame of the element each quadrature point belongs to, and the geometry of the
-        mid-curve there, as arrays (points x quadrature points): evaluated once per basis,
-        so that the forms below are arithmetic only."""
-        el = np.arange(basis.nelems) if getattr(basis, "tind", None) is None else basis.tind
-        s = np.asarray(basis.default_parameters()["x"])[0]
-        one = np.ones((1, s.shape[1]))
-        w = {"Px": fr["P"][0][el][:, None] * one, "Py": fr["P"][1][el][:, None] * one,
-             "tx": fr["t"][0][el][:, None] * one, "ty": fr["t"][1][el][:, None] * one,
-             "nx": fr["n"][0][el][:, None] * one, "ny": fr["n"][1][el][:, None] * one,
-             "sl": nodes_s[:-1][el][:, None] * one}
-        return w, s
 
     # kinetic energy 2K = d^T M d: each element's mass and moments (exact annular-sector
     # densities) by the cell quadrature; an element across a break by its smooth parts
@@ -203,29 +191,32 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
     m = integral.elemental(cb, f=mu0 * np.ones_like(s))
     S0 = np.array([integral.elemental(cb, f=mu1[0]), integral.elemental(cb, f=mu1[1])])
     J0 = integral.elemental(cb, f=mu2)
-    e = _break_elements(curve, nodes_s)
+    e = _break_elements(curve, a, b)
     if e.size:
-        m[e], S0[:, e], J0[e] = curve.segment_inertia(nodes_s[e], nodes_s[e + 1])
-    M = _mass_matrix(m, S0, J0, fr)
+        m[e], S0[:, e], J0[e] = curve.segment_inertia(a[e], b[e])
+    blocks = _mass_blocks(m, S0, J0, fr)
 
     # joint operators: contributions of one side of each joint, sign = -outward normal;
     # the rate of fibre y along d (the joint's t for openings, n for sliding) of the
     # element's rigid field is a0 w + a1 v + a2 omega, with coefficients per quadrature point
     form = BilinearForm(lambda u, v, w: (u[0] * w.a0 + u[1] * w.a1 + u[2] * w.a2) * v)
-
+    shared = np.flatnonzero(np.bincount(mesh.t.ravel(), minlength=p.size) == 2)
     bases = [(InteriorFacetBasis(mesh, E, side=i), InteriorFacetBasis(mesh, ElementLineP1(), side=0))
-             for i in (0, 1)] if mesh.nelements > 1 else []
-    bnd = [f for f, end in zip((0, mesh.p.shape[1] - 1), curve.ends) if end == "joint"]
-    if bnd:
-        bfacets = np.array([np.flatnonzero(mesh.facets[0] == n)[0] for n in bnd])
+             for i in (0, 1)] if shared.size else []
+    if len(ends):
+        bfacets = np.array([np.flatnonzero(mesh.facets[0] == n)[0] for n in ends])
         bases.append((FacetBasis(mesh, E, facets=bfacets), FacetBasis(mesh, ElementLineP1(), facets=bfacets)))
 
     def joint_data(trial) -> dict:
         """Per basis: the joint's frame and thickness and the element's frame at each point."""
-        w, s = frames_at(trial)
+        el = np.arange(trial.nelems) if getattr(trial, "tind", None) is None else trial.tind
+        s = np.asarray(trial.default_parameters()["x"])[0]
+        one = np.ones((1, s.shape[1]))
         X, tj, nj = curve.position(s.ravel()), curve.tangent(s.ravel()), curve.normal(s.ravel())
         h = np.broadcast_to(np.asarray(curve.thickness_at(s.ravel()), float), s.ravel().shape)
-        sign = np.where(w["sl"] < s, -1.0, 1.0)          # left element: -(+1); right: -(-1)
+        w = {k: fr[f][i][el][:, None] * one for k, f, i in
+             (("Px", "P", 0), ("Py", "P", 1), ("tx", "t", 0), ("ty", "t", 1), ("nx", "n", 0), ("ny", "n", 1))}
+        sign = np.where(a[el][:, None] * one < s, -1.0, 1.0)   # left element: -(+1); right: -(-1)
         return {**w, "sign": sign, "X": X.reshape((2,) + s.shape), "tj": tj.reshape((2,) + s.shape),
                 "nj": nj.reshape((2,) + s.shape), "h": h.reshape(s.shape)}
 
@@ -240,13 +231,128 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
                 "a2": sg * (Qx * dy - Qy * dx)}
 
     def assemble(kind, y_sign):
-        return sum(asm(form, trial, test, **coefficients(w, kind, y_sign)) for (trial, test), w in zip(bases, data))
+        if not bases:
+            return sp.csr_matrix((p.size, NDOF * a.size))
+        return sp.csr_matrix(sum(asm(form, trial, test, **coefficients(w, kind, y_sign))
+                                 for (trial, test), w in zip(bases, data)))
 
-    interior = np.arange(1, mesh.p.shape[1] - 1)
-    joint_nodes = np.sort(np.concatenate([interior, np.array(bnd, dtype=int)]))
-    rows = lambda A: sp.csr_matrix(A)[joint_nodes]  # noqa: E731
-    B_open = sp.vstack([rows(assemble("open", +1.0)), rows(assemble("open", -1.0))]).tocsr()
-    B_slide = rows(assemble("slide", 0.0))
+    return mesh, fr, blocks, [assemble("open", +1.0), assemble("open", -1.0), assemble("slide", 0.0)]
+
+
+def _end_joints(curve: MidCurve, n_elements: int) -> list[int]:
+    """Nodes at the springings that are joints (against an abutment)."""
+    return [f for f, end in zip((0, n_elements), curve.ends) if end == "joint"]
+
+
+def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None,
+               like: Discretization | None = None) -> Discretization:
+    """Assemble ``M``, ``B_open`` and ``B_slide`` on the mesh with nodes ``nodes_s``.
+
+    ``intorder`` is the Gauss order of the mass form; by default chosen from the largest
+    turning ``kappa h`` of an element: 5 up to 0.005 rad, 7 up to 0.03 rad, 12 up to 2 rad
+    (round-off accuracy for a single element spanning 120 degrees of a circle), 24 up to
+    4 rad, 40 beyond (coarse voussoirs on strongly curved shapes, e.g. the springings of
+    a flat ellipse); an element containing one of the curve's
+    :attr:`~fembeam.geometry.MidCurve.breaks` gets its exact block instead.  At a kink
+    (a node, when the mesh comes from :func:`~fembeam.fem.uniform_nodes`) the joint is
+    the section the curve defines there: position, tangent (the bisector), normal and
+    thickness at the kink; nothing else here assumes a smooth mid-curve.
+
+    ``like``: a discretisation of the same curve on a mesh sharing most elements with
+    ``nodes_s`` (e.g. the mesh before a few nodes were moved onto hinges): only the
+    elements not in it and the joints next to them are assembled, the rest is copied.
+    The operators are those of the full assembly (to round-off).
+    """
+    nodes_s = check_nodes(curve, nodes_s)
+    if intorder is None:
+        intorder = _default_order(curve, nodes_s)
+    if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or not 1 <= intorder <= 40:
+        raise InputError(f"intorder must be an integer from 1 to 40 (Gauss order of the mass form), got {intorder!r}")
+    if like is not None:
+        out = _update(like, curve, nodes_s, int(intorder))
+        if out is not None:
+            return out
+    n = nodes_s.size - 1
+    bnd = _end_joints(curve, n)
+    mesh, fr, blocks, rows = _elements(curve, nodes_s[:-1], nodes_s[1:], np.array(bnd, int), intorder)
+    joint_nodes = np.sort(np.concatenate([np.arange(1, n), np.array(bnd, dtype=int)]))
+    B_open = sp.vstack([rows[0][joint_nodes], rows[1][joint_nodes]]).tocsr()
+    B_slide = rows[2][joint_nodes].tocsr()
     for A in (B_open, B_slide):
         A.eliminate_zeros()
-    return Discretization(curve, mesh, M.tocsr(), B_open, B_slide, nodes_s[joint_nodes], fr)
+    return Discretization(curve, mesh, _block_diagonal(blocks), B_open, B_slide, nodes_s[joint_nodes], fr,
+                          intorder=int(intorder))
+
+
+UPDATE_FRACTION = 0.125   # a local update when at most this fraction of the elements is new
+
+
+def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) -> Discretization | None:
+    """:func:`discretize` on the nodes ``x`` from ``old``: the elements of ``x`` that are
+    elements of ``old`` (same end nodes) keep their mass blocks and frames, the joints
+    between two of them their rows (columns renumbered); the new elements and their
+    neighbours are assembled as a mesh of their own (:func:`_elements`).  None when
+    ``old`` is not of this curve and order or most elements are new."""
+    if (not isinstance(old, Discretization) or old.curve is not curve or old.element != "rigid"
+            or old.intorder != intorder):
+        return None
+    y, n = old.nodes_s, x.size - 1
+    oi = np.minimum(np.searchsorted(y, x[:-1]), y.size - 2)          # old element starting at x[e]
+    same = (y[oi] == x[:-1]) & (y[oi + 1] == x[1:])
+    new = np.flatnonzero(~same)
+    if new.size == 0:
+        return old                                                         # the same mesh
+    if new.size > UPDATE_FRACTION * n:
+        return None
+    # the new elements and their neighbours, assembled alone: rows at the joints next to new elements
+    touched = np.unique(np.concatenate([new, new + 1]))                    # nodes
+    win = np.unique(np.clip(np.concatenate([new - 1, new, new + 1]), 0, n - 1))
+    bnd = _end_joints(curve, n)
+    ends_w = np.searchsorted(np.unique(np.concatenate([x[win], x[win + 1]])),
+                             x[[j for j in bnd if j in touched]])
+    _, fr_w, blocks_w, rows_w = _elements(curve, x[win], x[win + 1], ends_w, intorder)
+    pos = np.searchsorted(win, new)                                        # new elements in the window
+    # elements: old blocks and frames, the new ones from the window
+    Mo = old.M.tocoo()
+    blocks = np.zeros((y.size - 1, NDOF, NDOF))
+    blocks[Mo.row // NDOF, Mo.row % NDOF, Mo.col % NDOF] = Mo.data
+    blocks = blocks[oi]
+    blocks[new] = blocks_w[pos]
+    fr = {k: v[..., oi].copy() for k, v in old.frames.items()}
+    for k in fr:
+        fr[k][..., new] = fr_w[k][..., pos]
+    # joints: new numbering (interior nodes and abutment joints), each either copied or assembled
+    joint_nodes = np.sort(np.concatenate([np.arange(1, n), np.array(bnd, dtype=int)]))
+    J, Jo = joint_nodes.size, old.n_joints
+    old_node = np.searchsorted(y, x[joint_nodes])                          # exact where copied
+    copied = ~np.isin(joint_nodes, touched)
+    old_joint = np.searchsorted(y[np.searchsorted(y, old.joint_s)], y[old_node])
+    new_of_old_el = np.full(y.size - 1, -1)
+    new_of_old_el[oi[same]] = np.flatnonzero(same)
+    pts_w = np.unique(np.concatenate([x[win], x[win + 1]]))
+    w_joint = np.flatnonzero(~copied)
+    w_row = np.searchsorted(pts_w, x[joint_nodes[w_joint]])
+
+    col_of_old = (NDOF * new_of_old_el[:, None] + np.arange(NDOF)).ravel()   # old column -> new column
+
+    def splice(A_old: sp.csr_matrix, parts: list[sp.csr_matrix]) -> sp.csr_matrix:
+        """Rows of ``A_old`` (fibres x old joints) at the copied joints, in the new numbering
+        (order kept: both numberings follow the arc length), plus the window's rows."""
+        f = len(parts)
+        A = A_old.tocsr()
+        target = (np.arange(f)[:, None] * J + np.flatnonzero(copied)).ravel()
+        source = (np.arange(f)[:, None] * Jo + old_joint[copied]).ravel()
+        counts = np.zeros(f * J, A.indptr.dtype)
+        counts[target] = np.diff(A.indptr)[source]
+        S = A[source]                                  # the copied rows, in order
+        kept = sp.csr_matrix((S.data, col_of_old[S.indices], np.r_[0, np.cumsum(counts)]), shape=(f * J, NDOF * n))
+        W = sp.vstack([Aw[w_row] for Aw in parts]).tocoo()
+        wr = (W.row // w_row.size) * J + w_joint[W.row % w_row.size]
+        win_part = sp.csr_matrix((W.data, (wr, NDOF * win[W.col // NDOF] + W.col % NDOF)), shape=(f * J, NDOF * n))
+        out = (kept + win_part).tocsr()
+        out.eliminate_zeros()
+        return out
+
+    mesh = MeshLine1.init_tensor(x)
+    return Discretization(curve, mesh, _block_diagonal(blocks), splice(old.B_open, rows_w[:2]),
+                          splice(old.B_slide, rows_w[2:]), x[joint_nodes], fr, intorder=intorder)
