@@ -145,3 +145,20 @@ def test_local_update_equals_the_full_assembly(make, n):
     x = nodes_through(uniform_nodes(other, n), [0.31 * other.length])
     _same_operators(discretize(other, x, like=discretize(other, uniform_nodes(other, n))), discretize(other, x))
     _same_operators(discretize(other, x, like=old), discretize(other, x))
+
+
+@pytest.mark.parametrize("make", [lambda: CircularArch(), lambda: __import__("fembeam").PointedArch(span=1.0, rise=0.8, thickness=0.1),
+                                  lambda: __import__("fembeam").CatenaryArch(span=10.0, rise=4.0, thickness=0.5)])
+def test_thickness_family_equals_the_assembly(make):
+    """The operators of a thickness factor k from the two assemblies of the family
+    (B_open linear in k, M = k M_1 + k^3 M_3) equal those assembled at k."""
+    from fembeam.fem.rigid import ThicknessFamily
+
+    curve = make()
+    nodes = uniform_nodes(curve, 150)
+    fam = ThicknessFamily.of(curve, nodes)
+    for k in (0.01, 0.3, 1.0, 1.7):
+        a, b = fam.at(k), discretize(curve.with_thickness_scaled(k), nodes)
+        for A, B in ((a.M, b.M), (a.B_open, b.B_open), (a.B_slide, b.B_slide)):
+            assert abs(A - B).max() <= 1e-13 * abs(B).max()
+        assert a.curve == b.curve and np.array_equal(a.joint_s, b.joint_s)

@@ -162,3 +162,17 @@ def test_brent_out_of_steps_is_finished_by_golden_sections():
     s, val = brent_minimise(f, a, b, x, f(x, idx), w, f(w, idx), v, f(v, idx), width, max_steps=2)
     assert np.all(np.abs(s - m) <= width)
     assert np.allclose(val, 0.01 * m, atol=2 * width)
+
+
+def test_continuum_rounds_run_out_with_an_error_not_a_wrong_answer():
+    """A round budget too small for the exchange method: the margin search stops with the
+    cuts of its last LP (a bound), the limit analysis with a SolverError."""
+    from fembeam import CircularArch, discretize, uniform_nodes
+    from fembeam.analysis.continuum import continuum_limit
+    from fembeam.errors import SolverError
+
+    arch = CircularArch.from_ratio(180.0, 0.1075)
+    disc = discretize(arch, uniform_nodes(arch, 100))
+    assert continuum_limit(disc, 1).status == "ok"
+    with pytest.raises(SolverError, match="after 1 rounds"):
+        continuum_limit(disc, 1, max_rounds=1)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from .statics import Statics, section_force_rows, statics
 
 __all__ = ["weakest_sections", "ContinuumLimit", "continuum_limit"]
@@ -285,6 +285,9 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
         if not keep.any():
             break
         cuts, fib = np.concatenate([cuts, s_new[keep]]), np.concatenate([fib, f_new[keep]])
+    else:
+        raise SolverError(f"continuum limit analysis: sections still outside the thrust line by {violation:.2e} "
+                          f"(units of weight) after {max_rounds} rounds")
     lam = float(main.z[k])
     hinge_s = _support(disc, cuts, main.y, J)
     exact = False
@@ -456,7 +459,8 @@ def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: in
         s_new, f_new, v = weakest_sections(st, z_c, stand.value)
         margin = min(stand.value, float(np.min(v, initial=np.inf)))
         keep = v < stand.value - tol
-        if (margin >= -STAND_TOL and not converge) or stand.value < -STAND_TOL or not keep.any():
+        if ((margin >= -STAND_TOL and not converge) or stand.value < -STAND_TOL or not keep.any()
+                or rounds == max_rounds):           # the cuts returned are those of the last LP
             break
         cuts, fib = np.concatenate([cuts, s_new[keep]]), np.concatenate([fib, f_new[keep]])
     return stand, margin, cuts, fib, rounds

@@ -67,14 +67,37 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
     seq = nr if seq is None else seq
     work = np.unique(np.concatenate([np.linspace(0, nr - 1, min(nr, initial * max(1, nr // seq))).astype(np.int64),
                                      np.asarray([] if start is None else start, dtype=np.int64)]))
+    try:
+        return _generate(c, A, b, bounds, seq, work, max_rounds, per_round, None)
+    except _Unsolved:
+        # rows of very different sizes (a very thin section: entries ~1/t) can leave HiGHS's
+        # absolute tolerances out of reach: the same rows equilibrated by powers of two (exact)
+        big = np.maximum(np.max(np.abs(A), axis=1, initial=0.0), np.abs(b))
+        scale = np.ldexp(1.0, -np.frexp(np.where(big > 0, big, 1.0))[1])
+        try:
+            return _generate(c, A, b, bounds, seq, work, max_rounds, per_round, scale)
+        except _Unsolved as e:
+            raise SolverError(str(e)) from None
+
+
+class _Unsolved(SolverError):
+    """HiGHS found no optimum of a working set."""
+
+
+def _generate(c, A, b, bounds, seq, work, max_rounds, per_round, scale) -> SmallLP:
+    """The rounds of :func:`maximise` (rows multiplied by ``scale`` for HiGHS, if given)."""
+    nr, nv = A.shape
     h = _highs(c, _bounds_list(bounds, nv))
     rows = work
     for rnd in range(1, max_rounds + 1):
-        _add_rows(h, A[rows], b[rows])       # the rows joining the working set (a warm start after the first)
+        if scale is None:                   # the rows joining the working set (a warm start after the first)
+            _add_rows(h, A[rows], b[rows])
+        else:
+            _add_rows(h, A[rows] * scale[rows, None], b[rows] * scale[rows])
         ran = h.run()
         status = h.getModelStatus()
         if ran == highspy.HighsStatus.kError or status != highspy.HighsModelStatus.kOptimal:
-            raise SolverError(f"HiGHS failed on a {work.size}-row working set ({h.modelStatusToString(status)})")
+            raise _Unsolved(f"HiGHS failed on a {work.size}-row working set ({h.modelStatusToString(status)})")
         sol = h.getSolution()
         if len(sol.row_dual) != work.size:
             raise SolverError(f"HiGHS holds {len(sol.row_dual)} rows of the {work.size}-row working set")
@@ -91,7 +114,7 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
     else:
         raise SolverError(f"constraint generation did not converge in {max_rounds} rounds")
     y = np.zeros(nr)
-    y[work] = np.array(sol.row_dual)         # >= 0 (a minimisation of -c with rows A z >= -b)
+    y[work] = np.array(sol.row_dual) * (1.0 if scale is None else scale[work])   # >= 0 (min -c.z, rows A z >= -b)
     # a bound binds when it is active and its reduced cost is not zero: a free self-stress
     # parked at its bound by the simplex does not hold the optimum
     at_bound = np.abs(np.array(sol.col_dual)) > 1e-9 * max(1.0, float(np.max(np.abs(c))))
@@ -162,7 +185,7 @@ def _add_rows(h: "highspy.Highs", A: np.ndarray, b: np.ndarray) -> None:
     added = h.addRows(n, -b, np.full(n, highspy.kHighsInf), n * nv, np.arange(0, n * nv, nv, dtype=np.int32),
               np.tile(np.arange(nv, dtype=np.int32), n), np.ascontiguousarray(A, float).ravel())
     if added == highspy.HighsStatus.kError:   # e.g. an entry of 1e15 or more: HiGHS rejects the rows
-        raise SolverError(f"HiGHS rejected {n} constraint rows (entries too large?)")
+        raise _Unsolved(f"HiGHS rejected {n} constraint rows (entries too large?)")
 
 
 def _bounds_list(bounds, n):

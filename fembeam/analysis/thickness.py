@@ -4,7 +4,8 @@
 under gravity alone inside every section), on the arch actually analysed: the joints of
 the mesh (voussoirs, or a mesh with hinges at joints only) or, for the continuous member,
 every section (:func:`~fembeam.analysis.continuum.continuum_stands`).  The mid-curve and
-the mesh stay fixed; the thickness law is scaled by a factor ``k``.  The bracket
+the mesh stay fixed; the thickness law is scaled by a factor ``k`` (the operators of every
+factor from two assemblies: :class:`~fembeam.fem.rigid.ThicknessFamily`).  The bracket
 ``[lower, scale]`` (``lower`` does not stand, ``scale`` does), found by at most ~60
 doublings or halvings, is shrunk until ``scale - lower <= tol * scale`` by regula falsi
 on the margin (Anderson-Bjorck variant: superlinear, ~4-6 solves at ``tol = 1e-6`` instead
@@ -26,7 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, SolverError
-from ..fem import discretize, uniform_nodes
+from ..fem import Discretization, discretize, uniform_nodes
+from ..fem.rigid import ThicknessFamily
 from ..geometry import MidCurve
 from .continuum import _stand, continuum_stands
 from .friction import check_friction
@@ -70,11 +72,10 @@ class MinimumThickness:
                 "continuum": self.continuum, "friction": self.friction}
 
 
-def _margin(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float | None = None) -> float:
+def _margin(disc: Discretization, continuum: bool, friction: float | None = None) -> float:
     """Standing margin under gravity (units of weight): the member stands exactly when it is
     ``>= -STAND_TOL``.  The continuum's is converged to 1e-10 on both sides of zero, so that
     it is continuous in the thickness factor near the root (the root finder's function)."""
-    disc = discretize(curve, nodes)
     if continuum and friction is None:
         return float(continuum_stands(disc, converge=True)[1])
     st = statics(disc)
@@ -86,7 +87,8 @@ def _margin(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float
 
 
 def _stands(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float | None = None) -> bool:
-    return _margin(curve, nodes, continuum, friction) >= -STAND_TOL
+    """Whether ``curve`` stands on the mesh ``nodes``, from its own assembly."""
+    return _margin(discretize(curve, nodes), continuum, friction) >= -STAND_TOL
 
 
 def shrink_bracket(g, lo: float, glo: float, hi: float, ghi: float, tol: float,
@@ -151,12 +153,13 @@ def thickness_on(curve: MidCurve, nodes: np.ndarray, continuum: bool, tol: float
     mu = check_friction(friction)
     cap = curve.max_thickness_scale * (1 - 1e-9)
     solves = 0
+    family = ThicknessFamily.of(curve, nodes)    # every factor's operators without an assembly
 
     def g(k: float) -> float:
         """Margin at factor ``k`` shifted by the standing tolerance: ``>= 0`` stands."""
         nonlocal solves
         solves += 1
-        return _margin(curve.with_thickness_scaled(k), nodes, continuum, mu) + STAND_TOL
+        return _margin(family.at(k), continuum, mu) + STAND_TOL
 
     floor = curve.min_thickness_scale
     g1 = g(1.0)

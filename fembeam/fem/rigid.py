@@ -29,11 +29,11 @@ import scipy.sparse as sp
 from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, ElementVector,
                    FacetBasis, Functional, InteriorFacetBasis, MeshLine1, asm)
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from ..geometry import MidCurve
 from .mesh import check_nodes
 
-__all__ = ["Discretization", "discretize", "rigid_dofs", "dof_scaling", "NDOF"]
+__all__ = ["Discretization", "discretize", "ThicknessFamily", "rigid_dofs", "dof_scaling", "NDOF"]
 
 NDOF = 3  # (w, v, omega) per element
 
@@ -356,3 +356,40 @@ def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) 
     mesh = MeshLine1.init_tensor(x)
     return Discretization(curve, mesh, _block_diagonal(blocks), splice(old.B_open, rows_w[:2]),
                           splice(old.B_slide, rows_w[2:]), x[joint_nodes], fr, intorder=intorder)
+
+
+@dataclass(frozen=True)
+class ThicknessFamily:
+    """The discretisations of one mesh of ``curve`` with its thickness law scaled by a
+    factor ``k`` (the mid-curve fixed), without assembling each: the operators are
+    polynomials in ``k``.  The fibres sit at ``y = +-k h / 2``, so
+    ``B_open(k) = [B_mid + k B_half; B_mid - k B_half]``, ``B_slide`` does not change; the
+    densities are ``rho t`` and ``rho t^3 / 12`` terms, so ``M(k) = k M_1 + k^3 M_3``.
+    ``B_mid``, ``B_half``, ``M_1`` and ``M_3`` come from two assemblies (``k = 1``, ``1/2``)."""
+
+    base: Discretization
+    M1: np.ndarray          # entries of M_1 and M_3 in the pattern of base.M
+    M3: np.ndarray
+    B_mid: sp.csr_matrix
+    B_half: sp.csr_matrix
+
+    @classmethod
+    def of(cls, curve: MidCurve, nodes_s: np.ndarray) -> "ThicknessFamily":
+        one = discretize(curve, nodes_s)
+        a = 0.5 if curve.min_thickness_scale <= 0.5 else min(2.0, 0.5 * (1.0 + curve.max_thickness_scale))
+        other = discretize(curve.with_thickness_scaled(a), nodes_s, intorder=one.intorder)
+        if not (np.array_equal(one.M.indptr, other.M.indptr) and np.array_equal(one.M.indices, other.M.indices)):
+            raise SolverError("thickness family: the mass matrices of one mesh differ in pattern")
+        M3 = (other.M.data - a * one.M.data) / (a**3 - a)        # M(1) = M1 + M3, M(a) = a M1 + a^3 M3
+        J = one.n_joints
+        plus, minus = one.B_open[:J], one.B_open[J:]
+        return cls(one, one.M.data - M3, M3, ((plus + minus) * 0.5).tocsr(), ((plus - minus) * 0.5).tocsr())
+
+    def at(self, k: float) -> Discretization:
+        """The discretisation of ``base.curve.with_thickness_scaled(k)`` on the same mesh."""
+        b = self.base
+        B_open = sp.vstack([self.B_mid + k * self.B_half, self.B_mid - k * self.B_half]).tocsr()
+        B_open.eliminate_zeros()
+        M = sp.csr_matrix((k * self.M1 + k**3 * self.M3, b.M.indices, b.M.indptr), shape=b.M.shape)
+        return Discretization(b.curve.with_thickness_scaled(k), b.mesh, M, B_open, b.B_slide, b.joint_s, b.frames,
+                              intorder=b.intorder)
