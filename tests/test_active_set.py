@@ -139,7 +139,7 @@ def test_a_failed_guess_hands_over_to_the_interior_point(monkeypatch):
     disc, d0 = res.impact.disc, res.impact.d0
     ref = A.project_chain(disc, d0)
     monkeypatch.setattr(A, "MULTILEVEL_ELEMENTS", 1000)
-    monkeypatch.setattr(A, "_coarse_open", lambda disc, d0, m: (np.zeros(3 * disc.n_joints, bool), 0))
+    monkeypatch.setattr(A, "_coarse_open", lambda disc, d0, m, **k: (np.zeros(3 * disc.n_joints, bool), 0))
     sizes = []
     ipm = A._Dual.interior_point
     monkeypatch.setattr(A._Dual, "interior_point", lambda self, *a, **k: sizes.append(self.J) or ipm(self, *a, **k))
@@ -180,3 +180,96 @@ def test_primal_dual_steps_only_on_large_chains(monkeypatch):
     assert {252, 1002, 4002} <= set(kkt_sizes)    # joints of the glued chains (K = 16, 4) and of the mesh
     assert out is not None and max(out.kkt.values()) < 1e-9 and np.array_equal(out.open, ref.open)
     assert np.max(np.abs(out.d - ref.d)) <= 1e-9 * np.max(np.abs(ref.d))
+
+
+def _chain(curve, elements, K=1):
+    """A mesh of ``elements`` (glued in groups of ``K``) and a random pre-impact field."""
+    from fembeam.analysis.active_set import _glued
+    from fembeam.fem import discretize, uniform_nodes
+
+    disc = discretize(curve, uniform_nodes(curve, elements))
+    d0 = np.random.default_rng(0).normal(size=disc.M.shape[0])
+    return _glued(disc, d0, K) if K > 1 else (disc, d0)
+
+
+@pytest.mark.parametrize("curve, elements, K", [
+    (CircularArch.from_ratio(157.5, 0.15), 203, 1),
+    (CircularArch.from_ratio(157.5, 0.15), 203, 16),              # a glued chain (short last piece)
+    (PointedArch(span=10.0, rise=7.0, thickness=0.8), 300, 1),
+    (StraightMember(height=2.0, width=0.5), 5, 1),                # a free end: J = n
+    (StraightMember(height=2.0, width=0.5), 1, 1),                # one element, one joint
+])
+def test_chain_band_equals_the_sparse_product(curve, elements, K):
+    """Q summed element by element (the chain's blocks) is the sparse product
+    m B M^-1 B^T to round-off, in the same band storage."""
+    from fembeam.analysis.active_set import _Dual, _product_q
+
+    disc, d0 = _chain(curve, elements, K)
+    P = _Dual(disc, d0)
+    assert P.blocks is not None
+    ref = _product_q(P.B, disc.M.tocsr(), P.m)
+    assert P.lower.shape == ref.shape
+    assert np.max(np.abs(P.lower - ref)) <= 1e-12 * np.max(np.abs(ref))
+    g = np.random.default_rng(1).normal(size=3 * P.J)
+    assert np.max(np.abs(P.rates(g) - (P.Q @ g + P.c))) <= 1e-12 * np.max(np.abs(P.rates(g)))
+
+
+@pytest.mark.parametrize("K", [1, 16])
+def test_kkt_band_from_blocks_equals_the_entries(K):
+    """The primal-dual band built from a chain's blocks is the one scattered from the
+    sparse entries (any pattern), and both solve alike."""
+    import copy
+
+    from fembeam.analysis.active_set import _KKT, _Dual
+
+    disc, d0 = _chain(CircularArch.from_ratio(157.5, 0.15), 203, K)
+    P = _Dual(disc, d0)
+    Q = copy.copy(P)
+    Q.blocks = None
+    a, b = _KKT(disc, d0, P), _KKT(disc, d0, Q)
+    assert a.chain is not None and b.chain is None and (a.l, a.u) == (b.l, b.u) == (5, 5)
+    assert np.max(np.abs(a.band() - b.band())) <= 1e-15 * np.max(np.abs(b.band()))
+    open_ = P.fibre & (np.random.default_rng(2).random(3 * P.J) < 0.3)
+    for x, y in zip(a.solve(open_), b.solve(open_)):
+        assert np.max(np.abs(x - y)) <= 1e-12 * np.max(np.abs(y))
+
+
+def test_elements_out_of_order_take_the_general_path():
+    """With the elements numbered out of order the pattern is not a chain's: Q comes from
+    the sparse product (it does not depend on the numbering) and the primal-dual band
+    from the entries; the projection is the same."""
+    from types import SimpleNamespace
+
+    from fembeam.analysis.active_set import _Dual
+    from fembeam.analysis.limit import limit_analysis
+    from fembeam.fem import discretize, uniform_nodes
+
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    disc = discretize(arch, uniform_nodes(arch, 40))
+    d0 = -limit_analysis(disc).u                                 # the collapse mechanism, reversed
+    order = np.random.default_rng(3).permutation(disc.n_elements)
+    dofs = (3 * order[:, None] + np.arange(3)).ravel()           # new DOF i is old DOF dofs[i]
+    mixed = SimpleNamespace(M=disc.M.tocsr()[dofs][:, dofs], B_slide=disc.B_slide.tocsr()[:, dofs],
+                            B_open=disc.B_open.tocsr()[:, dofs], curve=disc.curve,
+                            n_joints=disc.n_joints, n_elements=disc.n_elements)
+    P, R = _Dual(mixed, d0[dofs]), _Dual(disc, d0)
+    assert P.blocks is None and R.blocks is not None
+    assert np.max(np.abs(P.lower - R.lower)) <= 1e-12 * np.max(np.abs(R.lower))
+    a, b = project_chain(mixed, d0[dofs]), project_chain(disc, d0)
+    assert np.array_equal(a.open, b.open) and a.steps == b.steps
+    assert np.max(np.abs(a.d - b.d[dofs])) <= 1e-10 * np.max(np.abs(b.d))
+    assert np.max(np.abs(a.mu - b.mu)) <= 1e-10 * np.max(np.abs(b.mu))
+
+
+def test_glued_twice_is_glued_once():
+    """Gluing a glued chain in groups of 4 is gluing the mesh in groups of 16 (the levels
+    of the multilevel guess are built so): same joints, operators and field."""
+    from fembeam.analysis.active_set import _glued
+
+    disc, d0 = _chain(CircularArch.from_ratio(157.5, 0.15), 203, 1)
+    once, q = _glued(disc, d0, 16)
+    twice, q2 = _glued(*_glued(disc, d0, 4), 4)
+    assert np.array_equal(once.joints, twice.joints)
+    for x, y in ((once.M, twice.M), (once.B, twice.B)):
+        assert abs(x - y).max() <= 1e-12 * abs(x).max()
+    assert np.max(np.abs(q - q2)) <= 1e-12 * np.max(np.abs(q))

@@ -10,8 +10,8 @@ has the dual (``g``: the joint impulses, rows ``S, N+, N-`` of every joint)::
 
 with ``d = d0 + M^-1 B^T g`` and ``z = Q g + B d0 = B d`` the opening and sliding rates.
 ``M`` is block diagonal (one 3x3 block per element) and every joint touches two elements,
-so, numbered joint by joint, ``Q`` is banded (bandwidth 5): a bound-constrained QP with a
-banded Hessian.  It is solved in two stages:
+so, numbered joint by joint, ``Q`` is banded (bandwidth 5; summed element by element,
+:func:`_chain_q`): a bound-constrained QP with a banded Hessian.  It is solved in two stages:
 
 1. **interior point** (Mehrotra's predictor-corrector): every Newton matrix
    ``Q + diag(z/g)`` keeps the band (LAPACK band Cholesky, O(N)); about 20 iterations,
@@ -42,10 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg import blas, lapack
 
-from .statics import _Banded
-
-from ..errors import SolverError
 from ..fem import Discretization, dof_scaling
 
 __all__ = ["ChainProjection", "project_chain", "MAX_STEPS"]
@@ -73,32 +71,41 @@ class ChainProjection:
 
 
 class _Dual:
-    """The scaled dual of ``disc``'s impact QP: ``Q`` (banded storage and CSR), ``c``."""
+    """The scaled dual of ``disc``'s impact QP: ``Q`` (LAPACK lower band storage
+    ``lower``, bandwidth ``bw``) and ``c``."""
 
     def __init__(self, disc: Discretization, d0: np.ndarray):
         J = self.J = disc.n_joints
         M = disc.M.tocsr()
-        # joint-major rows (S, N+, N-) of every joint: B is banded in this numbering
-        perm = np.arange(3 * J).reshape(3, J).T.ravel()
-        self.B = sp.vstack([disc.B_slide, disc.B_open]).tocsr()[perm]
-        self.Minv = _block_inverse(M)
+        if isinstance(disc, _Glued):
+            self.B, self.blocks = disc.B, disc.blocks
+        else:
+            self.B = _joint_major(disc)
+            self.blocks = _chain_blocks(self.B, M)               # None: not a chain
         self.m = float(np.sum(M.diagonal()[0::3]))               # total mass
-        Q = (self.B @ self.Minv @ self.B.T).tocoo() * self.m
         self.sigma = np.sqrt(float(d0 @ (M @ d0)) / self.m)      # mean velocity of d0
         self.c = self.B @ d0 / self.sigma                         # scaled: g in m sigma, z in sigma
-        self.Q = Q.tocsr()
-        low = Q.row >= Q.col
-        self.bw = int(np.max(Q.row - Q.col))
-        self.lower = np.zeros((self.bw + 1, 3 * J), order="F")    # LAPACK lower band storage
-        self.lower[Q.row[low] - Q.col[low], Q.col[low]] = Q.data[low]
+        self.lower = (_product_q(self.B, M, self.m) if self.blocks is None
+                      else _chain_q(*self.blocks, J, self.m))
+        self.bw = self.lower.shape[0] - 1
         self.fibre = np.ones(3 * J, bool)
         self.fibre[0::3] = False
         self.iterations = 0
 
+    def rates(self, g: np.ndarray) -> np.ndarray:
+        """``Q g + c`` (BLAS symmetric band product)."""
+        return blas.dsbmv(self.bw, 1.0, self.lower, g, lower=1) + self.c
+
+    @property
+    def Q(self) -> sp.csr_matrix:
+        """``Q`` as a sparse matrix (for inspection)."""
+        n = self.lower.shape[1]
+        low = sp.diags([self.lower[k, :n - k] for k in range(self.bw + 1)], -np.arange(self.bw + 1), (n, n))
+        return (low + sp.triu(low.T, 1)).tocsr()
+
     def factor(self, diag: np.ndarray | None = None, open_: np.ndarray | None = None):
         """Cholesky factor (LAPACK band, lower) of ``Q + diag`` with the ``open_`` rows and
         columns replaced by those of the identity; None if not positive definite."""
-        from scipy.linalg import lapack
         ab = self.lower.copy(order="F")
         if diag is not None:
             ab[0] += diag
@@ -113,14 +120,13 @@ class _Dual:
         return L if info == 0 else None
 
     def solve(self, L, rhs: np.ndarray) -> np.ndarray | None:
-        from scipy.linalg import lapack
         x, info = lapack.dpbtrs(L, rhs, lower=1)
         return x if info == 0 and np.all(np.isfinite(x)) else None
 
     def interior_point(self, tol: float | None = None, max_iter: int = 80) -> np.ndarray | None:
         """Mehrotra's predictor-corrector on ``min 1/2 g^T Q g + c^T g, g_I >= 0``: the
         Newton matrix ``Q + diag(z/g)`` (fibre rows) keeps the band of ``Q``."""
-        c, Q, J = self.c, self.Q, self.J
+        c, J = self.c, self.J
         tol = IPM_TOL if tol is None else tol
         g = np.zeros(3 * J)
         gI = g.reshape(J, 3)[:, 1:]                              # views of the fibre rows
@@ -131,7 +137,7 @@ class _Dual:
         diag = np.zeros(3 * J)
         dI = diag.reshape(J, 3)[:, 1:]
         for it in range(max_iter):
-            rd = Q @ g + c
+            rd = self.rates(g)
             rdI = rd.reshape(J, 3)[:, 1:]
             rdI -= zI
             mu = float(np.vdot(gI, zI)) / nI
@@ -191,14 +197,14 @@ def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray |
         open_[:, 1:] = np.asarray(start_open, bool).T
         return _finish(disc, d0, P, open_.ravel(), max_steps, 0)
     if disc.n_elements >= MULTILEVEL_ELEMENTS and disc.n_joints == disc.n_elements + 1:   # joint j at node j
-        guess, coarse_steps = _coarse_open(disc, d0, max_steps)
+        guess, coarse_steps = _coarse_open(disc, d0, max_steps, blocks=P.blocks)
         out = None if guess is None else _finish(disc, d0, P, guess, max_steps, coarse_steps)
         if out is not None:
             return out                                           # else: the interior point decides
     g = P.interior_point()
     if g is None:
         return None
-    return _finish(disc, d0, P, P.fibre & (g < P.Q @ g + P.c), max_steps, P.iterations)
+    return _finish(disc, d0, P, P.fibre & (g < P.rates(g)), max_steps, P.iterations)
 
 
 def _finish(disc, d0, P: "_Dual", open_: np.ndarray, max_steps: int, spent: int) -> ChainProjection | None:
@@ -241,7 +247,7 @@ def _active_set(P: _Dual, open_: np.ndarray, max_steps: int, kkt_system: "_KKT |
             if g is None:
                 return None
             g[open_] = 0.0
-            d, z = None, P.Q @ g + c
+            d, z = None, P.rates(g)
         else:
             out = kkt_system.solve(open_)
             if out is None:
@@ -261,46 +267,79 @@ def _active_set(P: _Dual, open_: np.ndarray, max_steps: int, kkt_system: "_KKT |
 @dataclass
 class _Glued:
     """The chain of ``disc`` with the elements glued in groups of ``K`` (a rigid piece
-    each), as the operators :class:`_Dual` reads; ``joints``: the joints of ``disc``
-    left between the pieces."""
+    each), as :class:`_Dual` and :class:`_KKT` read it: ``M``, the joint-major ``B`` and
+    their blocks (:func:`_chain_blocks`); ``joints``: the joints of ``disc`` left between
+    the pieces; ``frames``: those of each piece's first element (its DOFs'), so that a
+    glued chain can be glued again."""
 
     M: sp.csr_matrix
-    B_slide: sp.csr_matrix
-    B_open: sp.csr_matrix
+    B: sp.csr_matrix
+    blocks: tuple
     curve: object
     joints: np.ndarray
+    frames: dict
 
     @property
     def n_joints(self) -> int:
         return self.joints.size
 
+    @property
+    def n_elements(self) -> int:
+        return self.M.shape[0] // 3
 
-def _glued(disc: Discretization, d0: np.ndarray, K: int) -> tuple[_Glued, np.ndarray]:
+
+def _glued(disc: Discretization | _Glued, d0: np.ndarray, K: int,
+           blocks: tuple | None = None) -> tuple[_Glued, np.ndarray]:
     """Groups of ``K`` consecutive elements moving as rigid pieces: ``d = T q`` with ``q``
     the velocity of each group's first element (its own frame), so the pieces' operators
     are ``T^T M T`` and the rows of ``B`` at the joints between groups times ``T``, and
     the pre-impact field is ``d0``'s projection ``(T^T M T)^-1 T^T M d0`` (the same
-    momentum).  Exact: the glued chain is the mesh of the group boundaries."""
+    momentum).  Exact: the glued chain is the mesh of the group boundaries (and gluing
+    a glued chain in groups of ``K'`` is gluing ``disc`` in groups of ``K K'``).  A chain
+    between two abutments (``J = n + 1``); ``blocks``: ``disc``'s, if known.  Computed
+    block by block: ``T`` has one 3x3 block per element."""
     n, J = disc.n_elements, disc.n_joints
-    e = np.arange(n)
-    lead = (e // K) * K
+    if blocks is None:
+        blocks = disc.blocks if isinstance(disc, _Glued) else _chain_blocks(_joint_major(disc), disc.M.tocsr())
+    b, Mb = blocks
+    lead = np.arange(0, n, K)
+    first = np.arange(n) // K * K
     Pm, te, ne = disc.frames["P"], disc.frames["t"], disc.frames["n"]
-    r = Pm - Pm[:, lead]
+    r = Pm - Pm[:, first]
     rp = np.stack([-r[1], r[0]])                      # k x r: velocity per unit rotation
-    tl, nl = te[:, lead], ne[:, lead]
-    col = 3 * (e // K)
-    rows = np.concatenate([3 * e, 3 * e, 3 * e, 3 * e + 1, 3 * e + 1, 3 * e + 1, 3 * e + 2])
-    cols = np.concatenate([col, col + 1, col + 2, col, col + 1, col + 2, col + 2])
-    vals = np.concatenate([np.sum(tl * te, 0), np.sum(nl * te, 0), np.sum(rp * te, 0),
-                           np.sum(tl * ne, 0), np.sum(nl * ne, 0), np.sum(rp * ne, 0), np.ones(n)])
-    T = sp.csr_matrix((vals, (rows, cols)), shape=(3 * n, 3 * (-(-n // K))))
-    M = disc.M.tocsr()
-    MT = M @ T
-    Mg = (T.T @ MT).tocsr()
-    joints = np.unique(np.r_[np.arange(0, J, K), J - 1])
-    chain = _Glued(Mg, (disc.B_slide.tocsr()[joints] @ T).tocsr(),
-                   (disc.B_open.tocsr()[np.r_[joints, J + joints]] @ T).tocsr(), disc.curve, joints)
-    return chain, _block_inverse(Mg) @ (MT.T @ d0)
+    tl, nl = te[:, first], ne[:, first]
+    T = np.zeros((3, 3, n))                           # T[:, :, e]: element e's DOFs from its piece's
+    T[0] = [np.sum(tl * te, 0), np.sum(nl * te, 0), np.sum(rp * te, 0)]
+    T[1] = [np.sum(tl * ne, 0), np.sum(nl * ne, 0), np.sum(rp * ne, 0)]
+    T[2, 2] = 1.0
+    MT = np.einsum("ije,jke->ike", Mb, T)
+    Mg = np.add.reduceat(np.einsum("jie,jke->ike", T, MT), lead, axis=2)
+    p = np.add.reduceat(np.einsum("jie,je->ie", MT, d0.reshape(n, 3).T), lead, axis=1)     # T^T M d0
+    last = np.minimum(lead + K, n) - 1                # a piece's last element (T = I for its first)
+    bl, Tl = (np.ascontiguousarray(x[:, :, last]) for x in (b[3:], T))   # C order: einsum is slow
+    bg = np.empty((6, 3, lead.size))                  # on others (fancy indexing's)
+    bg[:3] = b[:3, :, lead]
+    bg[3:] = np.einsum("aje,jke->ake", bl, Tl)
+    kept = np.unique(np.r_[np.arange(0, J, K), J - 1])
+    joints = disc.joints[kept] if isinstance(disc, _Glued) else kept
+    frames = {k: disc.frames[k][:, ::K] for k in ("P", "t", "n")}
+    chain = _Glued(_from_blocks(Mg, lead.size), _from_blocks(bg, kept.size), (bg, Mg), disc.curve, joints,
+                   frames)
+    return chain, np.einsum("ije,je->ei", _inv3(Mg), p).ravel()
+
+
+def _from_blocks(blocks: np.ndarray, rows: int) -> sp.csr_matrix:
+    """The CSR matrix (``rows`` block rows of 3) of a chain's blocks ``blocks[:, :, e]``
+    (:func:`_chain_blocks`): ``M`` (3x3 at block row and column ``e``) or the joint-major
+    ``B`` (6x3: block rows ``e`` and ``e + 1``, column ``e``), through BSR storage."""
+    n, h = blocks.shape[2], blocks.shape[0] // 3
+    full = np.zeros((rows + 1, h, 3, 3))                   # block row j, columns j - h + 1 ... j
+    for k in range(h):
+        full[k:n + k, h - 1 - k] = blocks[3 * k:3 * k + 3].transpose(2, 0, 1)
+    col = np.arange(rows)[:, None] - np.arange(h)[::-1]
+    keep = (col >= 0) & (col < n)
+    indptr = np.concatenate([[0], np.cumsum(keep.sum(1))])
+    return sp.bsr_matrix((full[:rows][keep], col[keep], indptr), shape=(3 * rows, 3 * n)).tocsr()
 
 
 def _prolong(open_: np.ndarray, coarse: np.ndarray, fine: np.ndarray) -> np.ndarray:
@@ -316,26 +355,35 @@ def _prolong(open_: np.ndarray, coarse: np.ndarray, fine: np.ndarray) -> np.ndar
     return out.ravel()
 
 
-def _coarse_open(disc: Discretization, d0: np.ndarray, max_steps: int = MAX_STEPS) -> tuple[np.ndarray | None, int]:
+def _coarse_open(disc: Discretization, d0: np.ndarray, max_steps: int = MAX_STEPS,
+                 blocks: tuple | None = None) -> tuple[np.ndarray | None, int]:
     """The open rows of ``disc``'s projection guessed from glued chains (:func:`_glued`)
     of ``COARSE_ELEMENTS`` to ``4 COARSE_ELEMENTS`` pieces, then 4, 16, ... times finer:
     the interior point on the coarsest, active-set steps from the rows of the level
     below on the others.  Returns the guess on ``disc``'s joints (None if a level fails)
-    and the steps spent (interior-point iterations and ``max_steps`` at most per level)."""
+    and the steps spent (interior-point iterations and ``max_steps`` at most per level);
+    ``blocks``: ``disc``'s (:func:`_chain_blocks`), if known."""
     K = 1
     while disc.n_elements // (RATIO * K) >= COARSE_ELEMENTS:
         K *= RATIO
     if K == 1:
         return None, 0                                   # too few elements for a coarser chain
+    if blocks is None:
+        blocks = _chain_blocks(_joint_major(disc), disc.M.tocsr())
+    if blocks is None:
+        return None, 0                                   # not a chain of rigid elements
+    levels = [_glued(disc, d0, RATIO, blocks)]           # glued again and again: O(N) in all
+    while K > RATIO:
+        levels.append(_glued(*levels[-1], RATIO))
+        K //= RATIO
     open_, joints, steps = None, None, 0
-    while K > 1:
-        chain, q0 = _glued(disc, d0, K)
+    for chain, q0 in levels[::-1]:                       # coarsest first
         P = _Dual(chain, q0)
         if open_ is None:
             g = P.interior_point()
             if g is None:
                 return None, steps
-            start = P.fibre & (g < P.Q @ g + P.c)
+            start = P.fibre & (g < P.rates(g))
             steps += P.iterations
         else:
             start = _prolong(open_, joints, chain.joints)
@@ -344,7 +392,6 @@ def _coarse_open(disc: Discretization, d0: np.ndarray, max_steps: int = MAX_STEP
         if out is None:
             return None, steps
         open_, joints, steps = out[0], chain.joints, steps + out[5]
-        K //= RATIO
     return _prolong(open_, joints, np.arange(disc.n_joints)), steps
 
 
@@ -356,42 +403,63 @@ class _KKT:
 
     def __init__(self, disc: Discretization, d0: np.ndarray, P: "_Dual"):
         self.D = dof_scaling(disc)
+        s = self.D.diagonal()
         self.P, self.J, n = P, disc.n_joints, disc.M.shape[0]
-        self.Ms = (self.D @ disc.M @ self.D / P.m).tocsr()
-        self.Bs = (P.B @ self.D).tocsr()
-        self.d0 = d0 / (self.D.diagonal() * P.sigma)
+        self.Ms = _scaled(disc.M.tocsr(), s, s / P.m)
+        self.Bs = _scaled(P.B, s)
+        self.d0 = d0 / (s * P.sigma)
         self.rhs = np.concatenate([self.Ms @ self.d0, np.zeros(3 * self.J)])
         # numbering: joint j rows at 6 j + (0, 1, 2), element e DOFs at 6 e + 3 + (0, 1, 2)
         self.perm = np.concatenate([6 * np.arange(n // 3)[:, None] + 3 + np.arange(3),
                                     6 * np.arange(self.J)[:, None] + np.arange(3)], axis=None)
         self.n = n
-        # the pattern of every F at once: B's entries (zeroed in the open rows) and a
-        # diagonal on the joint rows (1 in the open rows), built once
-        # (products of sparse matrices hold each entry once, as the band storage needs)
-        Mc, Bc, nj = self.Ms.tocoo(), self.Bs.tocoo(), 3 * self.J
-        self.row = self.perm[np.concatenate([Mc.row, Bc.col, n + Bc.row, n + np.arange(nj)])]
-        self.col = self.perm[np.concatenate([Mc.col, n + Bc.row, Bc.col, n + np.arange(nj)])]
-        self.data = np.concatenate([Mc.data, -Bc.data, -Bc.data, np.zeros(nj)])
-        self.b_row = np.concatenate([np.full(Mc.nnz, -1), Bc.row, Bc.row, np.full(nj, -1)])  # row of B, or -1
-        self.diag = np.arange(self.data.size - nj, self.data.size)
+        # the matrix with every row closed and a zero diagonal in the joint rows is put in
+        # band storage by each solve (one band array in memory): a chain's from its blocks
+        # (scaled: -Bs, Ms), any other from its entries' positions in the band
+        self.N, self.chain, self.entries = n + 3 * self.J, None, None
+        if P.blocks is not None:
+            (b, Mb), se = P.blocks, s.reshape(-1, 3).T          # se[j, e]: scale of element e's DOF j
+            self.chain, self.l, self.u = (-b * se, Mb * se[:, None] * se / P.m), 5, 5
+        else:
+            Mc, Bc = self.Ms.tocoo(), self.Bs.tocoo()
+            row = self.perm[np.concatenate([Mc.row, Bc.col, n + Bc.row])]
+            col = self.perm[np.concatenate([Mc.col, n + Bc.row, Bc.col])]
+            self.l, self.u = int(max(np.max(row - col), 0)), int(max(np.max(col - row), 0))
+            self.entries = (self.l + self.u + row - col + (2 * self.l + self.u + 1) * col,   # flat positions
+                            np.concatenate([Mc.data, -Bc.data, -Bc.data]))
+
+    def band(self) -> np.ndarray:
+        """The matrix with every row closed (zero diagonal in the joint rows) in LAPACK
+        gbtrf band storage (Fortran order)."""
+        if self.chain is not None:
+            return _chain_kkt_band(*self.chain, self.N)
+        ab = np.zeros((2 * self.l + self.u + 1, self.N), order="F")
+        ab.reshape(-1, order="F")[self.entries[0]] = self.entries[1]
+        return ab
 
     def solve(self, open_: np.ndarray):
-        data = self.data.copy()
-        data[(self.b_row >= 0) & open_[np.maximum(self.b_row, 0)]] = 0.0
-        data[self.diag] = open_
-        try:
-            lu = _Banded.from_entries(self.row, self.col, data, self.n + 3 * self.J)
-        except SolverError:
+        ab, l, u = self.band(), self.l, self.u
+        rows = self.perm[self.n + np.flatnonzero(open_)]        # open rows: B's entries and the
+        ab[:, rows] = 0.0                                        # diagonal in their columns and rows,
+        for k in range(-u, l + 1):                               # then a diagonal 1
+            c = rows - k
+            ab[l + u + k, c[(c >= 0) & (c < ab.shape[1])]] = 0.0
+        ab[l + u, rows] = 1.0
+        lu, piv, info = lapack.dgbtrf(ab, l, u, overwrite_ab=1)
+        if info != 0:                                            # singular: no mechanism left
             return None
         keep, p = (~open_).astype(float), self.perm
+
+        def lu_solve(r):
+            return lapack.dgbtrs(lu, l, u, _permute(r, p), piv)[0][p]
 
         def residual(x):
             dt, g = x[:self.n], x[self.n:]
             return self.rhs - np.concatenate([self.Ms @ dt - self.Bs.T @ (keep * g), -keep * (self.Bs @ dt) + open_ * g])
 
-        x = lu.solve(_permute(self.rhs, p))[p]
+        x = lu_solve(self.rhs)
         for _ in range(REFINE):                                  # iterative refinement
-            x += lu.solve(_permute(residual(x), p))[p]
+            x += lu_solve(residual(x))
         if not np.all(np.isfinite(x)):
             return None
         dt, g = x[:self.n], x[self.n:]
@@ -421,8 +489,98 @@ def _block_inverse(M: sp.csr_matrix) -> sp.csr_matrix:
     blocks = np.zeros((n, 3, 3))
     C = M.tocoo()
     blocks[C.row // 3, C.row % 3, C.col % 3] = C.data
-    inv = np.linalg.inv(blocks)
+    inv = _inv3(blocks.transpose(1, 2, 0)).transpose(2, 0, 1)
     dof = 3 * np.arange(n)[:, None] + np.arange(3)
     rows = np.repeat(dof, 3, axis=1).ravel()
     cols = np.tile(dof, 3).ravel()
     return sp.csr_matrix((inv.ravel(), (rows, cols)), shape=M.shape)
+
+
+def _joint_major(disc: Discretization) -> sp.csr_matrix:
+    """``B`` with the rows ``S, N+, N-`` of every joint together (banded for a chain)."""
+    J = disc.n_joints
+    return sp.vstack([disc.B_slide, disc.B_open]).tocsr()[np.arange(3 * J).reshape(3, J).T.ravel()]
+
+
+def _chain_blocks(B: sp.csr_matrix, M: sp.csr_matrix) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(b, Mb)``: the columns of every element ``e`` in ``B`` (joint-major rows) as a
+    6x3 block ``b[:, :, e]`` (the rows of joints ``e`` and ``e + 1``) and ``M``'s 3x3
+    diagonal blocks ``Mb[:, :, e]`` (element index last: array arithmetic runs along it);
+    None when the pattern is not a chain's (element ``e`` touching joints ``e`` and
+    ``e + 1`` only, ``J = n`` or ``n + 1``; ``M`` block diagonal; no duplicate entries)."""
+    n = M.shape[0] // 3
+    Br, Mr = (np.repeat(np.arange(A.shape[0], dtype=A.indices.dtype), np.diff(A.indptr)) for A in (B, M))
+    e = B.indices // 3                                           # element of every entry of B
+    r = Br - 3 * e                                               # its row in the element's block
+    if (B.shape[0] // 3 - n not in (0, 1) or B.nnz == 0 or not (B.has_canonical_format and M.has_canonical_format)
+            or r.min() < 0 or r.max() > 5 or np.any(M.indices // 3 != Mr // 3)):
+        return None
+    b = np.zeros((n, 6, 3))
+    b.reshape(-1)[3 * Br + B.indices + 6 * e] = B.data           # b[e, r, i] = B[3 e + r, 3 e + i]
+    Mb = np.zeros((n, 3, 3))
+    Mb.reshape(-1)[3 * Mr + M.indices % 3] = M.data
+    return b.transpose(1, 2, 0).copy(), Mb.transpose(1, 2, 0).copy()
+
+
+def _chain_q(b: np.ndarray, Mb: np.ndarray, J: int, m: float) -> np.ndarray:
+    """``m B M^-1 B^T`` of a chain (blocks of :func:`_chain_blocks`) summed element by
+    element (block tridiagonal, 3x3 blocks joint by joint) in LAPACK lower band storage
+    (``(6, 3 J)``, Fortran order)."""
+    n = b.shape[2]
+    W = np.einsum("aie,ije->aje", b, _inv3(Mb) * m)             # b M^-1, then times b^T:
+    strip = np.zeros((6, 3, n + 1))                              # strip[r, c, j] = Q[3 j + r, 3 j + c]
+    strip[:, :, :n] = np.einsum("aje,bje->abe", W, b[:3])        # element e at joint e and (e + 1, e)
+    strip[:3, :, 1:] += np.einsum("aje,bje->abe", W[3:], b[3:])  # element e at joint e + 1
+    band = np.zeros((J, 3, 6))                                   # band[j, c, k] = Q[3 j + c + k, 3 j + c]
+    for c in range(3):
+        band[:, c, :6 - c] = strip[c:, c, :J].T
+    return band.reshape(3 * J, 6).T[:min(6, 3 * J)]
+
+
+def _product_q(B: sp.csr_matrix, M: sp.csr_matrix, m: float) -> np.ndarray:
+    """``m B M^-1 B^T`` by sparse products (any pattern) in LAPACK lower band storage
+    (Fortran order, the bandwidth of the pattern)."""
+    Q = (B @ _block_inverse(M) @ B.T).tocoo() * m
+    low = Q.row >= Q.col
+    lower = np.zeros((int(np.max(Q.row - Q.col)) + 1, Q.shape[0]), order="F")
+    lower[Q.row[low] - Q.col[low], Q.col[low]] = Q.data[low]
+    return lower
+
+
+def _inv3(A: np.ndarray) -> np.ndarray:
+    """Inverses of 3x3 matrices ``A[:, :, e]`` (cofactors over the determinant: array
+    arithmetic along ``e``, many times faster than ``np.linalg.inv`` on small matrices)."""
+    a, b, c = A[0]
+    d, e, f = A[1]
+    g, h, i = A[2]
+    adj = np.array([[e * i - f * h, c * h - b * i, b * f - c * e],
+                    [f * g - d * i, a * i - c * g, c * d - a * f],
+                    [d * h - e * g, b * g - a * h, a * e - b * d]])
+    return adj / (a * adj[0, 0] + b * adj[1, 0] + c * adj[2, 0])
+
+
+def _scaled(A: sp.csr_matrix, right: np.ndarray, left: np.ndarray | None = None) -> sp.csr_matrix:
+    """``diag(left) A diag(right)`` (same pattern)."""
+    A = A.copy()
+    A.data *= right[A.indices]
+    if left is not None:
+        A.data *= np.repeat(left, np.diff(A.indptr))
+    return A
+
+
+def _chain_kkt_band(nbs: np.ndarray, Ms: np.ndarray, N: int) -> np.ndarray:
+    """:meth:`_KKT.band` of a chain from its scaled blocks ``-bs`` (``nbs``, 6x3 per
+    element, :func:`_chain_blocks`) and ``Ms`` (bandwidths 5 and 5; ``T[q, t, k]`` is
+    band row ``k`` of column ``6 q + t``): column ``6 e + 3 + j`` (element ``e``) holds
+    ``-bs[:3, j, e], Ms[:, j, e], -bs[3:, j, e]`` in band rows ``7 - j ... 15 - j``,
+    column ``6 q + a`` (joint ``q``) ``-bs[3 + a, :, q - 1]`` above the diagonal (band
+    row 10) and ``-bs[a, :, q]`` below."""
+    n = nbs.shape[2]
+    T = np.zeros((n + 1, 6, 16))
+    for j in range(3):
+        T[:n, 3 + j, 7 - j:10 - j] = nbs[:3, j].T
+        T[:n, 3 + j, 10 - j:13 - j] = Ms[:, j].T
+        T[:n, 3 + j, 13 - j:16 - j] = nbs[3:, j].T
+        T[1:, j, 7 - j:10 - j] = nbs[3 + j].T
+        T[:n, j, 13 - j:16 - j] = nbs[j].T
+    return T.reshape(-1, 16)[:N].T
