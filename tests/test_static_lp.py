@@ -203,4 +203,5 @@ def test_rows_of_any_scale_are_solved():
     arch = CatenaryArch(span=10.0, rise=4.0, thickness=0.5)
     nodes = uniform_nodes(arch, 200)
     assembled = _margin(discretize(arch.with_thickness_scaled(0.01), nodes), True)
-    assert _margin(ThicknessFamily.of(arch, nodes).at(0.01), True) == pytest.approx(assembled, rel=1e-8)
+    # (rows held to 1e-10 of their largest entry, ~2e3 here, when the equilibrated retry runs)
+    assert _margin(ThicknessFamily.of(arch, nodes).at(0.01), True) == pytest.approx(assembled, rel=1e-6)

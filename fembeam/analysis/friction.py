@@ -145,9 +145,10 @@ def mass_on_midcurve(curve: MidCurve) -> MidCurve:
     model when its thickness is scaled."""
     base = type(curve)
 
-    def inertia_densities(self, s):
-        mu0, _, mu2 = base.inertia_densities(self, s)
-        return mu0, self.density * self.thickness_at(s) * self.position(s), mu2
+    def inertia_densities(self, s, power=None):
+        mu0, _, mu2 = base.inertia_densities(self, s, power)
+        t = self.thickness_at(s) if power in (None, 1) else np.zeros(np.shape(s))
+        return mu0, self.density * t * self.position(s), mu2
 
     cls = type(f"{base.__name__}MassOnMidCurve", (base,), {"inertia_densities": inertia_densities,
                                                             "__module__": __name__})

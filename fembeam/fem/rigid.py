@@ -166,6 +166,25 @@ def _default_order(curve: MidCurve, nodes_s: np.ndarray) -> int:
     return 12 if kh <= 2.0 else (24 if kh <= 4.0 else 40)
 
 
+def _mass(curve: MidCurve, mesh: MeshLine1, a: np.ndarray, b: np.ndarray, fr: dict, intorder: int,
+          power: int | None = None) -> np.ndarray:
+    """Mass blocks ``(n, 3, 3)`` of the elements ``[a, b]`` of ``mesh`` (``power``: the terms
+    in ``t`` or ``t^3`` of the densities only)."""
+    # kinetic energy 2K = d^T M d: each element's mass and moments (exact annular-sector
+    # densities) by the cell quadrature; an element across a break by its smooth parts
+    cb = CellBasis(mesh, ElementLineP0(), intorder=intorder)
+    s = np.asarray(cb.default_parameters()["x"])[0]
+    mu0, mu1, mu2 = curve.inertia_densities(s, power)
+    integral = Functional(lambda w: w.f)
+    m = integral.elemental(cb, f=mu0)
+    S0 = np.array([integral.elemental(cb, f=mu1[0]), integral.elemental(cb, f=mu1[1])])
+    J0 = integral.elemental(cb, f=mu2)
+    e = _break_elements(curve, a, b)
+    if e.size:
+        m[e], S0[:, e], J0[e] = curve.segment_inertia(a[e], b[e], power=power)
+    return _mass_blocks(m, S0, J0, fr)
+
+
 def _elements(curve: MidCurve, a: np.ndarray, b: np.ndarray, ends: np.ndarray, intorder: int):
     """Assemble the elements ``[a_e, b_e]`` (increasing; runs of consecutive elements,
     possibly several) with scikit-fem: the mesh of these elements, their frames, their
@@ -182,19 +201,7 @@ def _elements(curve: MidCurve, a: np.ndarray, b: np.ndarray, ends: np.ndarray, i
     fr = _element_frames(curve, a, b)
     E = ElementVector(ElementLineP0(), NDOF)
 
-    # kinetic energy 2K = d^T M d: each element's mass and moments (exact annular-sector
-    # densities) by the cell quadrature; an element across a break by its smooth parts
-    cb = CellBasis(mesh, ElementLineP0(), intorder=intorder)
-    s = np.asarray(cb.default_parameters()["x"])[0]
-    mu0, mu1, mu2 = curve.inertia_densities(s)
-    integral = Functional(lambda w: w.f)
-    m = integral.elemental(cb, f=mu0 * np.ones_like(s))
-    S0 = np.array([integral.elemental(cb, f=mu1[0]), integral.elemental(cb, f=mu1[1])])
-    J0 = integral.elemental(cb, f=mu2)
-    e = _break_elements(curve, a, b)
-    if e.size:
-        m[e], S0[:, e], J0[e] = curve.segment_inertia(a[e], b[e])
-    blocks = _mass_blocks(m, S0, J0, fr)
+    blocks = _mass(curve, mesh, a, b, fr, intorder)
 
     # joint operators: contributions of one side of each joint, sign = -outward normal;
     # the rate of fibre y along d (the joint's t for openings, n for sliding) of the
@@ -365,7 +372,8 @@ class ThicknessFamily:
     polynomials in ``k``.  The fibres sit at ``y = +-k h / 2``, so
     ``B_open(k) = [B_mid + k B_half; B_mid - k B_half]``, ``B_slide`` does not change; the
     densities are ``rho t`` and ``rho t^3 / 12`` terms, so ``M(k) = k M_1 + k^3 M_3``.
-    ``B_mid``, ``B_half``, ``M_1`` and ``M_3`` come from two assemblies (``k = 1``, ``1/2``)."""
+    ``B_mid`` and ``B_half`` come from the assembly at ``k = 1``, ``M_1`` and ``M_3`` from
+    the terms in ``t`` and ``t^3`` of the densities (each to round-off: no differences)."""
 
     base: Discretization
     M1: np.ndarray          # entries of M_1 and M_3 in the pattern of base.M
@@ -376,14 +384,14 @@ class ThicknessFamily:
     @classmethod
     def of(cls, curve: MidCurve, nodes_s: np.ndarray) -> "ThicknessFamily":
         one = discretize(curve, nodes_s)
-        a = 0.5 if curve.min_thickness_scale <= 0.5 else min(2.0, 0.5 * (1.0 + curve.max_thickness_scale))
-        other = discretize(curve.with_thickness_scaled(a), nodes_s, intorder=one.intorder)
-        if not (np.array_equal(one.M.indptr, other.M.indptr) and np.array_equal(one.M.indices, other.M.indices)):
+        a, b = one.nodes_s[:-1], one.nodes_s[1:]
+        M1, M3 = (_block_diagonal(_mass(curve, one.mesh, a, b, one.frames, one.intorder, p)) for p in (1, 3))
+        if not all(np.array_equal(one.M.indptr, M.indptr) and np.array_equal(one.M.indices, M.indices)
+                   for M in (M1, M3)):
             raise SolverError("thickness family: the mass matrices of one mesh differ in pattern")
-        M3 = (other.M.data - a * one.M.data) / (a**3 - a)        # M(1) = M1 + M3, M(a) = a M1 + a^3 M3
         J = one.n_joints
         plus, minus = one.B_open[:J], one.B_open[J:]
-        return cls(one, one.M.data - M3, M3, ((plus + minus) * 0.5).tocsr(), ((plus - minus) * 0.5).tocsr())
+        return cls(one, M1.data, M3.data, ((plus + minus) * 0.5).tocsr(), ((plus - minus) * 0.5).tocsr())
 
     def at(self, k: float) -> Discretization:
         """The discretisation of ``base.curve.with_thickness_scaled(k)`` on the same mesh."""

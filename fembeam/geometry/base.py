@@ -104,27 +104,30 @@ class MidCurve:
         override it; where the coordinate jumps, at a kink, they return the kink)."""
         return np.asarray(angle_deg, float) * (self.length / float(self.angle_deg(self.length)))
 
-    def inertia_densities(self, s: np.ndarray):
+    def inertia_densities(self, s: np.ndarray, power: int | None = None):
         """Mass, first and second moment (about the origin) per unit arc length.
 
         Exact for a thin annular-sector slice ``[s, s + ds]`` of thickness ``t``:
         ``mu0 = rho t``, ``mu1 = rho (t X - kappa t^3/12 n)`` (the centroid sits
         ``kappa t^2/12`` outward of the mid-curve point ``X``) and
-        ``mu2 = rho (t |X|^2 - 2 kappa t^3/12 X.n + t^3/12)``.
+        ``mu2 = rho (t |X|^2 - 2 kappa t^3/12 X.n + t^3/12)``.  ``power`` 1 or 3: only the
+        terms in ``t`` or in ``t^3`` (a thickness scaled by ``k`` scales them by ``k``, ``k^3``).
         """
         X, n = self.position(s), self.normal(s)
         t, kap = self.thickness_at(s), self.curvature(s)
-        i3 = t**3 / 12.0
-        mu0 = self.density * t
-        mu1 = self.density * (t * X - kap * i3 * n)
-        mu2 = self.density * (t * np.sum(X * X, 0) - 2 * kap * i3 * np.sum(X * n, 0) + i3)
+        one = self.density * t if power in (None, 1) else np.zeros(np.shape(s))
+        i3 = self.density * t**3 / 12.0 if power in (None, 3) else np.zeros(np.shape(s))
+        mu0 = one * np.ones(np.shape(s))
+        mu1 = one * X - kap * i3 * n
+        mu2 = one * np.sum(X * X, 0) - 2 * kap * i3 * np.sum(X * n, 0) + i3
         return mu0, mu1, mu2
 
-    def segment_inertia(self, sa, sb, order: int = 24):
+    def segment_inertia(self, sa, sb, order: int = 24, power: int | None = None):
         """Mass ``m``, first moment ``S`` (2-vector) and polar moment ``J`` about the
         origin of the member pieces ``[sa, sb]`` (arrays), by Gauss-Legendre quadrature
         (``order`` points; a piece containing one of :attr:`breaks` is integrated as the
-        sum of its smooth parts, so the rule never spans a kink)."""
+        sum of its smooth parts, so the rule never spans a kink); ``power``: the terms in
+        ``t`` or ``t^3`` only (:meth:`inertia_densities`)."""
         sa, sb = np.atleast_1d(np.asarray(sa, float)), np.atleast_1d(np.asarray(sb, float))
         br = np.asarray(self.breaks, float)
         if br.size:
@@ -133,10 +136,10 @@ class MidCurve:
             lo, hi = np.minimum(sa, sb), np.maximum(sa, sb)
             inside = (br[None, :] > lo[:, None] + tol) & (br[None, :] < hi[:, None] - tol)
             if inside.any():
-                return self._split_inertia(sa, sb, br, inside, order)
-        return self._smooth_inertia(sa, sb, order)
+                return self._split_inertia(sa, sb, br, inside, order, power)
+        return self._smooth_inertia(sa, sb, order, power)
 
-    def _split_inertia(self, sa, sb, br, inside, order):
+    def _split_inertia(self, sa, sb, br, inside, order, power=None):
         """:meth:`segment_inertia` of pieces cut at the breaks ``br[inside[i]]`` of piece ``i``."""
         rows, cols = np.nonzero(inside)
         n = sa.size
@@ -151,15 +154,15 @@ class MidCurve:
         end[:-1] = start[1:]
         last = np.r_[seg[1:] != seg[:-1], True]
         end[last] = sb[seg[last]]
-        m, S, J = self._smooth_inertia(start, end, order)
+        m, S, J = self._smooth_inertia(start, end, order, power)
         return (np.bincount(seg, m, n), np.array([np.bincount(seg, S[0], n), np.bincount(seg, S[1], n)]),
                 np.bincount(seg, J, n))
 
-    def _smooth_inertia(self, sa, sb, order):
+    def _smooth_inertia(self, sa, sb, order, power=None):
         xg, wg = _gauss(order)
         half = 0.5 * (sb - sa)
         s = 0.5 * (sa + sb)[:, None] + half[:, None] * xg[None, :]
-        mu0, mu1, mu2 = self.inertia_densities(s)
+        mu0, mu1, mu2 = self.inertia_densities(s, power)
         wq = half[:, None] * wg[None, :]
         return np.sum(mu0 * wq, 1), np.sum(mu1 * wq, 2), np.sum(mu2 * wq, 1)
 
