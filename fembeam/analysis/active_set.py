@@ -45,6 +45,7 @@ import scipy.sparse as sp
 from scipy.linalg import blas, lapack
 
 from ..fem import Discretization, dof_scaling
+from .statics import _inverse3
 
 __all__ = ["ChainProjection", "project_chain", "MAX_STEPS"]
 
@@ -325,7 +326,7 @@ def _glued(disc: Discretization | _Glued, d0: np.ndarray, K: int,
     frames = {k: disc.frames[k][:, ::K] for k in ("P", "t", "n")}
     chain = _Glued(_from_blocks(Mg, lead.size), _from_blocks(bg, kept.size), (bg, Mg), disc.curve, joints,
                    frames)
-    return chain, np.einsum("ije,je->ei", _inv3(Mg), p).ravel()
+    return chain, np.einsum("ije,je->ei", _inverse3(Mg)[0], p).ravel()
 
 
 def _from_blocks(blocks: np.ndarray, rows: int) -> sp.csr_matrix:
@@ -489,7 +490,7 @@ def _block_inverse(M: sp.csr_matrix) -> sp.csr_matrix:
     blocks = np.zeros((n, 3, 3))
     C = M.tocoo()
     blocks[C.row // 3, C.row % 3, C.col % 3] = C.data
-    inv = _inv3(blocks.transpose(1, 2, 0)).transpose(2, 0, 1)
+    inv = _inverse3(blocks.transpose(1, 2, 0))[0].transpose(2, 0, 1)
     dof = 3 * np.arange(n)[:, None] + np.arange(3)
     rows = np.repeat(dof, 3, axis=1).ravel()
     cols = np.tile(dof, 3).ravel()
@@ -527,7 +528,7 @@ def _chain_q(b: np.ndarray, Mb: np.ndarray, J: int, m: float) -> np.ndarray:
     element (block tridiagonal, 3x3 blocks joint by joint) in LAPACK lower band storage
     (``(6, 3 J)``, Fortran order)."""
     n = b.shape[2]
-    W = np.einsum("aie,ije->aje", b, _inv3(Mb) * m)             # b M^-1, then times b^T:
+    W = np.einsum("aie,ije->aje", b, _inverse3(Mb)[0] * m)          # b M^-1, then times b^T:
     strip = np.zeros((6, 3, n + 1))                              # strip[r, c, j] = Q[3 j + r, 3 j + c]
     strip[:, :, :n] = np.einsum("aje,bje->abe", W, b[:3])        # element e at joint e and (e + 1, e)
     strip[:3, :, 1:] += np.einsum("aje,bje->abe", W[3:], b[3:])  # element e at joint e + 1
@@ -545,18 +546,6 @@ def _product_q(B: sp.csr_matrix, M: sp.csr_matrix, m: float) -> np.ndarray:
     lower = np.zeros((int(np.max(Q.row - Q.col)) + 1, Q.shape[0]), order="F")
     lower[Q.row[low] - Q.col[low], Q.col[low]] = Q.data[low]
     return lower
-
-
-def _inv3(A: np.ndarray) -> np.ndarray:
-    """Inverses of 3x3 matrices ``A[:, :, e]`` (cofactors over the determinant: array
-    arithmetic along ``e``, many times faster than ``np.linalg.inv`` on small matrices)."""
-    a, b, c = A[0]
-    d, e, f = A[1]
-    g, h, i = A[2]
-    adj = np.array([[e * i - f * h, c * h - b * i, b * f - c * e],
-                    [f * g - d * i, a * i - c * g, c * d - a * f],
-                    [d * h - e * g, b * g - a * h, a * e - b * d]])
-    return adj / (a * adj[0, 0] + b * adj[1, 0] + c * adj[2, 0])
 
 
 def _scaled(A: sp.csr_matrix, right: np.ndarray, left: np.ndarray | None = None) -> sp.csr_matrix:
