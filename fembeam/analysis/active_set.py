@@ -45,6 +45,7 @@ import scipy.sparse as sp
 from scipy.linalg import blas, lapack
 
 from ..fem import Discretization, dof_scaling
+from .banded_ipm import interior_point
 from .statics import _inverse3
 
 __all__ = ["ChainProjection", "project_chain", "MAX_STEPS"]
@@ -104,12 +105,10 @@ class _Dual:
         low = sp.diags([self.lower[k, :n - k] for k in range(self.bw + 1)], -np.arange(self.bw + 1), (n, n))
         return (low + sp.triu(low.T, 1)).tocsr()
 
-    def factor(self, diag: np.ndarray | None = None, open_: np.ndarray | None = None):
-        """Cholesky factor (LAPACK band, lower) of ``Q + diag`` with the ``open_`` rows and
+    def factor(self, open_: np.ndarray | None = None):
+        """Cholesky factor (LAPACK band, lower) of ``Q`` with the ``open_`` rows and
         columns replaced by those of the identity; None if not positive definite."""
         ab = self.lower.copy(order="F")
-        if diag is not None:
-            ab[0] += diag
         if open_ is not None:
             o = np.flatnonzero(open_)
             n = ab.shape[1]
@@ -125,64 +124,20 @@ class _Dual:
         return x if info == 0 and np.all(np.isfinite(x)) else None
 
     def interior_point(self, tol: float | None = None, max_iter: int = 80) -> np.ndarray | None:
-        """Mehrotra's predictor-corrector on ``min 1/2 g^T Q g + c^T g, g_I >= 0``: the
-        Newton matrix ``Q + diag(z/g)`` (fibre rows) keeps the band of ``Q``."""
-        c, J = self.c, self.J
+        """Mehrotra's predictor-corrector (:func:`.banded_ipm.interior_point`) on
+        ``min 1/2 g^T Q g + c^T g, g_I >= 0`` (``I``: the fibre rows), from ``g_I = z = 1``,
+        until ``|r| <= tol s`` and ``mu <= tol^2 s`` (``s = max(1, |c|)``); the Newton steps
+        in :attr:`iterations`; None without convergence."""
         tol = IPM_TOL if tol is None else tol
-        g = np.zeros(3 * J)
-        gI = g.reshape(J, 3)[:, 1:]                              # views of the fibre rows
-        gI[:] = 1.0
-        zI = np.ones((J, 2))                                     # their duals (opening rates)
-        nI = 2 * J
-        scale = max(1.0, np.max(np.abs(c)))
-        diag = np.zeros(3 * J)
-        dI = diag.reshape(J, 3)[:, 1:]
-        for it in range(max_iter):
-            rd = self.rates(g)
-            rdI = rd.reshape(J, 3)[:, 1:]
-            rdI -= zI
-            mu = float(np.vdot(gI, zI)) / nI
-            if np.max(np.abs(rd)) <= tol * scale and mu <= tol * tol * scale:
-                self.iterations = it
-                return g
-            inv = 1.0 / gI
-            np.multiply(zI, inv, out=dI)                          # z / g
-            L = self.factor(diag)
-            if L is None:
-                return None
-
-            def newton(rcg):
-                """Step for the complementarity residual ``rc`` given as ``rc / g``."""
-                rhs = -rd
-                rhs.reshape(J, 3)[:, 1:] -= rcg
-                dg = self.solve(L, rhs)
-                if dg is None:
-                    return None, None, None
-                dgI = dg.reshape(J, 3)[:, 1:]
-                return dg, dgI, -rcg - dI * dgI
-
-            def boundary(dgI, dzI):
-                def ratio(x, dx):
-                    return float(np.min(np.divide(x, -dx, out=np.full(x.shape, np.inf), where=dx < 0)))
-                return min(1.0, ratio(gI, dgI), ratio(zI, dzI))
-
-            out = newton(zI)                                      # affine predictor (rc = g z)
-            if out[0] is None:
-                return None
-            dg, dgI, dzI = out
-            a = boundary(dgI, dzI)
-            mu_aff = float(np.vdot(gI + a * dgI, zI + a * dzI)) / nI
-            sig = (mu_aff / mu) ** 3
-            out = newton(zI + (dgI * dzI - sig * mu) * inv)      # corrector
-            if out[0] is None:
-                return None
-            dg, dgI, dzI = out
-            a = min(1.0, 0.995 * boundary(dgI, dzI))
-            g += a * dg
-            zI += a * dzI
-            if not (np.all(np.isfinite(g)) and np.all(np.isfinite(zI))):
-                return None
-        return None
+        scale = max(1.0, float(np.max(np.abs(self.c))))
+        I = np.flatnonzero(self.fibre)
+        out = interior_point(self.rates, self.lower, I, self.fibre.astype(float), np.ones(I.size),
+                             lambda g, r, mu: np.max(np.abs(r)) <= tol * scale and mu <= tol * tol * scale,
+                             lower=True, max_iter=max_iter)
+        if out is None:
+            return None
+        g, _, self.iterations = out
+        return g
 
 
 def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray | None = None,

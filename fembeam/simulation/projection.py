@@ -29,8 +29,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg.lapack import dpbsv, dpbtrf, dpbtrs
+from scipy.linalg.lapack import dpbsv
 
+from ..analysis.banded_ipm import interior_point
 from ..errors import SolverError
 from .contacts import BAND, Contacts
 
@@ -147,54 +148,26 @@ def _checked(P, w, F, free, nonneg, pivots, vscale, dmax) -> MLCPSolution:
 
 
 def _interior_point(contacts: Contacts, ab, c, free, nonneg, reg, vscale):
-    """Mehrotra's predictor-corrector on the MLCP (each iteration one banded factorisation of
+    """Mehrotra's predictor-corrector (:func:`~fembeam.analysis.banded_ipm.interior_point`) on the
+    MLCP as the QP ``min 1/2 P^T (W + reg) P + c^T P, P_N >= 0`` (the rows of neither ``T`` nor ``N``
+    identity rows with ``c = 0``: ``P = 0``; each iteration one banded factorisation of
     ``W + reg + diag(w_N / P_N)`` and two solves): ``(P, iterations)``, with ``P_N > 0`` and the
     rates ``w_N = (W P + c)_N > 0`` complementary to ``1e-13`` of the scales.  Unlike the pivoting
     methods it is indifferent to redundant closed joints (``W`` singular: the impulses are not
     unique, it converges to the centre of the optimal face) and to degenerate rows (``P = w = 0``).
     SolverError if it has not converged in :data:`IPM_ITERATIONS`."""
-    act = (free | nonneg).astype(float)
-    base = contacts.restrict(ab, free | nonneg, reg)
-    dmax = float(np.max(ab[BAND]))
-    ps = vscale / max(dmax, 1e-300)
-    iN = np.flatnonzero(nonneg)
-    nN = max(iN.size, 1)
-    P = np.zeros(c.size)
-    P[iN] = ps
-    w = np.full(iN.size, vscale)                     # the rates of the rows N (compressed)
+    act = free | nonneg
+    ps = vscale / max(float(np.max(ab[BAND])), 1e-300)
     tol = 1e-11
-    diag = base[BAND].copy()
-    for it in range(1, IPM_ITERATIONS + 1):
-        rd = (contacts.banded_matvec(ab, P) + reg * P + c) * act
-        rd[iN] -= w
-        p = P[iN]
-        mu = float(p @ w) / nN
+
+    def converged(P: np.ndarray, rd: np.ndarray, mu: float) -> bool:
         pscale = max(float(np.max(np.abs(P))), ps)
-        if float(np.max(np.abs(rd))) <= tol * vscale and mu <= 1e-2 * tol * vscale * pscale:
-            return P, it
-        base[BAND] = diag
-        base[BAND, iN] += w / p
-        cf, info = dpbtrf(base)
-        if info != 0:
-            break
+        return float(np.max(np.abs(rd))) <= tol * vscale and mu <= 1e-2 * tol * vscale * pscale
 
-        def direction(rc):
-            rhs = -rd
-            rhs[iN] -= rc / p
-            dP, _ = dpbtrs(cf, rhs)
-            dp = dP[iN]
-            return dP, dp, (-rc - w * dp) / p
-
-        def longest(x, dx):                  # the longest step (at most 1) keeping x + a dx >= 0
-            r = np.divide(x, dx, out=np.full(x.size, -np.inf), where=dx < 0)
-            return min(1.0, -float(r.max(initial=-np.inf)))
-
-        pw = p * w
-        dPa, dpa, dwa = direction(pw)                                   # predictor (affine scaling)
-        mua = float((p + longest(p, dpa) * dpa) @ (w + longest(w, dwa) * dwa)) / nN
-        sigma = (mua / mu) ** 3 if mu > 0 else 0.0
-        dP, dp, dw = direction(pw + dpa * dwa - sigma * mu)                 # corrector
-        a = 0.995 * min(longest(p, dp), longest(w, dw))
-        P += a * dP
-        w += a * dw
-    raise SolverError("the interior point did not converge")
+    iN = np.flatnonzero(nonneg)
+    out = interior_point(lambda P: (contacts.banded_matvec(ab, P) + reg * P + c) * act,
+                         contacts.restrict(ab, act, reg), iN, np.where(nonneg, ps, 0.0), np.full(iN.size, vscale),
+                         converged, lower=False, max_iter=IPM_ITERATIONS, joint_affine_step=False)
+    if out is None:
+        raise SolverError("the interior point did not converge")
+    return out[0], out[2] + 1
