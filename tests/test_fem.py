@@ -162,3 +162,27 @@ def test_thickness_family_equals_the_assembly(make):
         for A, B in ((a.M, b.M), (a.B_open, b.B_open), (a.B_slide, b.B_slide)):
             assert abs(A - B).max() <= 1e-13 * abs(B).max()
         assert a.curve == b.curve and np.array_equal(a.joint_s, b.joint_s)
+
+
+def test_densities_overridden_without_power():
+    """A member overriding inertia_densities(s) in the old way still discretises; one that
+    ignores ``power`` cannot build a thickness family (an error, not M(k) = (k + k^3) M)."""
+    import dataclasses
+
+    from fembeam.errors import SolverError
+    from fembeam.fem.rigid import ThicknessFamily
+
+    @dataclasses.dataclass(frozen=True)
+    class Old(CircularArch):
+        def inertia_densities(self, s):
+            return CircularArch.inertia_densities(self, s)
+
+    @dataclasses.dataclass(frozen=True)
+    class Deaf(CircularArch):
+        def inertia_densities(self, s, power=None):
+            return CircularArch.inertia_densities(self, s)
+
+    nodes = uniform_nodes(CircularArch(), 20)
+    assert abs(discretize(Old(), nodes).M - discretize(CircularArch(), nodes).M).max() == 0.0
+    with pytest.raises(SolverError, match="do not add up"):
+        ThicknessFamily.of(Deaf(), nodes)

@@ -176,3 +176,20 @@ def test_continuum_rounds_run_out_with_an_error_not_a_wrong_answer():
     assert continuum_limit(disc, 1).status == "ok"
     with pytest.raises(SolverError, match="after 1 rounds"):
         continuum_limit(disc, 1, max_rounds=1)
+
+
+def test_standing_undecided_when_rounds_run_out():
+    """A margin search stopped by its round budget while the joints stand and a section
+    between them does not: an error saying so (not "stands", not an infeasible LP); a
+    budget below one round is bad input."""
+    from fembeam import CircularArch, discretize, uniform_nodes
+    from fembeam.analysis.continuum import continuum_limit
+    from fembeam.errors import InputError, SolverError
+
+    arch = CircularArch.from_ratio(180.0, 0.107)
+    disc = discretize(arch, uniform_nodes(arch, 6))
+    assert continuum_limit(disc, 1).status == "cannot_stand"
+    with pytest.raises(SolverError, match="undecided after 1 rounds"):
+        continuum_limit(disc, 1, max_rounds=1)
+    with pytest.raises(InputError, match="max_rounds"):
+        continuum_limit(disc, 1, max_rounds=0)

@@ -453,14 +453,20 @@ def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: in
     from .limit import STAND_TOL, _unboxed, stand_lp
 
     k = st.k
+    if isinstance(max_rounds, bool) or not isinstance(max_rounds, (int, np.integer)) or max_rounds < 1:
+        raise InputError(f"max_rounds must be a positive integer, got {max_rounds!r}")
     for rounds in range(1, max_rounds + 1):
         stand = _unboxed(stand_lp, _rows(st, direction, R, cuts, fib), k)
         z_c = np.r_[stand.z[:k], 0.0, 1.0]
         s_new, f_new, v = weakest_sections(st, z_c, stand.value)
         margin = min(stand.value, float(np.min(v, initial=np.inf)))
         keep = v < stand.value - tol
-        if ((margin >= -STAND_TOL and not converge) or stand.value < -STAND_TOL or not keep.any()
-                or rounds == max_rounds):           # the cuts returned are those of the last LP
+        if (margin >= -STAND_TOL and not converge) or stand.value < -STAND_TOL or not keep.any():
+            break
+        if rounds == max_rounds:                    # the cuts returned are those of the last LP
+            if margin < -STAND_TOL:
+                raise SolverError(f"whether the member stands is undecided after {max_rounds} rounds: the joints "
+                                  f"stand, a section between them does not yet")
             break
         cuts, fib = np.concatenate([cuts, s_new[keep]]), np.concatenate([fib, f_new[keep]])
     return stand, margin, cuts, fib, rounds

@@ -36,7 +36,7 @@ class SmallLP:
     y: np.ndarray
     rounds: int
     working_rows: int
-    min_row: float          # min over all rows of A z + b (>= -FEAS_TOL)
+    min_row: float          # min over all rows of A z + b (>= -FEAS_TOL; rows scaled when retried equilibrated)
     at_bound: np.ndarray    # bool per variable: a box bound holds the optimum (binding, non-zero reduced cost)
 
 
@@ -80,6 +80,10 @@ def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | Non
             raise SolverError(str(e)) from None
 
 
+_OUTCOMES = (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnbounded,
+             highspy.HighsModelStatus.kUnboundedOrInfeasible)
+
+
 class _Unsolved(SolverError):
     """HiGHS found no optimum of a working set."""
 
@@ -96,6 +100,8 @@ def _generate(c, A, b, bounds, seq, work, max_rounds, per_round, scale) -> Small
             _add_rows(h, A[rows] * scale[rows, None], b[rows] * scale[rows])
         ran = h.run()
         status = h.getModelStatus()
+        if status in _OUTCOMES:              # a genuine outcome of the working set: no retry
+            raise SolverError(f"HiGHS: the {work.size}-row working set is {h.modelStatusToString(status)}")
         if ran == highspy.HighsStatus.kError or status != highspy.HighsModelStatus.kOptimal:
             raise _Unsolved(f"HiGHS failed on a {work.size}-row working set ({h.modelStatusToString(status)})")
         sol = h.getSolution()
@@ -103,6 +109,8 @@ def _generate(c, A, b, bounds, seq, work, max_rounds, per_round, scale) -> Small
             raise SolverError(f"HiGHS holds {len(sol.row_dual)} rows of the {work.size}-row working set")
         z = np.array(sol.col_value)
         r = A @ z + b
+        if scale is not None:                # the retry's rows: judged as HiGHS saw them
+            r *= scale
         bad = r < -FEAS_TOL
         bad[work] = False   # rows of the working set hold to HiGHS's own tolerance
         if not bad.any():
