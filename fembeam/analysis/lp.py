@@ -55,7 +55,7 @@ def _runs_argmin(r: np.ndarray, bad: np.ndarray, seq: int) -> np.ndarray:
 
 
 def maximise(c: np.ndarray, A: np.ndarray, b: np.ndarray, bounds, seq: int | None = None,
-             start: np.ndarray | None = None, initial: int = 64, max_rounds: int = 100,
+             start: np.ndarray | None = None, initial: int = 16, max_rounds: int = 100,
              per_round: int = 256) -> SmallLP:
     """Solve ``max c.z s.t. A z + b >= 0`` (see the module docstring); ``bounds``: one
     ``(lower, upper)`` per unknown (None: unbounded); rows come in sequences of ``seq``
