@@ -84,6 +84,23 @@ class CircularArch(MidCurve):
     def angle_deg(self, s):
         return np.degrees(np.asarray(s, float) / self.radius)
 
+    def _smooth_inertia(self, sa, sb, order, power=None):
+        """:meth:`MidCurve.segment_inertia` of annular sectors in closed form (``order`` is
+        not needed): with ``X = R (cos theta, sin theta)``, ``theta = theta_0 - s / R``, the
+        densities are ``rho t``, ``rho (t + t^3 / (12 R^2)) X`` and ``rho (t R^2 + t^3 / 4)``."""
+        if type(self).inertia_densities is not MidCurve.inertia_densities:   # another load model
+            return super()._smooth_inertia(sa, sb, order, power)
+        sa, sb = np.asarray(sa, float), np.asarray(sb, float)
+        R, rho, t = self.radius, self.density, self.thickness
+        one = rho * t if power in (None, 1) else 0.0
+        i3 = rho * t**3 / 12.0 if power in (None, 3) else 0.0
+        ta, tb = self._theta(sa), self._theta(sb)
+        L = sb - sa
+        m = np.full(L.shape, one) * L
+        mid, half = 0.5 * (ta + tb), np.sin(0.5 * L / R)       # differences of sines without cancellation
+        S = (one + i3 / R**2) * R**2 * 2.0 * half * np.array([np.cos(mid), np.sin(mid)])
+        return m, S, (one * R**2 + 3.0 * i3) * L
+
     def with_thickness_scaled(self, factor: float) -> "CircularArch":
         return dataclasses.replace(self, thickness=self.thickness * factor)
 
