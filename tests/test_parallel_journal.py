@@ -81,7 +81,7 @@ def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
     """SIGINT and SIGTERM end the sweep within a second with 130 / 143, one stderr line, no
     worker left; the cases finished are in the journal and a re-run completes from them
     to the result of an uninterrupted run."""
-    cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.01",
+    cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.002",
            "--elements", "24", "--tmin-elements", "24", "--workers", "2", "--quiet"]
     journal = tmp_path / "a" / ".fembeam-sweep-journal.jsonl"
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
