@@ -45,6 +45,7 @@ import scipy.sparse as sp
 from scipy.linalg import blas, lapack
 
 from ..fem import Discretization, dof_scaling
+from ..fem.rigid import _block_diagonal, _diagonal_blocks
 from .banded_ipm import interior_point
 from .statics import _inverse3
 
@@ -441,15 +442,7 @@ def _permute(v: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 def _block_inverse(M: sp.csr_matrix) -> sp.csr_matrix:
     """Inverse of a block-diagonal matrix of 3x3 blocks."""
-    n = M.shape[0] // 3
-    blocks = np.zeros((n, 3, 3))
-    C = M.tocoo()
-    blocks[C.row // 3, C.row % 3, C.col % 3] = C.data
-    inv = _inverse3(blocks.transpose(1, 2, 0))[0].transpose(2, 0, 1)
-    dof = 3 * np.arange(n)[:, None] + np.arange(3)
-    rows = np.repeat(dof, 3, axis=1).ravel()
-    cols = np.tile(dof, 3).ravel()
-    return sp.csr_matrix((inv.ravel(), (rows, cols)), shape=M.shape)
+    return _block_diagonal(_inverse3(_diagonal_blocks(M).transpose(1, 2, 0))[0].transpose(2, 0, 1))
 
 
 def _joint_major(disc: Discretization) -> sp.csr_matrix:

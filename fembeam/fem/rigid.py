@@ -148,6 +148,15 @@ def _mass_blocks(m: np.ndarray, S0: np.ndarray, J0: np.ndarray, fr: dict) -> np.
     return blocks
 
 
+def _diagonal_blocks(M: sp.spmatrix) -> np.ndarray:
+    """The 3x3 diagonal blocks ``(n, 3, 3)`` of a block-diagonal ``M`` (inverse of
+    :func:`_block_diagonal`)."""
+    C = M.tocoo()
+    blocks = np.zeros((M.shape[0] // NDOF, NDOF, NDOF))
+    blocks[C.row // NDOF, C.row % NDOF, C.col % NDOF] = C.data
+    return blocks
+
+
 def _block_diagonal(blocks: np.ndarray) -> sp.csr_matrix:
     n = blocks.shape[0]
     dof = NDOF * np.arange(n)[:, None] + np.arange(NDOF)
@@ -247,9 +256,11 @@ def _elements(curve: MidCurve, a: np.ndarray, b: np.ndarray, ends: np.ndarray, i
     return mesh, fr, blocks, [assemble("open", +1.0), assemble("open", -1.0), assemble("slide", 0.0)]
 
 
-def _end_joints(curve: MidCurve, n_elements: int) -> list[int]:
-    """Nodes at the springings that are joints (against an abutment)."""
-    return [f for f, end in zip((0, n_elements), curve.ends) if end == "joint"]
+def _joint_nodes(curve: MidCurve, n_elements: int) -> tuple[list[int], np.ndarray]:
+    """The nodes at the springings that are joints (against an abutment), and every joint's
+    node (the interior nodes and those), in order."""
+    bnd = [f for f, end in zip((0, n_elements), curve.ends) if end == "joint"]
+    return bnd, np.sort(np.concatenate([np.arange(1, n_elements), np.array(bnd, dtype=int)]))
 
 
 def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None,
@@ -281,9 +292,8 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
         if out is not None:
             return out
     n = nodes_s.size - 1
-    bnd = _end_joints(curve, n)
+    bnd, joint_nodes = _joint_nodes(curve, n)
     mesh, fr, blocks, rows = _elements(curve, nodes_s[:-1], nodes_s[1:], np.array(bnd, int), intorder)
-    joint_nodes = np.sort(np.concatenate([np.arange(1, n), np.array(bnd, dtype=int)]))
     B_open = sp.vstack([rows[0][joint_nodes], rows[1][joint_nodes]]).tocsr()
     B_slide = rows[2][joint_nodes].tocsr()
     for A in (B_open, B_slide):
@@ -315,29 +325,24 @@ def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) 
     # the new elements and their neighbours, assembled alone: rows at the joints next to new elements
     touched = np.unique(np.concatenate([new, new + 1]))                    # nodes
     win = np.unique(np.clip(np.concatenate([new - 1, new, new + 1]), 0, n - 1))
-    bnd = _end_joints(curve, n)
-    ends_w = np.searchsorted(np.unique(np.concatenate([x[win], x[win + 1]])),
-                             x[[j for j in bnd if j in touched]])
+    bnd, joint_nodes = _joint_nodes(curve, n)
+    pts_w = np.unique(np.concatenate([x[win], x[win + 1]]))                # the window's points
+    ends_w = np.searchsorted(pts_w, x[[j for j in bnd if j in touched]])
     _, fr_w, blocks_w, rows_w = _elements(curve, x[win], x[win + 1], ends_w, intorder)
     pos = np.searchsorted(win, new)                                        # new elements in the window
     # elements: old blocks and frames, the new ones from the window
-    Mo = old.M.tocoo()
-    blocks = np.zeros((y.size - 1, NDOF, NDOF))
-    blocks[Mo.row // NDOF, Mo.row % NDOF, Mo.col % NDOF] = Mo.data
-    blocks = blocks[oi]
+    blocks = _diagonal_blocks(old.M)[oi]
     blocks[new] = blocks_w[pos]
     fr = {k: v[..., oi].copy() for k, v in old.frames.items()}
     for k in fr:
         fr[k][..., new] = fr_w[k][..., pos]
     # joints: new numbering (interior nodes and abutment joints), each either copied or assembled
-    joint_nodes = np.sort(np.concatenate([np.arange(1, n), np.array(bnd, dtype=int)]))
     J, Jo = joint_nodes.size, old.n_joints
     old_node = np.searchsorted(y, x[joint_nodes])                          # exact where copied
     copied = ~np.isin(joint_nodes, touched)
-    old_joint = np.searchsorted(y[np.searchsorted(y, old.joint_s)], y[old_node])
+    old_joint = np.searchsorted(np.searchsorted(y, old.joint_s), old_node)  # its index among old's joints
     new_of_old_el = np.full(y.size - 1, -1)
     new_of_old_el[oi[same]] = np.flatnonzero(same)
-    pts_w = np.unique(np.concatenate([x[win], x[win + 1]]))
     w_joint = np.flatnonzero(~copied)
     w_row = np.searchsorted(pts_w, x[joint_nodes[w_joint]])
 
