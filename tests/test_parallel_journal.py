@@ -145,3 +145,46 @@ def test_interrupt_names_what_was_kept(tmp_path, monkeypatch, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 130 and len(err) == 1
     assert "2 of 3 cases kept in" in err[0] and ".s.csv.sweep-journal.jsonl" in err[0] and "resume" in err[0]
+
+
+class _SignalInFinaliser:
+    """Receives SIGTERM while Python runs its finaliser, where an exception is dropped (as in
+    the at-fork hook that runs when a worker process starts)."""
+
+    def __del__(self):
+        from fembeam import interrupts
+        interrupts._handler(signal.SIGTERM, None)
+
+
+def signal_dropped_then_square(i: int) -> int:
+    if i == 1:
+        _SignalInFinaliser()            # created and finalised at once: the exception is dropped
+    return i * i
+
+
+def test_an_interrupt_python_drops_still_stops_the_study(tmp_path, capsys):
+    """A signal whose exception is raised where Python ignores exceptions stops the study at
+    the next finished task, with the task kept, and nothing about it on stderr."""
+    from fembeam import interrupts
+
+    j = journal_for(tmp_path / "s.csv", "test")
+    with interrupts.handled():
+        with pytest.raises(interrupts.Terminated) as e:
+            run_tasks([(signal_dropped_then_square, {"i": i}) for i in range(5)], workers=1,
+                      progress=False, journal=j)
+    assert "2 of 5 cases kept" in "".join(e.value.__notes__)
+    assert len(Journal(j.path).done) == 2 and capsys.readouterr().err == ""
+    assert signal.getsignal(signal.SIGTERM) is not interrupts._handler          # restored
+    assert sys.unraisablehook is not interrupts._unraisable
+
+
+def test_a_command_that_lost_its_interrupt_exits_143(monkeypatch, capsys):
+    """The end of a command is a safe point too: 143 and one line, not 0."""
+    import fembeam.cli.analyze as analyze
+    from fembeam.cli.main import main
+
+    real = analyze.run
+    monkeypatch.setattr(analyze, "run", lambda args: (_SignalInFinaliser(), real(args))[1])
+    assert main(["analyze", "--elements", "24"]) == 143
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "terminated" in err

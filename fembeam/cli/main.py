@@ -3,14 +3,15 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import threading
 import warnings
 
 import numpy as np
 
+from .. import interrupts
 from ..errors import FembeamError, InputError
+from ..interrupts import Terminated
 
 # sub-command -> (module of fembeam.cli, one-line help); a module is imported only when its
 # command runs (or for a full parser), so that ``fembeam --help`` stays quick
@@ -69,14 +70,6 @@ def _parser_for(argv: list[str] | None) -> argparse.ArgumentParser:
     return build_parser(only=command, full=False)
 
 
-class Terminated(BaseException):
-    """SIGTERM, turned into an exception so that open outputs are cleaned up."""
-
-
-def _terminate(signum, frame):
-    raise Terminated()
-
-
 def main(argv: list[str] | None = None) -> int:
     """Run one sub-command; the exit code:
 
@@ -97,12 +90,18 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(argv: list[str] | None) -> int:
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGTERM, _terminate)
+    if threading.current_thread() is not threading.main_thread():   # no signals there
+        return _command(argv)
+    with interrupts.handled():
+        return _command(argv)
+
+
+def _command(argv: list[str] | None) -> int:
     try:
         try:
             args = _parser_for(argv).parse_args(argv)
             code = int(args.func(args) or 0)
+            interrupts.check()        # a signal whose exception Python dropped (raised in an at-fork hook)
         except SystemExit as e:       # --help, or an argparse error
             code = e
         sys.stdout.flush()            # a full device fails here rather than at exit
@@ -110,9 +109,11 @@ def _run(argv: list[str] | None) -> int:
             raise code
         return code
     except KeyboardInterrupt as e:     # notes: what a study kept (its journal)
+        interrupts.reset()
         print("fembeam: interrupted" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
         return 130
     except Terminated as e:
+        interrupts.reset()
         print("fembeam: terminated" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
         return 143
     except InputError as e:

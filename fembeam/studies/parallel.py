@@ -11,7 +11,9 @@ Nothing finished is lost:
   journal takes those results instead of recomputing them, so an interrupted study
   resumes where it stopped.  The caller removes the journal once its outputs are written.
 * an error, Ctrl-C or SIGTERM kills the worker processes at once and drops the queue;
-  the exception carries a note saying how many tasks were kept (``add_note``).
+  the exception carries a note saying how many tasks were kept (``add_note``).  A signal
+  whose exception Python dropped (see :mod:`fembeam.interrupts`) is raised again when the
+  next task finishes.
 * a worker process that dies (killed, out of memory) breaks the local pool: the tasks it
   took with it are run again, each in a process of its own; a task that loses its
   process a second time gets ``lost(task, message)`` as its result (a failed case), or
@@ -25,6 +27,7 @@ import sys
 from pathlib import Path
 from typing import Any, Callable
 
+from .. import interrupts
 from ..errors import InputError, SolverError
 
 __all__ = ["run_tasks", "default_workers", "Journal", "journal_for"]
@@ -142,6 +145,7 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
             journal.add(keys[i], result)
         finished[0] += 1
         bar.update()
+        interrupts.check()    # an interrupt whose exception Python dropped (in a worker's at-fork hook)
 
     try:
         sub = [tasks[i] for i in todo]
