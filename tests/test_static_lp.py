@@ -92,6 +92,35 @@ def test_continuum_is_mesh_independent_bracketed_and_below_every_mesh():
     assert np.ptp(vals) < 1e-11 and vals[0] == pytest.approx(0.3533839, abs=5e-8)   # the paper: 0.3533839
 
 
+@pytest.mark.parametrize("beta, tr, direction", [(157.5, 0.15, 1), (180.0, 0.1, -1), (60.0, 0.05, 1)])
+def test_continuum_takes_the_first_round_from_the_limit_analysis(beta, tr, direction, monkeypatch):
+    """The continuum search's first LPs (the joints' rows alone) are the limit analysis's:
+    taken from it, the result is the same bit for bit and two LPs fewer are solved (the
+    stand LP only for a member that cannot stand)."""
+    import fembeam.analysis.limit as limit_mod
+
+    arch = CircularArch.from_ratio(beta, tr)
+    disc = discretize(arch, uniform_nodes(arch, 60))
+    lim = limit_analysis(disc, direction)
+    calls = []
+    for name in ("stand_lp", "main_lp"):
+        real = getattr(limit_mod, name)
+        monkeypatch.setattr(limit_mod, name, lambda *a, _f=real, _n=name, **k: (calls.append(_n), _f(*a, **k))[1])
+    alone = continuum_limit(disc, direction)
+    n_alone = len(calls)
+    reused = continuum_limit(disc, direction, lim=lim)
+    assert len(calls) - n_alone == n_alone - (2 if lim.status != "cannot_stand" else 1)
+    assert lim.status == alone.status
+    for f in ("status", "A_L", "A_L_lower", "margin", "violation", "rounds", "exact_hinges"):
+        assert getattr(reused, f) == getattr(alone, f) or (np.isnan(getattr(alone, f)) and np.isnan(getattr(reused, f)))
+    assert np.array_equal(reused.hinge_s, alone.hinge_s) and np.array_equal(reused.cuts, alone.cuts)
+    # another direction's limit analysis is not taken
+    other = limit_analysis(disc, -direction)
+    n0 = len(calls)
+    continuum_limit(disc, direction, lim=other)
+    assert len(calls) - n0 == n_alone
+
+
 def test_continuum_hinges_give_the_closed_form_load_factor():
     """Four hinges at the continuum optimum: the exact four-hinge load factor (inertia
     integrals of the pieces, Appendix A) equals the LP's A_L."""

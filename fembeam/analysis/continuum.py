@@ -252,11 +252,14 @@ def _rows(st: Statics, direction: int, R: np.ndarray, cuts: np.ndarray, fib: np.
     return np.concatenate([R, C])
 
 
-def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: int = 50) -> ContinuumLimit:
+def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: int = 50,
+                    lim=None) -> ContinuumLimit:
     """Limit analysis of the continuous member meshed by ``disc``: the joints of ``disc``
     plus, round after round, the weakest sections between them (the exchange method of
     semi-infinite linear programming), until the thrust line at the optimum lies inside
-    the section everywhere to ``tol`` (units of weight).  The bounds bracket ``A_L``:
+    the section everywhere to ``tol`` (units of weight).  ``lim``: the limit analysis of
+    ``disc`` along ``direction`` without friction, if done: its LPs on the joints are the
+    first round's.  The bounds bracket ``A_L``:
     the convex combination ``theta z* + (1 - theta) z_c`` of the optimum and of the
     most central state under gravity ``z_c`` (margin ``m_c > 0``) is admissible for
     ``theta = m_c / (m_c + violation)``, so ``A_L >= theta A_L*``."""
@@ -270,13 +273,17 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
     st = statics(disc)
     k, J = st.k, disc.n_joints
     R = joint_rows(st, direction)
-    stand, margin, cuts, fib, rounds = _stand(st, direction, R, np.empty(0), np.empty(0, int), tol, max_rounds)
+    first = (lim.lps if lim is not None and lim.disc is disc and lim.direction == direction and lim.friction is None
+             else (None, None))
+    stand, margin, cuts, fib, rounds = _stand(st, direction, R, np.empty(0), np.empty(0, int), tol, max_rounds,
+                                              first=first[0])
     if stand.value < -STAND_TOL:
         return ContinuumLimit("cannot_stand", float("nan"), float("nan"), stand.value,
                               _support(disc, cuts, stand.y, J), cuts, float("nan"), rounds)
     for _ in range(max_rounds):
         rounds += 1
-        main = _unboxed(main_lp, _rows(st, direction, R, cuts, fib), k)
+        main = (first[1] if cuts.size == 0 and first[1] is not None
+                else _unboxed(main_lp, _rows(st, direction, R, cuts, fib), k))
         if main.at_bound[k]:
             return ContinuumLimit("no_mechanism", float("inf"), float("inf"), margin, np.empty(0), cuts, 0.0, rounds)
         s_new, f_new, v = weakest_sections(st, np.r_[main.z[:k], direction * main.z[k], 1.0])
@@ -445,18 +452,21 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     return x, float(lam), s, scale
 
 
-def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int, converge: bool = False):
+def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int, converge: bool = False,
+           first=None):
     """Largest margin under gravity on the continuum: the LP's value bounds it from above,
     the smallest fibre force of the LP's state along the whole member from below.  The
     rounds stop as soon as that state stands, or with ``converge`` only when the bounds
-    agree to ``tol`` (or the joints alone cannot stand)."""
+    agree to ``tol`` (or the joints alone cannot stand).  ``first``: the LP on the rows
+    ``R`` alone, already solved."""
     from .limit import STAND_TOL, _unboxed, stand_lp
 
     k = st.k
     if isinstance(max_rounds, bool) or not isinstance(max_rounds, (int, np.integer)) or max_rounds < 1:
         raise InputError(f"max_rounds must be a positive integer, got {max_rounds!r}")
     for rounds in range(1, max_rounds + 1):
-        stand = _unboxed(stand_lp, _rows(st, direction, R, cuts, fib), k)
+        stand = (first if first is not None and cuts.size == 0
+                 else _unboxed(stand_lp, _rows(st, direction, R, cuts, fib), k))
         z_c = np.r_[stand.z[:k], 0.0, 1.0]
         s_new, f_new, v = weakest_sections(st, z_c, stand.value)
         margin = min(stand.value, float(np.min(v, initial=np.inf)))

@@ -72,6 +72,9 @@ class LimitResult:
     verification: dict = field(default_factory=dict)
     solve_time: float = 0.0
     lp_rounds: int = 0
+    # the LP solutions on the joints' rows (stand, main or None): the continuum search's
+    # first round solves the same LPs and takes them from here
+    lps: tuple = field(default=(None, None), repr=False, compare=False)
 
     @property
     def eccentricity(self) -> np.ndarray:
@@ -153,6 +156,7 @@ def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = Fals
         else:
             res = _ok(st, direction, main, R, mu)
         res.lp_rounds = stand.rounds + main.rounds
+    res.lps = (stand, None if margin < -STAND_TOL else main)
     res.margin = margin
     res.friction = mu
     res.solve_time = time.perf_counter() - t0

@@ -215,7 +215,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
         res.timings["continuum"] = time.perf_counter() - t0
     elif continuum and lim.status != "no_mechanism":
         t0 = time.perf_counter()
-        cont = continuum_limit(disc, direction)
+        cont = continuum_limit(disc, direction, lim=lim)
         res.continuum = cont
         if cont.status == "ok":
             res.verification["continuum_violation"] = cont.violation
