@@ -273,3 +273,15 @@ def test_glued_twice_is_glued_once():
     for x, y in ((once.M, twice.M), (once.B, twice.B)):
         assert abs(x - y).max() <= 1e-12 * abs(x).max()
     assert np.max(np.abs(q - q2)) <= 1e-12 * np.max(np.abs(q))
+
+
+def test_a_member_without_abutment_is_an_input_error():
+    """Free at both ends: its rigid motions are not held, and the projection says so
+    instead of indexing past its band."""
+    from fembeam import discretize, uniform_nodes
+    from fembeam.errors import InputError
+
+    m = StraightMember(ends=("free", "free"))
+    disc = discretize(m, uniform_nodes(m, 10))
+    with pytest.raises(InputError, match="abutment"):
+        project_chain(disc, np.ones(disc.M.shape[0]))

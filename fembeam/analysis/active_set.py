@@ -44,6 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import blas, lapack
 
+from ..errors import InputError
 from ..fem import Discretization, dof_scaling
 from ..fem.rigid import _block_diagonal, _diagonal_blocks
 from .banded_ipm import interior_point
@@ -148,6 +149,9 @@ def project_chain(disc: Discretization, d0: np.ndarray, start_open: np.ndarray |
     ``MULTILEVEL_ELEMENTS`` elements; when that guess leads to no certified answer, the
     interior point is tried), else from the interior point; the active-set steps give the
     exact solution; None when there is no certified answer (module docstring)."""
+    if disc.n_joints < disc.n_elements:    # no abutment: its rigid motions are free, no projection is defined
+        raise InputError(f"the member must rest on one abutment with a free end, or on two abutments "
+                         f"({disc.n_joints} joints for {disc.n_elements} elements)")
     P = _Dual(disc, d0)
     if start_open is not None:
         open_ = np.zeros((P.J, 3), bool)
