@@ -121,6 +121,39 @@ def test_continuum_takes_the_first_round_from_the_limit_analysis(beta, tr, direc
     assert len(calls) - n0 == n_alone
 
 
+@pytest.mark.parametrize("beta, tr, direction", [(157.5, 0.15, 1), (90.0, 0.1, -1), (180.0, 0.2, 1)])
+def test_hinge_polish_newton_and_minpack_agree(beta, tr, direction, monkeypatch):
+    """The exact hinges come from Newton's method on the optimality conditions; MINPACK's
+    trust region (taken when Newton fails) finds the same point."""
+    import fembeam.analysis.continuum as cont
+
+    arch = CircularArch.from_ratio(beta, tr)
+    disc = discretize(arch, uniform_nodes(arch, 80))
+    newton = continuum_limit(disc, direction)
+    monkeypatch.setattr(cont, "_newton", lambda FJ, p0, inside, **kw: p0)   # no progress: MINPACK
+    minpack = continuum_limit(disc, direction)
+    assert newton.exact_hinges and minpack.exact_hinges
+    assert newton.A_L == pytest.approx(minpack.A_L, rel=1e-13)
+    assert np.allclose(newton.hinge_s, minpack.hinge_s, rtol=0, atol=1e-9 * arch.length)
+
+
+def test_newton_halves_its_steps_and_stops_at_the_noise_floor():
+    """On a scalar equation with a Jacobian: converges from a start where a full step
+    overshoots out of the admitted interval, and returns where no step decreases |F|."""
+    from fembeam.analysis.continuum import _newton
+
+    calls = []
+
+    def FJ(p):            # arctan: full Newton steps diverge from |p| > 1.39
+        calls.append(p[0])
+        return np.array([np.arctan(p[0])]), np.array([[1.0 / (1.0 + p[0] ** 2)]])
+
+    p = _newton(FJ, np.array([3.0]), lambda q: abs(q[0]) <= 5.0)
+    assert abs(p[0]) < 1e-15 and all(abs(c) <= 5.0 for c in calls)
+    flat = _newton(lambda q: (np.array([1.0 + 0 * q[0]]), np.array([[1.0]])), np.array([0.5]), lambda q: True)
+    assert flat[0] == 0.5      # no step decreases the residual: the start comes back
+
+
 def test_continuum_hinges_give_the_closed_form_load_factor():
     """Four hinges at the continuum optimum: the exact four-hinge load factor (inertia
     integrals of the pieces, Appendix A) equals the LP's A_L."""

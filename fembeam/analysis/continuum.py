@@ -376,8 +376,6 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     at an interior hinge (the thrust line touches the edge).  Unknowns: the redundants,
     the load factor and the interior hinge positions; as many equations when the
     mechanism is not degenerate (``k + 1`` hinges).  Returns ``(x, lambda, s)`` or None."""
-    from scipy.optimize import root
-
     k = st.k
     L = st.disc.nodes_s[-1]
     # k + 1 distinct hinges (the LP's clusters are known to ~sqrt(tol) only, so the spacing
@@ -418,38 +416,86 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     def F(p):
         return FJ(p)[0]
 
+    def judged(p_sol):
+        # the fibre forces are linear in (x, lambda): at the solved hinges they are made to
+        # vanish to round-off by one linear solve (the solvers stop where the slopes'
+        # central-difference noise, ~1e-11, hides the fibre residual; the correction moves
+        # the slopes by as little) (kept when the fibre residuals are no worse: an
+        # ill-conditioned system, degenerate hinges, could spoil them; the slopes are judged
+        # below with the rest)
+        x, lam, s = unpack(p_sol)
+        if s[0] < 0 or s[-1] > L:
+            return None
+        C = section_force_rows(st, s)[1 + fib, np.arange(s.size)]
+        C[:, k] *= direction
+        p, res = p_sol, F(p_sol)
+        try:
+            p_lin = np.r_[np.linalg.solve(C[:, :k + 1], -C[:, k + 1]), p_sol[k + 1:]]
+            res_lin = F(p_lin)
+            if np.max(np.abs(res_lin[:k + 1])) <= np.max(np.abs(res[:k + 1])):
+                p, res = p_lin, res_lin
+        except np.linalg.LinAlgError:
+            pass
+        x, lam, s = unpack(p)
+        # the residuals' round-off floor grows with the size of the terms that cancel in a fibre
+        # force (~1/t for thin sections): thresholds relative to that size, not absolute
+        z = np.r_[x, direction * lam, 1.0]
+        scale = max(1.0, float(np.max(np.abs(C) @ np.abs(z))))
+        # judged by the residual (a solver may stop at the noise floor and call it slow
+        # progress): fibre forces and slopes ~1e-11 (the noise of the central difference, eps / ds)
+        if (np.max(np.abs(res[:k + 1])) > 1e-10 * scale or np.max(np.abs(res[k + 1:]), initial=0) > 1e-8 * scale
+                # at least two elements apart: otherwise the optimum is degenerate (hinges merging,
+                # e.g. at a springing) and the positions are ill-conditioned
+                or np.min(np.diff(s), initial=np.inf) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
+            return None
+        return x, float(lam), s, scale
+
     p0 = np.r_[x0, lam0, s0[free] / L]
-    sol = root(FJ, p0, jac=True, method="hybr", options={"xtol": 1e-14})
-    # the fibre forces are linear in (x, lambda): at the solved hinges they are made to vanish
-    # to round-off by one linear solve (MINPACK stops where the slopes' central-difference
-    # noise, ~1e-11, hides the fibre residual; the correction moves the slopes by as little)
-    # (kept when the fibre residuals are no worse: an ill-conditioned system, degenerate
-    # hinges, could spoil them; the slopes are judged below with the rest)
-    x, lam, s = unpack(sol.x)
-    C = section_force_rows(st, s)[1 + fib, np.arange(s.size)]
-    C[:, k] *= direction
-    p, res = sol.x, F(sol.x)
-    try:
-        p_lin = np.r_[np.linalg.solve(C[:, :k + 1], -C[:, k + 1]), sol.x[k + 1:]]
-        res_lin = F(p_lin)
-        if np.max(np.abs(res_lin[:k + 1])) <= np.max(np.abs(res[:k + 1])):
-            p, res = p_lin, res_lin
-    except np.linalg.LinAlgError:
-        pass
-    x, lam, s = unpack(p)
-    # the residuals' round-off floor grows with the size of the terms that cancel in a fibre
-    # force (~1/t for thin sections): thresholds relative to that size, not absolute
-    z = np.r_[x, direction * lam, 1.0]
-    scale = max(1.0, float(np.max(np.abs(C) @ np.abs(z))))
-    # judged by the residual (MINPACK may stop at the noise floor and call it slow progress):
-    # fibre forces and slopes ~1e-11 (the noise of the central difference, eps / ds)
-    if (np.max(np.abs(res[:k + 1])) > 1e-10 * scale or np.max(np.abs(res[k + 1:]), initial=0) > 1e-8 * scale
-            or s[0] < 0 or s[-1] > L
-            # at least two elements apart: otherwise the optimum is degenerate (hinges merging,
-            # e.g. at a springing) and the positions are ill-conditioned
-            or np.min(np.diff(s), initial=np.inf) < 2.0 * np.max(np.diff(st.disc.nodes_s))):
-        return None
-    return x, float(lam), s, scale
+    out = judged(_newton(FJ, p0, lambda p: np.all(p[k + 1:] >= 0) and np.all(p[k + 1:] <= 1)))
+    if out is None:      # Newton did not converge from the LP's hinges: MINPACK's trust region
+        from scipy.optimize import root
+
+        out = judged(root(FJ, p0, jac=True, method="hybr", options={"xtol": 1e-14}).x)
+    return out
+
+
+NEWTON_STEPS = 30   # Newton steps at most (two or three from the LP's hinges)
+HALVINGS = 6        # halvings of a step that does not decrease the residual
+STEP_TOL = 1e-12    # a step this small (relative to the unknowns) ends the iteration
+
+
+def _newton(FJ, p0: np.ndarray, inside, max_steps: int = NEWTON_STEPS) -> np.ndarray:
+    """Newton's method on ``FJ(p) = (F, dF/dp)`` from ``p0``, each step halved (at most
+    ``HALVINGS`` times) until the residual decreases and ``inside(p)`` holds; stops when a
+    step is below ``STEP_TOL`` (relative), none decreases the residual or a full step
+    decreases it less than tenfold (the noise floor of the central differences, reached
+    one or two steps after the LP's hinges).  The caller judges the result."""
+    p = p0.copy()
+    f, J = FJ(p)
+    nf = np.linalg.norm(f)
+    for _ in range(max_steps):
+        try:
+            dp = np.linalg.solve(J, -f)
+        except np.linalg.LinAlgError:
+            return p
+        if np.max(np.abs(dp)) <= STEP_TOL * max(1.0, np.max(np.abs(p))):
+            return p
+        t = 1.0
+        for _ in range(HALVINGS):
+            q = p + t * dp
+            if inside(q):
+                fq, Jq = FJ(q)
+                nq = np.linalg.norm(fq)
+                if nq < nf:
+                    break
+            t *= 0.5
+        else:
+            return p
+        slow = t == 1.0 and nq > 0.1 * nf      # a full step without quadratic decrease: noise
+        p, f, J, nf = q, fq, Jq, nq
+        if slow:
+            return p
+    return p
 
 
 def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int, converge: bool = False,

@@ -23,7 +23,6 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..errors import InputError
 from .base import THICKNESS_RANGE, MidCurve, density_value, finite_positive, length_value
@@ -107,6 +106,8 @@ class ShapedArch(MidCurve):
         a, b = s[max(i - 1, 0)], s[min(i + 1, s.size - 1)]
         best = float(f[i])
         if b > a:
+            from scipy.optimize import minimize_scalar   # here: its import costs 0.2 s
+
             r = minimize_scalar(lambda x: -float(self.thickness_at(x) * abs(self.curvature(x))),
                                 bounds=(a, b), method="bounded", options={"xatol": 1e-12 * L})
             best = max(best, -float(r.fun))

@@ -6,7 +6,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .graph import GraphArch
 
@@ -17,6 +16,8 @@ def catenary_parameter(span: float, rise: float) -> float:
     """The parameter ``c`` (m) of the catenary ``y = H - c (cosh(x/c) - 1)`` through
     ``(-+L/2, 0)`` and ``(0, H)``: ``q = L/(2c)`` solves ``(cosh q - 1) / (2q) = H/L``
     (the left side increases from 0 to infinity with ``q``)."""
+    from scipy.optimize import brentq   # imported here: scipy.optimize takes 0.2 s to import
+
     ratio = rise / span
 
     def f(q):

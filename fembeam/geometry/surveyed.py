@@ -38,8 +38,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import make_interp_spline
-from scipy.optimize import minimize_scalar
 
 from ..errors import InputError
 from .arch import ShapedArch
@@ -188,6 +186,8 @@ class SurveyedArch(ParametricCurve, ShapedArch):
                              "along the mid-curve, from springing to springing")
         P = P - 0.5 * (P[0] + P[-1])           # the origin at the midpoint of the springings
         u = np.concatenate([[0.0], np.cumsum(chord)])
+        from scipy.interpolate import make_interp_spline   # imported here: only surveyed shapes use it
+
         k = 5 if x.size >= QUINTIC_FROM else 3
         object.__setattr__(self, "_u_pts", u)
         object.__setattr__(self, "_degree", k)
@@ -268,6 +268,8 @@ class SurveyedArch(ParametricCurve, ShapedArch):
         uu = np.linspace(0.0, self._u_pts[-1], 64 * len(self.x) + 1)
         i = int(np.argmax(self._r(uu)[1]))
         a, b = uu[max(i - 1, 0)], uu[min(i + 1, uu.size - 1)]
+        from scipy.optimize import minimize_scalar
+
         r = minimize_scalar(lambda v: -float(self._r(v)[1]), bounds=(a, b), method="bounded",
                             options={"xatol": 1e-13 * self._u_pts[-1]})
         return float(self._s_of_u(r.x))

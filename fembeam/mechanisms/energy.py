@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize
 
 from ..errors import InputError, SolverError
 from .mechanism import Mechanism
@@ -122,6 +121,8 @@ def optimise_load_factor(start: Mechanism, direction: int = 1) -> tuple[Mechanis
     f0 = f(x0)
     if f0 >= 1e6:
         raise SolverError("the starting mechanism is not compatible")
+    from scipy.optimize import minimize   # imported here: scipy.optimize takes 0.2 s to import
+
     res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * start.n_hinges,
                    options={"ftol": 1e-15, "gtol": 1e-11, "eps": 1e-9, "maxiter": 500})
     best = res.x if res.fun <= f0 else x0

@@ -18,7 +18,6 @@ from itertools import chain, combinations, islice, product as iproduct
 from math import comb
 
 import numpy as np
-from scipy.optimize import minimize
 
 from ..errors import InputError
 from ..geometry import MidCurve
@@ -149,6 +148,8 @@ def refine_four_hinge(before: Mechanism, start: Mechanism) -> tuple[float, Mecha
         return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
 
     x0 = np.asarray(start.s) / L
+    from scipy.optimize import minimize   # imported here: scipy.optimize takes 0.2 s to import
+
     res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * 4,
                    options={"ftol": 1e-15, "gtol": 1e-12, "eps": 1e-9, "maxiter": 1000})
     x = res.x if res.fun <= f(x0) else x0
