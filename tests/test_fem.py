@@ -147,6 +147,71 @@ def test_local_update_equals_the_full_assembly(make, n):
     _same_operators(discretize(other, x, like=old), discretize(other, x))
 
 
+def _facet_form_rows(curve, mesh, fr, ends):
+    """The joint rows as scikit-fem assembles them: the facet form
+    ``sign (a0 w + a1 v + a2 omega) q`` over the interior facets (both sides) and the
+    facets ``ends``, trial P0 vector (w, v, omega), test P1 (row = point)."""
+    import scipy.sparse as sp
+    from skfem import (BilinearForm, ElementLineP0, ElementLineP1, ElementVector, FacetBasis,
+                       InteriorFacetBasis, asm)
+
+    a = mesh.p[0][mesh.t[0]]
+    E = ElementVector(ElementLineP0(), 3)
+    form = BilinearForm(lambda u, v, w: (u[0] * w.a0 + u[1] * w.a1 + u[2] * w.a2) * v)
+    bases = [(InteriorFacetBasis(mesh, E, side=i), InteriorFacetBasis(mesh, ElementLineP1(), side=0))
+             for i in (0, 1)]
+    if len(ends):
+        f = np.array([np.flatnonzero(mesh.facets[0] == n)[0] for n in ends])
+        bases.append((FacetBasis(mesh, E, facets=f), FacetBasis(mesh, ElementLineP1(), facets=f)))
+    out = []
+    for kind, y_sign in (("open", 1.0), ("open", -1.0), ("slide", 0.0)):
+        total = 0
+        for trial, test in bases:
+            el = np.arange(trial.nelems) if getattr(trial, "tind", None) is None else trial.tind
+            s = np.asarray(trial.default_parameters()["x"])[0]
+            X, tj, nj = (g(s.ravel()).reshape((2,) + s.shape) for g in (curve.position, curve.tangent, curve.normal))
+            h = np.broadcast_to(np.asarray(curve.thickness_at(s.ravel()), float), s.ravel().shape).reshape(s.shape)
+            P, te, ne = (fr[k][:, el][:, :, None] for k in ("P", "t", "n"))
+            sg = np.where(a[el][:, None] < s, -1.0, 1.0)
+            Q = X + 0.5 * y_sign * h * nj - P
+            d = tj if kind == "open" else nj
+            total = total + asm(form, trial, test, a0=sg * (te[0] * d[0] + te[1] * d[1]),
+                                a1=sg * (ne[0] * d[0] + ne[1] * d[1]), a2=sg * (Q[0] * d[1] - Q[1] * d[0]))
+        out.append(sp.csr_matrix(total))
+    return out
+
+
+@pytest.mark.parametrize("make, n", [
+    (lambda: CircularArch(), 40),
+    (lambda: __import__("fembeam").PointedArch(span=1.0, rise=0.8, thickness=0.1), 41),       # a kink at the crown
+    (lambda: __import__("fembeam").StraightMember(height=1.0, width=0.2), 7),                # a free end
+    (lambda: __import__("fembeam").EllipticalArch(span=1.0, rise=0.2, thickness=0.02), 33),
+    (lambda: CircularArch(thickness=0.3).with_thickness_scaled(0.5), 10),
+])
+def test_joint_rows_are_the_facet_form_of_scikit_fem(make, n):
+    """The joint rows written as point evaluations equal scikit-fem's assembly of the
+    facet form, on whole meshes and on a window of separate runs of elements."""
+    from skfem import MeshLine1
+
+    from fembeam.fem.rigid import _element_frames, _joint_rows
+
+    curve = make()
+    x = uniform_nodes(curve, n)
+    runs = [np.arange(n), np.unique(np.r_[0:2, 3:4, n - 2:n])]     # the mesh, and three runs of it
+    for e in runs:
+        a, b = x[e], x[e + 1]
+        p = np.unique(np.r_[a, b])
+        mesh = MeshLine1(p[None, :], np.array([np.searchsorted(p, a), np.searchsorted(p, b)]))
+        fr = _element_frames(curve, a, b)
+        ends = np.array([i for i, end in zip((0, p.size - 1), curve.ends) if end == "joint"
+                         and p[i] in (x[0], x[-1])], int)
+        mine, ref = _joint_rows(curve, mesh, fr, ends), _facet_form_rows(curve, mesh, fr, ends)
+        for A, B in zip(mine, ref):
+            assert A.shape == B.shape
+            assert abs(A - B).max() <= 1e-15 * abs(B).max()
+            assert set(zip(*A.nonzero())) == set(zip(*B.nonzero()))
+
+
 @pytest.mark.parametrize("make", [lambda: CircularArch(), lambda: __import__("fembeam").PointedArch(span=1.0, rise=0.8, thickness=0.1),
                                   lambda: __import__("fembeam").CatenaryArch(span=10.0, rise=4.0, thickness=0.5)])
 def test_thickness_family_equals_the_assembly(make):

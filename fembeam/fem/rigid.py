@@ -15,10 +15,12 @@ nodes (the **joints**): with ``[.]`` the jump right minus left of a node,
   ``[w] + y_pm [omega]`` = ``eps0 + chi y``;
 * ``gamma = [vel(X_j)] . n_j``: the sliding rate.
 
-A springing joint is the same jump against an abutment at rest. The operators are
-assembled with scikit-fem facet forms (rows tested with the P1 nodal functions, so
-row ``i`` belongs to node ``i``); the kinetic energy ``2K = d^T M d`` with the
-exact annular-sector densities of :meth:`MidCurve.inertia_densities` is a cell form.
+A springing joint is the same jump against an abutment at rest. The operators are a
+facet form tested with the P1 nodal functions (row ``i`` belongs to node ``i``), whose
+facets are points: its rows are the point evaluations of the form (:func:`_joint_rows`,
+equal to scikit-fem's facet assembly); the kinetic energy ``2K = d^T M d`` with the
+exact annular-sector densities of :meth:`MidCurve.inertia_densities` is a scikit-fem
+cell form on the ``MeshLine1`` of the elements.
 """
 from __future__ import annotations
 
@@ -26,8 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import (BilinearForm, CellBasis, ElementLineP0, ElementLineP1, ElementVector,
-                   FacetBasis, Functional, InteriorFacetBasis, MeshLine1, asm)
+from skfem import CellBasis, ElementLineP0, Functional, MeshLine1
 
 from ..errors import InputError, SolverError
 from ..geometry import MidCurve
@@ -209,51 +210,46 @@ def _elements(curve: MidCurve, a: np.ndarray, b: np.ndarray, ends: np.ndarray, i
         p = np.unique(np.concatenate([a, b]))
         mesh = MeshLine1(p[None, :], np.array([np.searchsorted(p, a), np.searchsorted(p, b)]))
     fr = _element_frames(curve, a, b)
-    E = ElementVector(ElementLineP0(), NDOF)
-
     blocks = _mass(curve, mesh, a, b, fr, intorder)
+    return mesh, fr, blocks, _joint_rows(curve, mesh, fr, np.asarray(ends, int))
 
-    # joint operators: contributions of one side of each joint, sign = -outward normal;
-    # the rate of fibre y along d (the joint's t for openings, n for sliding) of the
-    # element's rigid field is a0 w + a1 v + a2 omega, with coefficients per quadrature point
-    form = BilinearForm(lambda u, v, w: (u[0] * w.a0 + u[1] * w.a1 + u[2] * w.a2) * v)
-    shared = np.flatnonzero(np.bincount(mesh.t.ravel(), minlength=p.size) == 2)
-    bases = [(InteriorFacetBasis(mesh, E, side=i), InteriorFacetBasis(mesh, ElementLineP1(), side=0))
-             for i in (0, 1)] if shared.size else []
-    if len(ends):
-        bfacets = np.array([np.flatnonzero(mesh.facets[0] == n)[0] for n in ends])
-        bases.append((FacetBasis(mesh, E, facets=bfacets), FacetBasis(mesh, ElementLineP1(), facets=bfacets)))
 
-    def joint_data(trial) -> dict:
-        """Per basis: the joint's frame and thickness and the element's frame at each point."""
-        el = np.arange(trial.nelems) if getattr(trial, "tind", None) is None else trial.tind
-        s = np.asarray(trial.default_parameters()["x"])[0]
-        one = np.ones((1, s.shape[1]))
-        X, tj, nj = curve.position(s.ravel()), curve.tangent(s.ravel()), curve.normal(s.ravel())
-        h = np.broadcast_to(np.asarray(curve.thickness_at(s.ravel()), float), s.ravel().shape)
-        w = {k: fr[f][i][el][:, None] * one for k, f, i in
-             (("Px", "P", 0), ("Py", "P", 1), ("tx", "t", 0), ("ty", "t", 1), ("nx", "n", 0), ("ny", "n", 1))}
-        sign = np.where(a[el][:, None] * one < s, -1.0, 1.0)   # left element: -(+1); right: -(-1)
-        return {**w, "sign": sign, "X": X.reshape((2,) + s.shape), "tj": tj.reshape((2,) + s.shape),
-                "nj": nj.reshape((2,) + s.shape), "h": h.reshape(s.shape)}
+def _joint_rows(curve: MidCurve, mesh: MeshLine1, fr: dict, ends: np.ndarray) -> list[sp.csr_matrix]:
+    """``(B_open+, B_open-, B_slide)`` on the points of ``mesh`` (CSR, rows: points, columns:
+    the DOFs of its elements), rows at the points shared by two elements and at ``ends``.
 
-    data = [joint_data(trial) for trial, _ in bases]
+    A joint's rows are the jump of the rigid fields across it, a measure concentrated at
+    the point: the facet form ``sum_sides sign (a0 w + a1 v + a2 omega) q`` tested with the
+    P1 nodal function ``q`` of the point is the evaluation of its coefficients there, so
+    the rows are written directly (the same operators as scikit-fem's facet assembly of
+    that form, to round-off: tested).  For the side element ``e`` of the joint at ``X``
+    with normal ``n_j``, the rate of the fibre ``X + y n_j`` along ``d`` (``t_j`` for the
+    openings with ``y = +-t/2``, ``n_j`` for sliding with ``y = 0``) is
+    ``(t_e . d) w + (n_e . d) v + ((X + y n_j - P_e) x d) omega``, signed ``-1`` on the
+    element left of the joint and ``+1`` on the right (jump right minus left)."""
+    p, t = mesh.p[0], mesh.t
+    n = t.shape[1]
+    rowed = np.bincount(t.ravel(), minlength=p.size) == 2
+    rowed[ends] = True
+    el = np.tile(np.arange(n), 2)
+    pt = t.ravel()                                         # each element's left, then right point
+    sign = np.repeat([1.0, -1.0], n)
+    keep = rowed[pt]
+    el, pt, sign = el[keep], pt[keep], sign[keep]
+    u, inv = np.unique(pt, return_inverse=True)            # the curve evaluated once per joint
+    s = p[u]
+    X, tj, nj = curve.position(s)[:, inv], curve.tangent(s)[:, inv], curve.normal(s)[:, inv]
+    h = np.broadcast_to(np.asarray(curve.thickness_at(s), float), s.shape)[inv]
+    P, te, ne = fr["P"][:, el], fr["t"][:, el], fr["n"][:, el]
+    rows = np.repeat(pt, NDOF)
+    cols = (NDOF * el[:, None] + np.arange(NDOF)).ravel()
 
-    def coefficients(w: dict, kind: str, y_sign: float) -> dict:
-        Qx = w["X"][0] + 0.5 * y_sign * w["h"] * w["nj"][0] - w["Px"]    # fibre point - P_e
-        Qy = w["X"][1] + 0.5 * y_sign * w["h"] * w["nj"][1] - w["Py"]
-        dx, dy = w["tj"] if kind == "open" else w["nj"]
-        sg = w["sign"]
-        return {"a0": sg * (w["tx"] * dx + w["ty"] * dy), "a1": sg * (w["nx"] * dx + w["ny"] * dy),
-                "a2": sg * (Qx * dy - Qy * dx)}
+    def rows_along(d: np.ndarray, y_sign: float) -> sp.csr_matrix:
+        Q = X + 0.5 * y_sign * h * nj - P                  # fibre point - P_e
+        vals = sign * np.array([te[0] * d[0] + te[1] * d[1], ne[0] * d[0] + ne[1] * d[1], Q[0] * d[1] - Q[1] * d[0]])
+        return sp.csr_matrix((vals.T.ravel(), (rows, cols)), shape=(p.size, NDOF * n))
 
-    def assemble(kind, y_sign):
-        if not bases:
-            return sp.csr_matrix((p.size, NDOF * a.size))
-        return sp.csr_matrix(sum(asm(form, trial, test, **coefficients(w, kind, y_sign))
-                                 for (trial, test), w in zip(bases, data)))
-
-    return mesh, fr, blocks, [assemble("open", +1.0), assemble("open", -1.0), assemble("slide", 0.0)]
+    return [rows_along(tj, +1.0), rows_along(tj, -1.0), rows_along(nj, 0.0)]
 
 
 def _joint_nodes(curve: MidCurve, n_elements: int) -> tuple[list[int], np.ndarray]:
