@@ -17,14 +17,14 @@ from fembeam import CircularArch, analyze
 REL = 1e-9
 
 
-def _same(a: float, b: float, what: str, floor: float = 1e-13):
+def _same(a: float, b: float, what: str, floor: float = 1e-13, rel: float = REL):
     """Equal to 1e-9 relative, or to ``floor`` absolute (r is a ratio of energies in [0, 1]
     from a QP solved to 1e-10 of the kinetic energy: differences of a few 1e-12 are solver
     noise, e.g. 2.0e-12 at r = 1.3e-3 for beta = 71.13 deg, t/R = 0.0606, 59 elements)."""
     if math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b):
         assert (math.isnan(a) and math.isnan(b)) or a == b, (what, a, b)
     else:
-        assert abs(a - b) <= REL * max(abs(a), abs(b), 1e-300) or abs(a - b) <= floor, (what, a, b)
+        assert abs(a - b) <= rel * max(abs(a), abs(b), 1e-300) or abs(a - b) <= floor, (what, a, b)
 
 
 def _mirror(hinges, beta):
@@ -49,8 +49,11 @@ def check_invariance(beta, t_over_r, n, log_r, log_rho):
     assert base.outcome == other.outcome
     _same(base.A_L, other.A_L, "A_L")
     _same(base.r, other.r, "r", floor=1e-11)
-    if base.thickness is not None:   # the same bisection decisions: the same bracket
-        _same(base.t_min_over_R, other.t_min_over_R, "t_min")
+    if base.thickness is not None:
+        # t_min is a regula falsi iterate on margins known to the LP's tolerance (1e-10 of the
+        # weight): where the margin changes slowly with the thickness the mirrored, scaled run
+        # lands up to ~5e-9 away (measured 4.4e-9: beta = 300, t/R = 0.03, 7 elements)
+        _same(base.t_min_over_R, other.t_min_over_R, "t_min", rel=1e-8)
     hb = [(h.angle_deg, h.side) for h in base.hinges_before]
     _hinges_equal(hb, _mirror(other.hinges_before, beta), beta, "hinges before")
     ha = [(h.angle_deg, h.side) for h in base.hinges_after]
