@@ -461,6 +461,20 @@ def test_surveyed_parabola_reproduces_the_parabolic_arch(tmp_path):
     assert s2.x == s.x and s2.length == s.length
 
 
+def test_surveyed_t_column_that_cannot_stand_gets_its_minimum_thickness():
+    """A surveyed arch whose thickness is a t column and which cannot stand: the minimum
+    thickness factor is found between the thinnest section the shape admits and its limit,
+    and it equals that of the same member given by one constant thickness."""
+    x = np.linspace(-5.0, 5.0, 21)
+    y = 4.0 * (1 - (x / 5.0) ** 2)
+    col = SurveyedArch(x, y, t=np.full(21, 0.05))
+    const = SurveyedArch(x, y, thickness=0.05)
+    assert col.min_thickness_scale == pytest.approx(const.min_thickness_scale, rel=1e-12)
+    a, b = analyze(col, elements=60), analyze(const, elements=60)
+    assert a.outcome == b.outcome == "cannot_stand"
+    assert a.thickness.scale == pytest.approx(b.thickness.scale, rel=1e-5) and a.thickness.scale > 1.0
+
+
 @pytest.mark.parametrize("x, y, kw, words", [
     ([0, 1, 2], [0, 1, 0], dict(thickness=0.1), "at least 4 points"),
     ([0, 1, 2, 3], [0, 1, float("nan"), 0], dict(thickness=0.1), "finite"),

@@ -295,6 +295,11 @@ class SurveyedArch(ParametricCurve, ShapedArch):
             return self._law.maximum
         return float(np.max(self._tspline(np.linspace(0.0, self._u_pts[-1], 16 * len(self.x)))))
 
+    def _thinnest(self) -> float:
+        if self._law is not None:
+            return ShapedArch._thinnest(self)
+        return float(np.min(self._tspline(np.linspace(0.0, self._u_pts[-1], 16 * len(self.x)))))
+
     def describe(self) -> dict:
         xy = self._r(np.array([self._u(0.0), self._u(self.length)]))
         rise = float(self._r(self._u(self._crown_s))[1] - 0.5 * (xy[1][0] + xy[1][1]))
