@@ -3,18 +3,22 @@
 A signal handler's exception is raised wherever the main thread happens to be.  When that
 is a callback whose errors Python ignores (the at-fork hooks run when a worker process is
 started, a finaliser, a weakref callback) the exception is printed as "Exception ignored"
-and the program goes on as if nothing had happened.  So the handlers here also remember
-the signal, :func:`check` raises it again at the next safe point (a finished task of a
-study, the end of a command), and the interpreter's report of the ignored exception is
-suppressed.
+and the program goes on as if nothing had happened.  So the handlers installed by
+:func:`handled` also remember the signal, :func:`check` raises it again at the next safe
+point (a finished task of a study, the end of a command), and the interpreter's report of
+the ignored exception is suppressed.  Outside :func:`handled` (a library call, another
+thread) nothing is remembered and :func:`check` does nothing.
 """
 from __future__ import annotations
 
 import signal
 import sys
+import threading
 from contextlib import contextmanager
 
 __all__ = ["Terminated", "handled", "check", "reset"]
+
+_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
 class Terminated(BaseException):
@@ -22,11 +26,16 @@ class Terminated(BaseException):
 
 
 _pending: type[BaseException] | None = None
+_active = False
+
+
+def _exception(signum: int) -> type[BaseException]:
+    return KeyboardInterrupt if signum == signal.SIGINT else Terminated
 
 
 def _handler(signum, frame):
     global _pending
-    _pending = KeyboardInterrupt if signum == signal.SIGINT else Terminated
+    _pending = _exception(signum)
     raise _pending()
 
 
@@ -39,23 +48,41 @@ def _unraisable(info) -> None:
 @contextmanager
 def handled():
     """SIGINT and SIGTERM raise KeyboardInterrupt and :class:`Terminated` inside the block
-    (enter it from the main thread); the previous handlers are restored on leaving."""
+    (enter it from the main thread).  On leaving, the previous handlers are restored with
+    the two signals blocked, and one that arrived meanwhile is raised after the restore
+    (so it is never lost, and never left to a handler of this module)."""
+    global _active
     reset()
-    old = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM), sys.unraisablehook
-    signal.signal(signal.SIGINT, _handler)
-    signal.signal(signal.SIGTERM, _handler)
+    old = [signal.getsignal(s) for s in _SIGNALS], sys.unraisablehook
+    for s in _SIGNALS:
+        signal.signal(s, _handler)
     sys.unraisablehook = _unraisable
+    _active = True
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, old[0])
-        signal.signal(signal.SIGTERM, old[1])
-        sys.unraisablehook = old[2]
+        late, mask = None, None
+        try:
+            if hasattr(signal, "pthread_sigmask"):
+                mask = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS)
+        finally:
+            for s, h in zip(_SIGNALS, old[0]):
+                signal.signal(s, h)
+            sys.unraisablehook = old[1]
+            _active = False
+            reset()
+            if mask is not None:
+                while (info := signal.sigtimedwait(_SIGNALS, 0)) is not None:   # arrived while leaving
+                    late = _exception(info.si_signo)
+                signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        if late is not None:
+            raise late()
 
 
 def check() -> None:
-    """Raise the interrupt received since :func:`install`, if any (lost or not)."""
-    if _pending is not None:
+    """Inside :func:`handled`, on the main thread: raise the interrupt received in the
+    block, if any (lost or not)."""
+    if _active and _pending is not None and threading.current_thread() is threading.main_thread():
         raise _pending()
 
 

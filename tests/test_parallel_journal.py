@@ -188,3 +188,52 @@ def test_a_command_that_lost_its_interrupt_exits_143(monkeypatch, capsys):
     assert main(["analyze", "--elements", "24"]) == 143
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "terminated" in err
+
+
+def test_a_remembered_interrupt_ends_with_its_block(tmp_path):
+    """Outside ``handled()`` nothing is remembered: a later study (or a library call) is
+    not stopped by an interrupt already reported."""
+    from fembeam import interrupts
+
+    with interrupts.handled():
+        _SignalInFinaliser()
+        with pytest.raises(interrupts.Terminated):
+            interrupts.check()
+    interrupts.check()                                           # nothing pending any more
+    assert run_tasks([(square, {"i": i}) for i in range(3)], workers=1, progress=False) == [0, 1, 4]
+
+
+def test_a_command_in_another_thread_leaves_the_main_threads_interrupt():
+    import threading
+
+    from fembeam import interrupts
+    from fembeam.cli.main import main
+
+    codes = []
+    with interrupts.handled():
+        _SignalInFinaliser()
+        t = threading.Thread(target=lambda: codes.append(main(["analyze", "--elements", "8", "--json"])))
+        t.start()
+        t.join()
+        assert codes == [0]
+        with pytest.raises(interrupts.Terminated):
+            interrupts.check()
+
+
+def test_a_signal_arriving_while_the_handlers_are_restored_is_raised_after():
+    """A signal delivered while ``handled()`` restores the previous handlers (simulated by
+    blocking it in the block) is raised once they are back, not lost and not left to this
+    module's handler; the signal mask is restored."""
+    from fembeam import interrupts
+
+    before = signal.getsignal(signal.SIGTERM), signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    try:
+        with pytest.raises(interrupts.Terminated):
+            with interrupts.handled():
+                signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGTERM])
+                os.kill(os.getpid(), signal.SIGTERM)          # pending until the block is left
+        assert signal.getsignal(signal.SIGTERM) == before[0]
+        assert signal.SIGTERM in signal.pthread_sigmask(signal.SIG_BLOCK, [])   # the mask as it was left
+        assert signal.sigpending() == set()                  # consumed, not delivered again
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before[1])

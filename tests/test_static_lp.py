@@ -137,6 +137,24 @@ def test_hinge_polish_newton_and_minpack_agree(beta, tr, direction, monkeypatch)
     assert np.allclose(newton.hinge_s, minpack.hinge_s, rtol=0, atol=1e-9 * arch.length)
 
 
+def test_a_polish_ending_on_nan_is_refused(monkeypatch):
+    """Newton's and MINPACK's points are judged, NaN included: the hinges then stay
+    those of the LP (not exact), with A_L still bracketed."""
+    import types
+
+    import scipy.optimize
+
+    import fembeam.analysis.continuum as cont
+
+    arch = CircularArch.from_ratio(157.5, 0.15)
+    disc = discretize(arch, uniform_nodes(arch, 40))
+    monkeypatch.setattr(cont, "_newton", lambda FJ, p0, inside, **kw: np.full_like(p0, np.nan))
+    monkeypatch.setattr(scipy.optimize, "root", lambda *a, **k: types.SimpleNamespace(x=np.full_like(a[1], np.nan)))
+    c = continuum_limit(disc)
+    assert c.status == "ok" and not c.exact_hinges and np.all(np.isfinite(c.hinge_s))
+    assert c.A_L_lower <= c.A_L == pytest.approx(0.353383858, rel=1e-9)
+
+
 def test_newton_halves_its_steps_and_stops_at_the_noise_floor():
     """On a scalar equation with a Jacobian: converges from a start where a full step
     overshoots out of the admitted interval, and returns where no step decreases |F|."""

@@ -424,7 +424,7 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
         # ill-conditioned system, degenerate hinges, could spoil them; the slopes are judged
         # below with the rest)
         x, lam, s = unpack(p_sol)
-        if s[0] < 0 or s[-1] > L:
+        if not np.all(np.isfinite(p_sol)) or s[0] < 0 or s[-1] > L:
             return None
         C = section_force_rows(st, s)[1 + fib, np.arange(s.size)]
         C[:, k] *= direction

@@ -92,8 +92,19 @@ def main(argv: list[str] | None = None) -> int:
 def _run(argv: list[str] | None) -> int:
     if threading.current_thread() is not threading.main_thread():   # no signals there
         return _command(argv)
-    with interrupts.handled():
-        return _command(argv)
+    try:
+        with interrupts.handled():
+            return _command(argv)
+    except (KeyboardInterrupt, Terminated) as e:    # arrived while the command was returning
+        return _interrupted(e)
+
+
+def _interrupted(e: BaseException) -> int:
+    """One line (with what a study kept: its journal, from the exception's notes) and 130
+    for Ctrl-C, 143 for SIGTERM."""
+    what, code = ("interrupted", 130) if isinstance(e, KeyboardInterrupt) else ("terminated", 143)
+    print(f"fembeam: {what}" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
+    return code
 
 
 def _command(argv: list[str] | None) -> int:
@@ -108,14 +119,8 @@ def _command(argv: list[str] | None) -> int:
         if isinstance(code, SystemExit):
             raise code
         return code
-    except KeyboardInterrupt as e:     # notes: what a study kept (its journal)
-        interrupts.reset()
-        print("fembeam: interrupted" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
-        return 130
-    except Terminated as e:
-        interrupts.reset()
-        print("fembeam: terminated" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
-        return 143
+    except (KeyboardInterrupt, Terminated) as e:
+        return _interrupted(e)
     except InputError as e:
         print(f"fembeam: error: {one_line(e)}", file=sys.stderr)
         return 2
