@@ -275,7 +275,8 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
 
     ``like``: a discretisation of the same curve on a mesh sharing most elements with
     ``nodes_s`` (e.g. the mesh before a few nodes were moved onto hinges): only the
-    elements not in it and the joints next to them are assembled, the rest is copied.
+    elements not in it and the joints next to them are assembled, the rest is copied
+    (meshes of 1500 elements or more; smaller ones are assembled in full, which is quicker).
     The operators are those of the full assembly (to round-off).
     """
     nodes_s = check_nodes(curve, nodes_s)
@@ -299,6 +300,8 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
 
 
 UPDATE_FRACTION = 0.125   # a local update when at most this fraction of the elements is new
+UPDATE_MIN_ELEMENTS = 1500   # and the mesh has at least this many (below, the full assembly is quicker:
+                             # 2.6 against 4.2 ms at 200 elements, 6.9 against 5.5 ms at 2000)
 
 
 def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) -> Discretization | None:
@@ -306,7 +309,8 @@ def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) 
     elements of ``old`` (same end nodes) keep their mass blocks and frames, the joints
     between two of them their rows (columns renumbered); the new elements and their
     neighbours are assembled as a mesh of their own (:func:`_elements`).  None when
-    ``old`` is not of this curve and order or most elements are new."""
+    ``old`` is not of this curve and order, most elements are new or the mesh is small
+    (``UPDATE_MIN_ELEMENTS``)."""
     if (not isinstance(old, Discretization) or old.curve is not curve or old.element != "rigid"
             or old.intorder != intorder):
         return None
@@ -316,7 +320,7 @@ def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) 
     new = np.flatnonzero(~same)
     if new.size == 0:
         return old                                                         # the same mesh
-    if new.size > UPDATE_FRACTION * n:
+    if new.size > UPDATE_FRACTION * n or n < UPDATE_MIN_ELEMENTS:
         return None
     # the new elements and their neighbours, assembled alone: rows at the joints next to new elements
     touched = np.unique(np.concatenate([new, new + 1]))                    # nodes
