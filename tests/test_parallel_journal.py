@@ -237,3 +237,26 @@ def test_a_signal_arriving_while_the_handlers_are_restored_is_raised_after():
         assert signal.sigpending() == set()                  # consumed, not delivered again
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, before[1])
+
+
+def pid(i: int) -> int:
+    return os.getpid()
+
+
+def test_a_shared_pool_serves_every_phase(tmp_path):
+    """Inside shared_pool() the calls of run_tasks use the same worker processes; a pool
+    broken by a lost worker is replaced (its tasks retried), and the block's end stops it."""
+    from fembeam.studies import parallel
+
+    with parallel.shared_pool(2):
+        first = set(run_tasks([(pid, {"i": i}) for i in range(8)], workers=2, progress=False))
+        second = set(run_tasks([(pid, {"i": i}) for i in range(8)], workers=2, progress=False))
+        assert first == second and os.getpid() not in first and len(first) <= 2
+        flag = str(tmp_path / "died")
+        out = run_tasks([(die_once, {"i": i, "flag": flag}) for i in range(8)], workers=2, progress=False)
+        assert out == [i * i for i in range(8)]
+        third = set(run_tasks([(pid, {"i": i}) for i in range(8)], workers=2, progress=False))
+        assert third.isdisjoint(first)                   # a new pool after the broken one
+    assert parallel._SHARED == {}
+    alone = set(run_tasks([(pid, {"i": i}) for i in range(4)], workers=2, progress=False))
+    assert alone.isdisjoint(third)

@@ -24,13 +24,14 @@ from __future__ import annotations
 import json
 import os
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Callable
 
 from .. import interrupts
 from ..errors import InputError, SolverError
 
-__all__ = ["run_tasks", "default_workers", "Journal", "journal_for"]
+__all__ = ["run_tasks", "default_workers", "Journal", "journal_for", "shared_pool"]
 
 Task = tuple[Callable[..., Any], dict]
 
@@ -209,7 +210,8 @@ def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker)
+    shared = _SHARED.get(workers)
+    pool = shared or ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker)
     broken = []
     try:
         futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
@@ -221,10 +223,40 @@ def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
                 continue
             done(futs[fut], res)
     except BaseException:   # an error, Ctrl-C or SIGTERM: stop the workers now, queue dropped
+        if shared:
+            _SHARED.pop(workers, None)
         _kill(pool)
         raise
-    pool.shutdown(wait=not broken)
+    if shared is None or broken:      # a broken shared pool is not used again
+        if shared:
+            _SHARED.pop(workers, None)
+        pool.shutdown(wait=not broken)
     return sorted(broken)
+
+
+_SHARED: dict = {}     # workers -> the local pool of the innermost shared_pool() block
+
+
+@contextmanager
+def shared_pool(workers: int | None = None):
+    """Local worker processes shared by the :func:`run_tasks` calls inside the block (those
+    with the same number of workers): a study in phases (the sweep's envelope, then its
+    cases) starts its workers once.  A worker starts cold after the fork (its first task
+    takes 100-150 ms more on this machine), so each new pool costs that again."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    n = workers or default_workers()
+    if n <= 1 or n in _SHARED:
+        yield
+        return
+    pool = ProcessPoolExecutor(max_workers=n, initializer=_single_threaded_worker)
+    _SHARED[n] = pool
+    try:
+        yield
+    finally:
+        if _SHARED.get(n) is pool:
+            del _SHARED[n]
+            pool.shutdown(wait=True)
 
 
 def _run_isolated(tasks: list[Task], workers: int):

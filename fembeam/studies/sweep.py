@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -35,7 +36,7 @@ from ..fem import discretize, uniform_nodes
 from ..geometry import CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch
 from ..geometry.arch import MIN_T_OVER_SPAN
 from ..analysis import limit_analysis
-from .parallel import Journal, default_workers, run_tasks
+from .parallel import Journal, default_workers, run_tasks, shared_pool
 
 __all__ = ["Family", "FAMILIES", "family", "sweep_case", "envelope_case", "SweepResult", "sweep", "sweep_shape",
            "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
@@ -274,15 +275,16 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
             raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
         scheduler = client
     try:
-        env = run_tasks([(envelope_case, {"embrace_deg": a, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
-                                          "above": above, **common}) for a in env_as],
-                        workers=workers, scheduler=scheduler, progress=progress, desc="sweep: t_min envelope",
-                        journal=journal, lost=_lost_row)
-        tmin = {e[fam.a_key]: e.get(fam.tmin_key) for e in env}
-        cases = run_tasks([(sweep_case, {"embrace_deg": a, "t_over_r": b, "t_min_over_r": tmin.get(float(a)),
-                                         **common}) for a in embrace for b in t_over_r],
-                          workers=workers, scheduler=scheduler, progress=progress, desc="sweep: cases",
-                          journal=journal, lost=_lost_row)
+        with shared_pool(workers) if scheduler is None else nullcontext():   # workers started once
+            env = run_tasks([(envelope_case, {"embrace_deg": a, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
+                                              "above": above, **common}) for a in env_as],
+                            workers=workers, scheduler=scheduler, progress=progress, desc="sweep: t_min envelope",
+                            journal=journal, lost=_lost_row)
+            tmin = {e[fam.a_key]: e.get(fam.tmin_key) for e in env}
+            cases = run_tasks([(sweep_case, {"embrace_deg": a, "t_over_r": b, "t_min_over_r": tmin.get(float(a)),
+                                             **common}) for a in embrace for b in t_over_r],
+                              workers=workers, scheduler=scheduler, progress=progress, desc="sweep: cases",
+                              journal=journal, lost=_lost_row)
     finally:
         if client is not None:
             client.close()
