@@ -260,3 +260,21 @@ def test_a_shared_pool_serves_every_phase(tmp_path):
     assert parallel._SHARED == {}
     alone = set(run_tasks([(pid, {"i": i}) for i in range(4)], workers=2, progress=False))
     assert alone.isdisjoint(third)
+
+
+def test_a_client_that_cannot_start_is_an_input_error(monkeypatch):
+    """distributed reports an IO loop that did not start (a loaded machine) as an
+    AssertionError: still 'cannot connect', one line, exit 2, not a traceback."""
+    import distributed
+
+    from fembeam.cli.main import main
+    from fembeam.errors import InputError
+    from fembeam.studies.parallel import connect
+
+    def refuse(*a, **k):
+        raise AssertionError()
+
+    monkeypatch.setattr(distributed, "Client", refuse)
+    with pytest.raises(InputError, match="cannot connect to the Dask scheduler at 'tcp://x:1': AssertionError"):
+        connect("tcp://x:1")
+    assert main(["sweep", "--embrace", "90", "--t-over-r", "0.2", "--scheduler", "tcp://x:1", "--quiet"]) == 2

@@ -31,7 +31,7 @@ from typing import Any, Callable
 from .. import interrupts
 from ..errors import InputError, SolverError
 
-__all__ = ["run_tasks", "default_workers", "Journal", "journal_for", "shared_pool"]
+__all__ = ["run_tasks", "default_workers", "Journal", "journal_for", "shared_pool", "connect"]
 
 Task = tuple[Callable[..., Any], dict]
 
@@ -288,14 +288,25 @@ def _run_isolated(tasks: list[Task], workers: int):
         raise
 
 
+def connect(scheduler: str):
+    """A ``distributed.Client`` of the scheduler at the address ``scheduler``, or an
+    :class:`InputError` saying it cannot be reached (any failure to build the client: a
+    refused or unknown address, a timeout, or distributed's own IO loop not starting,
+    which it reports as an AssertionError on a loaded machine)."""
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout="10s")
+    except Exception as e:     # noqa: BLE001  third-party client: every failure is "cannot connect"
+        why = str(e) or type(e).__name__
+        raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {why}") from None
+
+
 def _run_dask(tasks: list[Task], scheduler, done) -> None:
     from distributed import Client, as_completed
 
     own = not isinstance(scheduler, Client)
-    try:
-        client = Client(scheduler, timeout="10s") if own else scheduler
-    except (OSError, TimeoutError, ValueError, TypeError) as e:
-        raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
+    client = connect(scheduler) if own else scheduler
     try:
         futs = [client.submit(_call, f, kw, pure=False) for f, kw in tasks]
         index = {fut.key: i for i, fut in enumerate(futs)}

@@ -36,7 +36,7 @@ from ..fem import discretize, uniform_nodes
 from ..geometry import CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch
 from ..geometry.arch import MIN_T_OVER_SPAN
 from ..analysis import limit_analysis
-from .parallel import Journal, default_workers, run_tasks, shared_pool
+from .parallel import Journal, connect, default_workers, run_tasks, shared_pool
 
 __all__ = ["Family", "FAMILIES", "family", "sweep_case", "envelope_case", "SweepResult", "sweep", "sweep_shape",
            "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
@@ -268,12 +268,7 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
     clock = time.perf_counter()
     client = None
     if isinstance(scheduler, str):  # one connection for both phases
-        from distributed import Client
-        try:
-            client = Client(scheduler, timeout="10s")
-        except (OSError, TimeoutError, ValueError, TypeError) as e:
-            raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {e}") from None
-        scheduler = client
+        client = scheduler = connect(scheduler)
     try:
         with shared_pool(workers) if scheduler is None else nullcontext():   # workers started once
             env = run_tasks([(envelope_case, {"embrace_deg": a, "tmin_elements": tmin_elements, "tmin_tol": tmin_tol,
