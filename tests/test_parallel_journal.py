@@ -224,6 +224,8 @@ def test_a_signal_arriving_while_the_handlers_are_restored_is_raised_after():
     """A signal delivered while ``handled()`` restores the previous handlers (simulated by
     blocking it in the block) is raised once they are back, not lost and not left to this
     module's handler; the signal mask is restored."""
+    import threading
+
     from fembeam import interrupts
 
     before = signal.getsignal(signal.SIGTERM), signal.pthread_sigmask(signal.SIG_BLOCK, [])
@@ -231,7 +233,9 @@ def test_a_signal_arriving_while_the_handlers_are_restored_is_raised_after():
         with pytest.raises(interrupts.Terminated):
             with interrupts.handled():
                 signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGTERM])
-                os.kill(os.getpid(), signal.SIGTERM)          # pending until the block is left
+                # to this thread (a signal to the process may go to another thread, e.g. a
+                # pool's manager, whose C handler would not wait for the block's end)
+                signal.pthread_kill(threading.main_thread().ident, signal.SIGTERM)   # pending until then
         assert signal.getsignal(signal.SIGTERM) == before[0]
         assert signal.SIGTERM in signal.pthread_sigmask(signal.SIG_BLOCK, [])   # the mask as it was left
         assert signal.sigpending() == set()                  # consumed, not delivered again
@@ -245,21 +249,65 @@ def pid(i: int) -> int:
 
 def test_a_shared_pool_serves_every_phase(tmp_path):
     """Inside shared_pool() the calls of run_tasks use the same worker processes; a pool
-    broken by a lost worker is replaced (its tasks retried), and the block's end stops it."""
+    broken by a lost worker (during a call, or killed while idle between calls) is
+    replaced by one that the next calls share; another thread's calls use their own
+    workers; the block's end stops the pool."""
+    import threading
+
     from fembeam.studies import parallel
 
+    def pids(n=8):
+        return set(run_tasks([(pid, {"i": i}) for i in range(n)], workers=2, progress=False))
+
+    def workers():          # the processes of this thread's shared pool
+        return {p.pid for p in parallel._shared_pools()[2]._processes.values()}
+
     with parallel.shared_pool(2):
-        first = set(run_tasks([(pid, {"i": i}) for i in range(8)], workers=2, progress=False))
-        second = set(run_tasks([(pid, {"i": i}) for i in range(8)], workers=2, progress=False))
-        assert first == second and os.getpid() not in first and len(first) <= 2
-        flag = str(tmp_path / "died")
-        out = run_tasks([(die_once, {"i": i, "flag": flag}) for i in range(8)], workers=2, progress=False)
+        first = pids() | pids()
+        assert first <= workers() and os.getpid() not in first and len(workers()) <= 2
+        out = run_tasks([(die_once, {"i": i, "flag": str(tmp_path / "died")}) for i in range(8)], workers=2,
+                        progress=False)
         assert out == [i * i for i in range(8)]
-        third = set(run_tasks([(pid, {"i": i}) for i in range(8)], workers=2, progress=False))
-        assert third.isdisjoint(first)                   # a new pool after the broken one
-    assert parallel._SHARED == {}
-    alone = set(run_tasks([(pid, {"i": i}) for i in range(4)], workers=2, progress=False))
-    assert alone.isdisjoint(third)
+        second = pids() | pids()
+        assert second.isdisjoint(first) and second <= workers()       # replaced, and shared again
+        lost = workers()
+        for p in lost:
+            os.kill(p, signal.SIGKILL)                                 # workers lost while idle
+        time.sleep(0.5)
+        third = pids() | pids()
+        assert third.isdisjoint(lost) and third <= workers()
+        other = []
+        t = threading.Thread(target=lambda: other.append(pids(4)))
+        t.start()
+        t.join()
+        assert other[0].isdisjoint(workers())                         # not this thread's pool
+        last = workers()
+    assert parallel._shared_pools() == {}
+    assert pids(4).isdisjoint(last)
+
+
+def sleepy(i: int) -> int:
+    time.sleep(0.3)
+    return i
+
+
+def test_workers_leave_ctrl_c_to_the_parent():
+    """A terminal's Ctrl-C reaches the whole process group: the workers ignore it (no
+    traceback of theirs), the parent stops them."""
+    from concurrent.futures import wait
+
+    from fembeam.studies.parallel import _new_pool
+
+    pool = _new_pool(2)
+    try:
+        wait([pool.submit(pid, 0) for _ in range(4)])
+        workers = list(pool._processes.values())
+        for w in workers:
+            os.kill(w.pid, signal.SIGINT)
+        assert set(pool.map(sleepy, range(4))) == set(range(4))       # still alive, still working
+        assert all(w.is_alive() for w in workers)
+    finally:
+        pool.shutdown(wait=True)
 
 
 def test_a_client_that_cannot_start_is_an_input_error(monkeypatch):

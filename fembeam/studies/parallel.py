@@ -24,6 +24,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Callable
@@ -70,10 +71,22 @@ _LIMITS = []
 
 def _single_threaded_worker() -> None:
     """Initialiser of a local worker process: BLAS on one thread for the process's life
-    (once, instead of around every task: 1.3 ms a task)."""
+    (once, instead of around every task: 1.3 ms a task); Ctrl-C ignored (a terminal sends
+    it to the whole process group: the parent stops the workers) and SIGTERM back to its
+    default (a worker terminated is a lost worker, not an exception raised in it)."""
+    import signal
+
     from threadpoolctl import threadpool_limits
 
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     _LIMITS.append(threadpool_limits(limits=1))
+
+
+def _new_pool(workers: int):
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker)
 
 
 class Journal:
@@ -205,16 +218,26 @@ def _kill(pool) -> None:
 
 
 def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
-    """Tasks on a process pool, ``done(j, result)`` as each finishes; returns the indices
-    of the tasks lost with a broken pool (a worker process died)."""
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    """Tasks on a process pool (the shared one of a :func:`shared_pool` block, else a new
+    one), ``done(j, result)`` as each finishes; returns the indices of the tasks lost with
+    a broken pool (a worker process died)."""
+    from concurrent.futures import as_completed
     from concurrent.futures.process import BrokenProcessPool
 
-    shared = _SHARED.get(workers)
-    pool = shared or ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker)
+    shared = _shared_pools()
+    pool = shared.get(workers)
+    if pool is not None and getattr(pool, "_broken", False):    # a worker died while it was idle
+        shared[workers] = pool = _replace(pool, workers)
+    pool = pool or _new_pool(workers)
     broken = []
     try:
-        futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
+        try:
+            futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
+        except BrokenProcessPool:                                # it died just now: once more
+            if shared.get(workers) is not pool:
+                raise
+            shared[workers] = pool = _replace(pool, workers)
+            futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
         for fut in as_completed(futs):
             try:
                 res = fut.result()
@@ -223,39 +246,53 @@ def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
                 continue
             done(futs[fut], res)
     except BaseException:   # an error, Ctrl-C or SIGTERM: stop the workers now, queue dropped
-        if shared:
-            _SHARED.pop(workers, None)
+        if shared.get(workers) is pool:
+            del shared[workers]
         _kill(pool)
         raise
-    if shared is None or broken:      # a broken shared pool is not used again
-        if shared:
-            _SHARED.pop(workers, None)
+    if shared.get(workers) is not pool:
         pool.shutdown(wait=not broken)
+    elif broken:                       # the next call of the block gets a new shared pool
+        shared[workers] = _replace(pool, workers)
     return sorted(broken)
 
 
-_SHARED: dict = {}     # workers -> the local pool of the innermost shared_pool() block
+def _replace(pool, workers: int):
+    pool.shutdown(wait=False, cancel_futures=True)
+    return _new_pool(workers)
+
+
+_LOCAL = threading.local()
+
+
+def _shared_pools() -> dict:
+    """This thread's shared pools (workers -> pool) of its outermost :func:`shared_pool`
+    blocks: another thread's calls never use them."""
+    pools = getattr(_LOCAL, "pools", None)
+    if pools is None:
+        pools = _LOCAL.pools = {}
+    return pools
 
 
 @contextmanager
 def shared_pool(workers: int | None = None):
-    """Local worker processes shared by the :func:`run_tasks` calls inside the block (those
-    with the same number of workers): a study in phases (the sweep's envelope, then its
-    cases) starts its workers once.  A worker starts cold after the fork (its first task
-    takes 100-150 ms more on this machine), so each new pool costs that again."""
-    from concurrent.futures import ProcessPoolExecutor
-
+    """Local worker processes shared by the :func:`run_tasks` calls made inside the block
+    by this thread with the same number of workers: a study in phases (the sweep's
+    envelope, then its cases) starts its workers once.  A worker starts cold after the
+    fork (its first task takes 100-150 ms more on this machine), so each new pool costs
+    that again.  A pool broken by a worker that died is replaced for the next call; an
+    error or interrupt kills the workers as outside a block."""
     n = workers or default_workers()
-    if n <= 1 or n in _SHARED:
+    pools = _shared_pools()
+    if n <= 1 or n in pools:                       # one process, or an outer block's pool
         yield
         return
-    pool = ProcessPoolExecutor(max_workers=n, initializer=_single_threaded_worker)
-    _SHARED[n] = pool
+    pools[n] = _new_pool(n)
     try:
         yield
     finally:
-        if _SHARED.get(n) is pool:
-            del _SHARED[n]
+        pool = pools.pop(n, None)
+        if pool is not None:
             pool.shutdown(wait=True)
 
 
