@@ -25,7 +25,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import SolverError
 from ..mechanisms import Mechanism
@@ -271,6 +270,8 @@ class EquationOfMotion:
         prev = 0.0
         for x in grid:
             if f(x) <= 0:
+                from scipy.optimize import brentq   # here: scipy.optimize takes 0.2 s to import
+
                 return brentq(f, prev, x, xtol=1e-15, rtol=1e-14)
             prev = x
         return math.inf

@@ -30,8 +30,6 @@ from dataclasses import dataclass, field
 from operator import mul
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _dop
-from scipy.optimize import brentq
 
 from ..analysis import analyze
 from ..errors import InputError, SolverError
@@ -170,7 +168,7 @@ def onset_time(ground: GroundMotion, t0: float, t1: float, A_plus: float, A_minu
             if ground.exact is not None:     # the crossing of the pulse's formula in this interval
                 ex = (lambda x: -ground.exact.at(x) - A_plus) if d == 1 else (lambda x: ground.exact.at(x) - A_minus)
                 if ex(ts[i - 1]) <= 0 < ex(ts[i]):
-                    tc = brentq(ex, ts[i - 1], ts[i], xtol=1e-15, rtol=8 * EPS)
+                    tc = _brentq()(ex, ts[i - 1], ts[i], xtol=1e-15, rtol=8 * EPS)
                     while ex(tc) <= 0 and tc < ts[i]:    # just inside the exceedance
                         tc = np.nextafter(tc, np.inf)
         if best is None or tc < best[0]:
@@ -484,7 +482,7 @@ def first_exit(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: fl
                 if tt == ta:
                     return float(ta)
                 xtol = (tt - prev) * 2.0 ** -32     # to 2^-32 of a scan interval, on the exit side
-                x = brentq(lambda s: margin(k, sol, s), prev, tt, xtol=xtol)
+                x = _brentq()(lambda s: margin(k, sol, s), prev, tt, xtol=xtol)
                 while x < tt and margin(k, sol, x) >= 0:
                     x = min(x + xtol, tt)
                 return float(x)
@@ -501,10 +499,26 @@ def _rest_rows(track: _Track, ground: GroundMotion, ta: float, tb: float):
 
 # --------------------------------------------------------------------------- the integrator
 # Hairer's DOP853 (SciPy's tableau): stage rows A[s] (s = 1..15, length s), nodes C, weights B,
-# error weights E3, E5 and the dense-output matrix D, as plain floats
-_NS = _dop.N_STAGES
-_A = [_dop.A[s, :s].tolist() for s in range(1, _dop.N_STAGES_EXTENDED)]
-_C, _B, _E3, _E5, _D = (x.tolist() for x in (_dop.C, _dop.B, _dop.E3, _dop.E5, _dop.D))
+# error weights E3, E5 and the dense-output matrix D, as plain floats; read by the first
+# integrator made (scipy.integrate takes 0.6 s to import: `fembeam rock --help` need not)
+_NS = _A = _C = _B = _E3 = _E5 = _D = None
+
+
+def _brentq():
+    """``scipy.optimize.brentq``, imported on first use (0.2 s)."""
+    from scipy.optimize import brentq
+
+    return brentq
+
+
+def _load_tableau() -> None:
+    global _NS, _A, _C, _B, _E3, _E5, _D
+    if _NS is None:
+        from scipy.integrate._ivp import dop853_coefficients as dop
+
+        _A = [dop.A[s, :s].tolist() for s in range(1, dop.N_STAGES_EXTENDED)]
+        _C, _B, _E3, _E5, _D = (x.tolist() for x in (dop.C, dop.B, dop.E3, dop.E5, dop.D))
+        _NS = dop.N_STAGES
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR, _EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 
@@ -551,6 +565,7 @@ class _Dop853:
     ``W' = -a_g Q theta'`` as a third state.  ``ag``: ``a_g(t)`` on the current interval."""
 
     def __init__(self, coef, atol: tuple[float, float, float], ag):
+        _load_tableau()
         self.coef, self.atol, self.ag = coef, atol, ag
 
     def rhs(self, t: float, th: float, w: float) -> tuple[float, float]:
@@ -658,7 +673,7 @@ def _step_events(ya: tuple, F: tuple, ta: float, tb: float, ga: tuple, gb: tuple
         return ya[0] + _poly(F[0], (x - ta) / h)
 
     def root(fun, t0, t1, g0, g1):
-        return t1 if g1 == 0 else t0 if g0 == 0 else brentq(fun, t0, t1, xtol=4 * EPS * abs(tb))
+        return t1 if g1 == 0 else t0 if g0 == 0 else _brentq()(fun, t0, t1, xtol=4 * EPS * abs(tb))
 
     out, cuts = [], [(ta, ga)]
     if _crosses(ga[2], gb[2], None):
