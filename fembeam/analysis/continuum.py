@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, SolverError
-from .statics import Statics, _section_forces, section_force_rows, statics
+from .statics import Statics, section_force_rows, section_forces, statics
 
 __all__ = ["weakest_sections", "ContinuumLimit", "continuum_limit"]
 
@@ -27,7 +27,7 @@ NEAR = 0.05          # elements whose sampled fibre force is below this (units o
 
 
 def _fibres(st: Statics, s: np.ndarray, z: np.ndarray) -> np.ndarray:
-    return _section_forces(st, s, z[:, None])[1:, :, 0]   # (2, ns): N+, N-
+    return section_forces(st, s, z[:st.k], z[st.k])[1:]  # (2, ns): N+, N- of z = (x, lambda, 1)
 
 
 def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

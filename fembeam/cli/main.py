@@ -90,12 +90,12 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(argv: list[str] | None) -> int:
-    if threading.current_thread() is not threading.main_thread():   # no signals there
-        return _command(argv)
     try:
+        if threading.current_thread() is not threading.main_thread():   # no signals there
+            return _command(argv)
         with interrupts.handled():
             return _command(argv)
-    except (KeyboardInterrupt, Terminated) as e:    # arrived while the command was returning
+    except (KeyboardInterrupt, Terminated) as e:    # during the command, or while it returned
         return _interrupted(e)
 
 
@@ -119,8 +119,6 @@ def _command(argv: list[str] | None) -> int:
         if isinstance(code, SystemExit):
             raise code
         return code
-    except (KeyboardInterrupt, Terminated) as e:
-        return _interrupted(e)
     except InputError as e:
         print(f"fembeam: error: {one_line(e)}", file=sys.stderr)
         return 2

@@ -225,15 +225,12 @@ def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
     from concurrent.futures.process import BrokenProcessPool
 
     shared = _shared_pools()
-    pool = shared.get(workers)
-    if pool is not None and getattr(pool, "_broken", False):    # a worker died while it was idle
-        shared[workers] = pool = _replace(pool, workers)
-    pool = pool or _new_pool(workers)
+    pool = shared.get(workers) or _new_pool(workers)
     broken = []
     try:
         try:
             futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
-        except BrokenProcessPool:                                # it died just now: once more
+        except BrokenProcessPool:                                # a shared pool's worker died while idle
             if shared.get(workers) is not pool:
                 raise
             shared[workers] = pool = _replace(pool, workers)
@@ -299,7 +296,7 @@ def shared_pool(workers: int | None = None):
 def _run_isolated(tasks: list[Task], workers: int):
     """Each task in a process of its own, ``workers`` at a time: yields ``(j, result)``,
     the result a :class:`_Lost` if that process died too."""
-    from concurrent.futures import ProcessPoolExecutor, wait, FIRST_COMPLETED
+    from concurrent.futures import FIRST_COMPLETED, wait
     from concurrent.futures.process import BrokenProcessPool
 
     pending = list(range(len(tasks)))
@@ -308,7 +305,7 @@ def _run_isolated(tasks: list[Task], workers: int):
         while pending or running:
             while pending and len(running) < workers:
                 j = pending.pop(0)
-                pool = ProcessPoolExecutor(max_workers=1, initializer=_single_threaded_worker)
+                pool = _new_pool(1)
                 running[pool.submit(_quiet_call, *tasks[j])] = (j, pool)
             finished, _ = wait(list(running), return_when=FIRST_COMPLETED)
             for fut in finished:
