@@ -1,0 +1,53 @@
+"""What a motion ends as, and the figures every motion reports: one vocabulary for ``fembeam rock``
+(one mechanism at a time) and ``fembeam simulate`` (every piece a rigid body).
+
+* **Outcomes** (:data:`OUTCOMES`): ``rest`` (at rest at the end), ``survived`` (still moving at the
+  end), ``overturned`` (the overturning rule below), ``collapsed_by_sliding`` (a joint slid by more
+  than :data:`SLIDE_OUT` of its depth: the faces no longer hold the piece; only with Coulomb
+  friction), ``cannot_stand`` (the member cannot carry its own weight).
+* **Overturning rule** (:func:`overturn_level`): the member has overturned at the first time its
+  potential energy ``V`` (J per unit depth, 0 at rest) falls below ``-OVERTURN_DROP m g t``, i.e.
+  its centroid is :data:`OVERTURN_DROP` of the mean thickness ``t`` below its height at rest.  Along
+  any rocking mechanism ``V`` rises from rest to the unstable equilibrium and falls below rest
+  only beyond it, so a member past that level is falling.  The level is far above the errors of a
+  contact model: a corner overlapping its face by ``1e-5 t`` changes ``V`` by about ``1e-5 m g t``.
+* **Friction demand** (:func:`friction_demand`): the largest ratio of tangential to normal force
+  (or percussion at an impact) over the joints or sections of the motion, with its time and
+  place; ``sliding_risk`` when a friction coefficient is given and the ratio exceeds it.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["OUTCOMES", "OVERTURN_DROP", "SLIDE_OUT", "overturn_level", "mean_thickness", "friction_demand"]
+
+OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding", "cannot_stand")
+OVERTURN_DROP = 0.1     # overturned: centroid this fraction of the mean thickness below rest
+SLIDE_OUT = 0.5         # collapsed by sliding: a joint's slip above this fraction of its depth
+
+
+def mean_thickness(curve) -> float:
+    """Mean thickness (m) of a member over its arc length (101 evenly spaced sections)."""
+    s = np.linspace(0.0, curve.length, 101)
+    return float(np.mean(np.broadcast_to(np.asarray(curve.thickness_at(s), float), s.shape)))
+
+
+def overturn_level(curve, mass: float, g: float) -> float:
+    """``V`` (J per unit depth) below which the member of ``mass`` (kg per unit depth) has
+    overturned: ``-OVERTURN_DROP m g t`` with ``t`` the mean thickness."""
+    return -OVERTURN_DROP * mass * g * mean_thickness(curve)
+
+
+def friction_demand(ratio: float, t: float | None, s: float | None, at: str | None,
+                    mu: float | None) -> dict:
+    """The JSON block ``friction_demand``: the largest ``|S|/N`` (or ``|P_t|/P_n``) ``max_ratio``, its
+    time ``t`` (s), the arc length ``s`` (m from the left springing) of its joint or section, ``at``
+    (``"motion"``: a force during the motion, ``"impact"``: a percussion), the friction coefficient
+    ``mu`` given (None: unlimited) and ``sliding_risk`` (``max_ratio > mu``; None without ``mu``)."""
+    def num(x):
+        return None if x is None or not math.isfinite(x) else float(x)
+
+    return {"max_ratio": num(ratio) if ratio is not None else 0.0, "t": num(t), "s": num(s), "at": at,
+            "mu": num(mu), "sliding_risk": None if mu is None else bool(ratio is not None and ratio > mu)}
