@@ -185,7 +185,7 @@ def run_elcentro(csv_path: Path, fig_path: Path, below=(0.5, 0.7, 0.9), steps: i
         r = rk.run(rec.scaled(f), t_end=t_end)
         s = sim.run(rec.scaled(f), dt=DT, t_end=t_end)
         rows.append({"factor": f, "fraction_of_rock_collapse": frac, "rock_outcome": r.outcome,
-                     "rock_peak_piece_rotation": r.peak_piece_rotation, "sim_outcome": s.outcome,
+                     "rock_peak_rotation": r.peak_rotation, "sim_outcome": s.outcome,
                      "sim_peak_rotation": s.peak_rotation})
     with open(csv_path, "w", newline="") as f:
         w = csv.writer(f)
@@ -198,7 +198,7 @@ def run_elcentro(csv_path: Path, fig_path: Path, below=(0.5, 0.7, 0.9), steps: i
         w.writerow(["sim_bracket", f"{b['lo']:.5g} {b['hi']:.5g}"])
         for r in rows:
             w.writerow([f"peaks_at_{r['fraction_of_rock_collapse']:g}x", f"factor {r['factor']:.4g}; rock "
-                        f"{r['rock_outcome']} {r['rock_peak_piece_rotation']:.5g} rad; simulate {r['sim_outcome']} "
+                        f"{r['rock_outcome']} {r['rock_peak_rotation']:.5g} rad; simulate {r['sim_outcome']} "
                         f"{r['sim_peak_rotation']:.5g} rad"])
     # the two histories at rock's collapse factor
     r = rk.run(rec.scaled(f_rock), t_end=t_end)

@@ -33,7 +33,7 @@ def main() -> None:
     s = res.history
     print(f"A_L = {rk.A[1]:.6f} g; pulse {gm.name}")
     print(f"rock: thrust line exits at {ref.thrust_line_exits_at:.4f} s; peak piece rotation "
-          f"{ref.peak_piece_rotation:.5f} rad at {ref.t_peak:.4f} s; {len(ref.impacts)} impacts; outcome {ref.outcome}")
+          f"{ref.peak_rotation:.5f} rad at {ref.t_peak:.4f} s; {len(ref.impacts)} impacts; outcome {ref.outcome}")
     print(f"simulate (dt = 1e-4 s): peak rotation {res.peak_rotation:.5f} rad at {res.t_peak:.4f} s; "
           f"{len(res.impacts)} impacts; up to {res.max_hinges} hinges open at once; outcome {res.outcome}")
     before = s["t"] <= ref.thrust_line_exits_at

@@ -193,7 +193,7 @@ def test_mirror_symmetry_of_the_pulse_direction():
     minus = rock(PAPER, GroundMotion.sine(-0.6, 0.3), voussoirs=7, t_end=2.0, thrust_check=False)
     assert plus.outcome == minus.outcome
     # theta is the rotation of the first piece from the left: mirrored, that is another piece
-    assert plus.peak_piece_rotation == pytest.approx(minus.peak_piece_rotation, rel=1e-6)   # integration error
+    assert plus.peak_rotation == pytest.approx(minus.peak_rotation, rel=1e-6)   # integration error
     n = min(len(plus.impacts), len(minus.impacts), 20)
     assert n >= 5
     for a, b in zip(plus.impacts[:n], minus.impacts[:n]):
@@ -201,6 +201,41 @@ def test_mirror_symmetry_of_the_pulse_direction():
         assert b.r == pytest.approx(a.r, rel=1e-10)
         ma, mb = plus.mechanisms[a.after], minus.mechanisms[b.after]
         assert np.allclose(mb.mirrored().s, ma.s, atol=1e-12) and mb.mirrored().sides == ma.sides
+
+
+def _sampled_peaks(rk, res):
+    """Largest |rotation| of any piece and largest |theta| over the history's rows, each piece's
+    rotation recomputed from the row's theta (EquationOfMotion.piece_rotations)."""
+    h = res.history
+    rot = np.array([0.0 if k < 0 else max(abs(x) for x in rk.equations[int(k)].piece_rotations(th))
+                    for k, th in zip(h["mechanism"], h["theta"])])
+    i = int(np.argmax(rot))
+    return rot[i], h["t"][i], float(np.max(np.abs(h["theta"])))
+
+
+def test_peak_rotation_is_the_largest_piece_rotation_and_mirror_invariant():
+    """``peak_rotation`` is the largest rotation of any piece (the sampled history's, recomputed
+    from theta row by row, to within one sampling step of the peak) and does not depend on the
+    direction of the pulse (1e-9); ``peak_theta`` is the largest |theta| (the first moving piece
+    from the left: after mirroring, another piece)."""
+    rk = Rocker(CircularArch.from_ratio(157.5, 0.15, radius=5.0), voussoirs=7, qp=False)
+    dt = 1e-4
+    runs = [rk.run(GroundMotion.sine(a, 0.56), thrust_check=False, dt_out=dt) for a in (0.6, -0.6)]
+    for res in runs:
+        rot, t_rot, theta = _sampled_peaks(rk, res)
+        # near a peak a rotation differs from it by O(rate^2 dt^2): here well below 1e-6 of it
+        assert res.peak_rotation * (1 - 1e-6) <= rot <= res.peak_rotation * (1 + 1e-12)
+        assert abs(t_rot - res.t_peak) <= dt
+        assert res.peak_theta * (1 - 1e-6) <= theta <= res.peak_theta * (1 + 1e-12)
+        assert res.peak_theta <= res.peak_rotation
+        d = res.to_dict()
+        assert d["peak_rotation"] == res.peak_rotation and d["peak_theta"] == res.peak_theta
+        assert "peak_piece_rotation" not in d
+    plus, minus = runs
+    assert abs(plus.peak_rotation - minus.peak_rotation) <= 1e-9
+    assert abs(plus.t_peak - minus.t_peak) <= 1e-9
+    # the first moving piece of one run is the last of the other: their theta peaks differ
+    assert abs(plus.peak_theta - minus.peak_theta) > 1e-3 * plus.peak_rotation
 
 
 # --------------------------------------------------------------------------- accumulation, overturning

@@ -158,7 +158,8 @@ def summary(res: RockingResult, max_impacts: int = 12) -> str:
     else:
         lines.append(f"  outcome: survived (still moving at t = {res.t_end:.4g} s)")
     if res.t_peak is not None:
-        lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s")
+        lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s (largest of any piece; "
+                     f"theta {res.peak_theta:.6g} rad at t = {res.t_peak_theta:.6g} s)")
     if res.thrust_line_exits_at is not None:
         lines.append(f"  thrust line leaves the section at t = {res.thrust_line_exits_at:.6g} s: from then on other "
                      f"hinges would open (the one-mechanism model is not valid)")

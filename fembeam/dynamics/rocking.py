@@ -82,9 +82,10 @@ class RockingResult:
     mechanisms: list[Mechanism] = field(default_factory=list)
     impacts: list[ImpactEvent] = field(default_factory=list)
     onsets: list[tuple[float, int]] = field(default_factory=list)   # (t, mechanism index)
-    peak_rotation: float = 0.0                  # largest |theta| (rotation of the first moving piece)
-    t_peak: float | None = None
-    peak_piece_rotation: float = 0.0            # largest rotation of any piece (mirror invariant)
+    peak_rotation: float = 0.0                  # largest |rotation| of any piece (rad; mirror invariant)
+    t_peak: float | None = None                 # its time (s)
+    peak_theta: float = 0.0                     # largest |theta| (the rotation of the first moving piece)
+    t_peak_theta: float | None = None
     peaks: list = field(default_factory=list)   # (t, mechanism index, theta): every turning point
     t_overturn: float | None = None
     settled_at: float | None = None         # Rocker.run(settle=True): the free motion ends at rest
@@ -115,7 +116,8 @@ class RockingResult:
             "A_L": {"+1": num(self.A_L.get(1)), "-1": num(self.A_L.get(-1))},
             "peak_rotation": float(self.peak_rotation),
             "t_peak": num(self.t_peak),
-            "peak_piece_rotation": float(self.peak_piece_rotation),
+            "peak_theta": float(self.peak_theta),
+            "t_peak_theta": num(self.t_peak_theta),
             "turning_points": [{"t": t, "mechanism": k, "theta": th} for t, k, th in self.peaks],
             "t_overturn": num(self.t_overturn),
             "overturn_reason": self.overturn_reason,
@@ -196,9 +198,10 @@ class _Track:
     grid: np.ndarray
     keep: bool = True            # keep the dense output of the motion (for the thrust-line check)
     rows: dict = field(default_factory=lambda: {k: [] for k in ("t", "mechanism", "theta", "rate", "K", "V", "a_g")})
-    peak: float = 0.0
+    peak: float = 0.0            # largest |rotation| of any piece, and its time
     t_peak: float | None = None
-    peak_piece: float = 0.0
+    peak_theta: float = 0.0      # largest |theta|, and its time
+    t_peak_theta: float | None = None
     pieces: list = field(default_factory=list)   # (ta, tb, mechanism, dense solution) of the motion
     peaks: list = field(default_factory=list)    # (t, mechanism, theta) where the rate vanishes
 
@@ -210,9 +213,15 @@ class _Track:
             self.rows[key].append(v)
 
     def peak_at(self, t: float, theta: float, eq: EquationOfMotion):
-        if abs(theta) > self.peak:
-            self.peak, self.t_peak = abs(theta), float(t)
-        self.peak_piece = max(self.peak_piece, max(abs(x) for x in eq.piece_rotations(theta)))
+        """A turning point or the end of an episode at ``t``: the running peaks.  The pieces'
+        rotations are taken where ``|theta|`` peaks: exact while each grows with ``|theta|`` along
+        the mechanism (the four-bar's rates ``w3``, ``w2`` keep their sign; so on every mechanism
+        of the tests), otherwise a lower bound."""
+        if abs(theta) > self.peak_theta:
+            self.peak_theta, self.t_peak_theta = abs(theta), float(t)
+        rot = max(abs(x) for x in eq.piece_rotations(theta))
+        if rot > self.peak:
+            self.peak, self.t_peak = rot, float(t)
 
 
 def _check_inputs(curve, ground, t_end):
@@ -433,7 +442,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     out.mechanisms = list(mechs)
     out.unstable_rotation = [e.sign * min(e.theta_unstable, e.theta_lock) for e in eqs]
     out.peak_rotation, out.t_peak, out.peaks = track.peak, track.t_peak, track.peaks
-    out.peak_piece_rotation = track.peak_piece
+    out.peak_theta, out.t_peak_theta = track.peak_theta, track.t_peak_theta
     out.energy_balance_error = balance
     out.history = {k_: np.asarray(v, float) for k_, v in track.rows.items()}
     timings.update(integration=t_int, transitions=t_tr)
