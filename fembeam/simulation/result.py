@@ -7,21 +7,27 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..dynamics.ground import GroundMotion
+from ..dynamics.outcomes import OVERTURN_DROP, friction_demand
 from ..geometry import MidCurve
 from .bodies import Bodies
 
 __all__ = ["SimulationResult", "OUTCOMES", "HISTORY_COLUMNS"]
 
-OUTCOMES = ("rest", "survived", "overturned")
+OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding")
 HISTORY_COLUMNS = ("t", "K", "V", "W_ground", "dissipated", "a_g", "hinges", "separated", "max_rotation")
 
 
 @dataclass
 class SimulationResult:
-    """``outcome``: ``"rest"`` (at rest at ``t_end``), ``"survived"`` (still moving at ``t_end``) or
-    ``"overturned"`` (the centroid of the member fell below its height at rest, at ``t_overturn``:
-    past the unstable equilibrium of whatever mechanism it moved on).  ``peak_rotation`` (rad): the
-    largest ``|phi|`` of any body (``fembeam rock``'s ``peak_piece_rotation``).  ``history`` columns
+    """``outcome`` (:data:`fembeam.dynamics.outcomes.OUTCOMES`): ``"rest"`` (at rest at ``t_end``),
+    ``"survived"`` (still moving at ``t_end``), ``"overturned"`` (the centroid of the member fell
+    ``OVERTURN_DROP`` of its mean thickness below its height at rest, at ``t_overturn``: past the
+    unstable equilibrium of whatever mechanism it moved on) or ``"collapsed_by_sliding"`` (with
+    friction: a joint slid by more than ``SLIDE_OUT`` of its depth, at ``t_overturn``).
+    ``peak_rotation`` (rad): the largest ``|phi|`` of any body, as ``fembeam rock``'s.
+    ``friction_ratio``: the largest ``|P_t| / N`` of a joint over the steps and impacts (at
+    ``t_friction``, joint at arc length ``s_friction``); ``max_slip`` (m) the largest slip carried
+    by a joint (friction only).  ``history`` columns
     (:data:`HISTORY_COLUMNS`): ``t`` (s), ``K``, ``V``, ``W_ground``, ``dissipated`` (J per unit
     depth), ``a_g`` (g), ``hinges`` (joints with exactly one corner open), ``separated`` (joints with
     both corners open), ``max_rotation`` (rad); ``positions`` the ``(n, 3)`` states ``x, y, phi`` at
@@ -42,6 +48,17 @@ class SimulationResult:
     dissipated: float = 0.0
     ground_work: float = 0.0
     projection_drift: float = 0.0
+    friction: float | None = None
+    friction_ratio: float = 0.0
+    t_friction: float | None = None
+    s_friction: float | None = None
+    friction_at: str | None = None
+    max_slip: float = 0.0
+    t_slip: float | None = None
+    s_slip: float | None = None
+    sliding_steps: int = 0
+    V_min: float = 0.0
+    timings: dict = field(default_factory=dict)
     steps: int = 0
     cut_steps: int = 0
     pivots: int = 0
@@ -86,6 +103,8 @@ class SimulationResult:
             "dt": self.dt,
             "t_end": self.t_end,
             "t_overturn": num(self.t_overturn),
+            "overturn_reason": ("below_rest" if self.outcome == "overturned" else
+                                "slid_out" if self.outcome == "collapsed_by_sliding" else None),
             "peak_rotation": num(self.peak_rotation),
             "t_peak": num(self.t_peak),
             "max_hinges": self.max_hinges,
@@ -94,13 +113,18 @@ class SimulationResult:
             "energy": {"K_end": num(h["K"][-1]) if len(h["K"]) else 0.0,
                        "V_end": num(h["V"][-1]) if len(h["V"]) else 0.0,
                        "ground_work": num(self.ground_work), "dissipated": num(self.dissipated),
-                       "projection_drift": num(self.projection_drift)},
+                       "projection_drift": num(self.projection_drift), "V_min": num(self.V_min)},
             "energy_balance_error": num(self.energy_balance_error),
-            "impacts": len(self.impacts),
+            "n_impacts": len(self.impacts),
+            "impacts": [{"t": float(t), "r": float(b / a) if a > 0 else 0.0} for t, a, b in self.impacts],
+            "friction_demand": friction_demand(self.friction_ratio, self.t_friction, self.s_friction,
+                                               self.friction_at, self.friction),
+            "sliding": {"mu": num(self.friction), "max_slip": num(self.max_slip), "t": num(self.t_slip),
+                        "s": num(self.s_slip), "sliding_steps": self.sliding_steps},
             "steps": self.steps,
             "cut_steps": self.cut_steps,
             "pivots": self.pivots,
-            "time_s": round(self.time, 4),
+            "timings_s": {k: round(v, 4) for k, v in (self.timings or {"total": self.time}).items()},
         }
         if history:
             out["history"] = {k: [float(x) for x in v] for k, v in h.items()}

@@ -31,6 +31,13 @@ step 1); ``K + V = E_0 + W - D`` up to the discretisation error of the smooth ph
 projections, step 4, and the position projections, step 5), reported as ``energy_balance_error``;
 ``projection_drift`` is what the position projections add to ``V - W`` (minus the loads' work on
 them).
+
+With Coulomb friction ``mu`` the sliding rows of step 4 are no longer equalities: each joint with a
+closed corner obeys ``|P_t| <= mu N`` (:mod:`.kernel_solve`), the slip it accumulates is carried by
+the joint (the position projection keeps it instead of removing it) and reported.
+
+The loop is compiled (:mod:`.kernel`, numba); :mod:`.reference` is the same algorithm in NumPy
+(without friction), kept as the reference of the tests.
 """
 from __future__ import annotations
 
@@ -41,15 +48,15 @@ import numpy as np
 
 from ..dynamics.equation import GRAVITY
 from ..dynamics.ground import GroundMotion
-from ..errors import InputError
+from ..dynamics.outcomes import SLIDE_OUT, overturn_level
+from ..errors import InputError, SolverError
 from ..geometry import MidCurve
 from .bodies import Bodies
 from .contacts import Contacts
-from .contacts import BAND
-from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
 from .result import SimulationResult
 
-__all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_ENERGY"]
+__all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_ENERGY",
+           "check_dt", "check_friction"]
 
 DT_RANGE = (1e-6, 0.05)     # s: admitted time steps
 MAX_STEPS = 10_000_000      # (t_end - t_0) / dt above this: InputError
@@ -59,16 +66,22 @@ MIN_STEP = 1e-6             # shortest step cut at a landing, relative to dt
 REST_ENERGY = 1e-12         # at rest: K below this fraction of m g L (L: the member's length)
 IMPACT_PIVOTS = 2           # block pivots tried on an impact (its many locked joints at rest are degenerate
                             # rows: the pivots seldom converge, the interior point does)
-OVERTURN_DROP = 1e-6        # overturned: V below -OVERTURN_DROP m g L (the centroid below its rest height)
+BLOCK_PIVOTS = 8            # block pivots tried on a smooth step
+CHUNK_STEPS = 4096          # steps between two returns of the compiled loop (progress, interrupts)
+CHUNK_ROWS = 512            # history rows and impacts buffered per return
+MU_RANGE = (1e-3, 1e3)      # admitted friction coefficients
+KKT_TOL = 1e-8              # KKT residual of a step's contact problem, relative to its scales
+_SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite"}
 
 
 class Simulator:
     """Bodies and contacts of ``curve`` cut into ``voussoirs`` (discrete arch) or ``elements``
-    (continuous arch: rigid elements) equal pieces; a block (``StraightMember``) is one body.  Set up
-    once, run under any ground motions (:meth:`run`)."""
+    (continuous arch: rigid elements) equal pieces; a block (``StraightMember``) is one body.
+    ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
+    whatever their tangential force).  Set up once, run under any ground motions (:meth:`run`)."""
 
     def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
-                 g: float = GRAVITY):
+                 g: float = GRAVITY, friction: float | None = None):
         if voussoirs is not None and elements is not None:
             raise InputError("give voussoirs or elements, not both")
         n = voussoirs if voussoirs is not None else (elements if elements is not None else 100)
@@ -78,21 +91,46 @@ class Simulator:
         if not self.contacts.chain:
             raise InputError("simulate needs a chain of bodies with a joint at every interior cut")
         self.curve, self.g = curve, float(g)
+        self.friction = check_friction(friction)
 
     def run(self, ground: GroundMotion, *, dt: float = 1e-3, t_end: float | None = None,
             dt_out: float | None = None, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
-            stop_at_overturn: bool = True, progress=None) -> SimulationResult:
+            stop_at_overturn: bool = True, progress=None, engine: str = "compiled") -> SimulationResult:
         """Time history under ``ground`` from rest (or ``q0``, ``v0``: ``(n + 1, 3)`` arrays, the last
         row the ground's zeros) with steps ``dt`` (s) to ``t_end`` (default: end of the ground motion
         plus ``20 sqrt(L/g)``, as ``fembeam rock``); history sampled every ``dt_out`` (s; default
-        ``max(dt, duration / 4000)``)."""
+        ``max(dt, duration / 4000)``).  ``engine``: ``"compiled"`` (:mod:`.kernel`) or ``"reference"``
+        (:mod:`.reference`, NumPy, no friction)."""
+        if engine == "reference":
+            if self.friction is not None:
+                raise InputError("the reference engine has no friction")
+            from .reference import run_reference
+            return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+        if engine != "compiled":
+            raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
         return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
 
 
 def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int | None = None,
-             dt: float = 1e-3, t_end: float | None = None, g: float = GRAVITY) -> SimulationResult:
+             dt: float = 1e-3, t_end: float | None = None, g: float = GRAVITY,
+             friction: float | None = None) -> SimulationResult:
     """:meth:`Simulator.run` of a new :class:`Simulator`."""
-    return Simulator(curve, voussoirs=voussoirs, elements=elements, g=g).run(ground, dt=dt, t_end=t_end)
+    return Simulator(curve, voussoirs=voussoirs, elements=elements, g=g, friction=friction).run(
+        ground, dt=dt, t_end=t_end)
+
+
+def check_friction(mu) -> float | None:
+    """``mu`` as a float in :data:`MU_RANGE`, or None (no sliding); InputError otherwise."""
+    if mu is None:
+        return None
+    try:
+        mu = float(mu)
+    except (TypeError, ValueError):
+        raise InputError(f"the friction coefficient must be a number, got {mu!r}") from None
+    lo, hi = MU_RANGE
+    if not (math.isfinite(mu) and lo <= mu <= hi):
+        raise InputError(f"the friction coefficient must be in [{lo:g}, {hi:g}], got {mu:g}")
+    return mu
 
 
 def check_dt(dt, t0: float, t_end: float) -> float:
@@ -110,20 +148,21 @@ def check_dt(dt, t0: float, t_end: float) -> float:
     return dt
 
 
-def _roots(gap, vn, an):
-    """Smallest ``s`` in ``(0, inf)`` with ``gap + s vn + s^2/2 an = 0`` (``gap > 0``), inf if none."""
-    a2, a1 = 0.5 * an, vn
-    disc = a1 * a1 - 4.0 * a2 * gap
-    den = -a1 + np.sqrt(np.maximum(disc, 0.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where((disc >= 0) & (den > 0), 2.0 * gap / den, np.inf)
-    return s
+def _ground_args(ground: GroundMotion):
+    """``(kind, amplitude, period, t, a)`` of :func:`.kernel.ground_at` for ``ground``."""
+    p = ground.exact
+    if p is None:
+        return 0, 0.0, 1.0, np.ascontiguousarray(ground.t, float), np.ascontiguousarray(ground.a, float)
+    kind = {"rect": 1, "sine": 2, "ricker": 3}[p.kind]
+    return kind, float(p.amplitude), float(p.period), np.zeros(1), np.zeros(1)
 
 
 def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
     clock = time.perf_counter()
     if not isinstance(ground, GroundMotion):
         raise InputError(f"simulate needs a fembeam.dynamics.GroundMotion, got {type(ground).__name__}")
+    from . import kernel as K            # numba: compiled (or loaded from its cache) on first use
+    t_load = time.perf_counter() - clock
     bodies, con, g = sim.bodies, sim.contacts, sim.g
     L = sim.curve.length
     t0 = float(ground.t[0])
@@ -136,7 +175,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     dt_out = max(dt, (t_end - t0) / 4000.0) if dt_out is None else float(dt_out)
     if not (math.isfinite(dt_out) and dt_out > 0):
         raise InputError(f"dt_out must be a positive number of seconds, got {dt_out!r}")
-    n = bodies.n
+    n, J = bodies.n, con.J
     q = bodies.rest_state() if q0 is None else np.array(q0, float)
     v = np.zeros((n + 1, 3)) if v0 is None else np.array(v0, float)
     if q.shape != (n + 1, 3) or v.shape != (n + 1, 3):
@@ -144,164 +183,86 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
         raise InputError("q0 and v0 must be finite numbers")
     q[-1] = v[-1] = 0.0
-    minv = con.minv
-    m = bodies.m
-    mass = bodies.mass
-    y0 = bodies.G0[1]
-    E_unit = mass * g * L
-    thick = bodies.thickness[:, None]
-    gap_tol = GAP_TOL * thick
-    at = ground.scalar()
-    J = con.J
-
-    def potential(q_):
-        return g * float(m @ (q_[:-1, 1] - y0))
-
-    geo = con.evaluate(q)
-    res = SimulationResult(sim.curve, ground, bodies, mode=sim.mode, dt=dt)
-    mv = np.concatenate([np.repeat(m, 2).reshape(-1, 2), bodies.I[:, None], np.zeros((n, 0))], axis=1)
-    mv = np.vstack([mv, np.zeros((1, 3))]).ravel()             # (vx, vy, omega) weights of 2K
-
-    def kinetic(v_):
-        return 0.5 * float(mv @ (v_.ravel() ** 2))
-
-    E0 = kinetic(v) + potential(q)
-    W = D = drift = 0.0
-    working = working_imp = None      # warm starts of the smooth projections and of the impacts
-    t = t0
-    steps = cuts = pivots = 0
-    next_out = t0
-    peak, t_peak = 0.0, None
-    balance = 0.0
-    E_seen = max(abs(E0), 1e-9 * E_unit)
-    outcome, t_over = None, None
-    h_min = MIN_STEP * dt
-    rec = res.record
-    acc = np.zeros((n + 1, 3))
-    acc[:-1, 1] = -g
-    nonneg = np.zeros((J, 3), bool)
-    free = np.zeros((J, 3), bool)
-    jj = np.arange(J)
-    was_closed = geo.gap <= gap_tol
-    stale = False
+    m, minv = bodies.m, con.minv
+    mv = np.zeros((n + 1, 3))
+    mv[:-1, 0] = mv[:-1, 1] = m
+    mv[:-1, 2] = bodies.I
+    y0 = bodies.G0[1].copy()
+    E_unit = bodies.mass * g * L
+    thick = bodies.thickness.copy()
+    mu = math.inf if sim.friction is None else sim.friction
+    # the contact data of :class:`.contacts.Contacts` as real arrays
+    ra = np.stack([con.r_a.real, con.r_a.imag], axis=-1).copy()
+    rb = np.stack([con.r_b.real, con.r_b.imag], axis=-1).copy()
+    nu0 = np.stack([con.nu0.real, con.nu0.imag], axis=-1).copy()
+    tau0 = np.stack([con.tau0.real, con.tau0.imag], axis=-1).copy()
+    A, B = con.a.astype(np.int64), con.b.astype(np.int64)
+    sides = np.ascontiguousarray(con.sides, dtype=np.int64)
+    gap, slip = np.zeros((J, 2)), np.zeros((J, 2))
+    rows, contact = np.zeros((J, 3, 2, 3)), np.zeros(J, np.int64)
+    K.geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
+    was_closed = gap <= GAP_TOL * thick[:, None]
+    working, working_imp = np.zeros(3 * J, bool), np.zeros(3 * J, bool)
+    box, box_imp = np.zeros(3 * J, np.int64), np.zeros(3 * J, np.int64)
+    s_ref = np.zeros(J)
+    fs = np.zeros(K.N_FLOAT)
+    ist = np.zeros(K.N_INT, np.int64)
+    E0 = float(0.5 * np.sum(mv * v * v)) + g * float(m @ (q[:-1, 1] - y0))
+    fs[K.F_T], fs[K.F_E0], fs[K.F_NEXT] = t0, E0, t0
+    fs[K.F_ESEEN] = max(abs(E0), 1e-9 * E_unit)
+    fs[K.F_TPEAK] = fs[K.F_TOVER] = fs[K.F_TRATIO] = fs[K.F_TSLIP] = math.nan
+    fs[K.F_VMIN] = math.inf
+    ist[K.I_JRATIO] = ist[K.I_JSLIP] = -1
+    kind, amp, period, ts, av = _ground_args(ground)
+    V_over = overturn_level(sim.curve, bodies.mass, g)
+    hist = np.zeros((CHUNK_ROWS, K.HISTORY_COLUMNS))
+    pos = np.zeros((CHUNK_ROWS, n, 3))
+    imp = np.zeros((CHUNK_ROWS, 3))
+    res = SimulationResult(sim.curve, ground, bodies, mode=sim.mode, dt=dt, friction=sim.friction)
+    h_rows, p_rows, impacts = [], [], []
     while True:
-        K = kinetic(v)
-        V = potential(q)
-        E_seen = max(E_seen, K + abs(V), abs(W), D)
-        balance = max(balance, abs(K + V - E0 - W + D) / E_seen)
-        rot = float(np.max(np.abs(q[:-1, 2])))
-        if rot > peak:
-            peak, t_peak = rot, t
-        done = t >= t_end - 1e-12 * dt
-        if V < -OVERTURN_DROP * E_unit and outcome is None:
-            outcome, t_over = "overturned", t
-            done = done or stop_at_overturn
-        if t >= next_out or done:
-            rec(t, q, v, K, V, W, D, float(at(t)), geo.gap, thick)
-            next_out = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
-            if progress is not None:
-                progress(t)
-        if done:
+        status, nh, ni = K.advance(
+            q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, thick,
+            gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
+            fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, SLIDE_OUT, mu,
+            bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
+            hist, pos, imp, CHUNK_STEPS, KKT_TOL)
+        h_rows.append(hist[:nh].copy())
+        p_rows.extend(pos[:nh].copy())
+        impacts.extend(map(tuple, imp[:ni].tolist()))
+        if status == K.SOLVER_FAILED:
+            raise SolverError(f"the contact problem of the step at t = {fs[K.F_T]:.9g} s "
+                              f"{_SOLVER_STATUS.get(int(ist[K.I_STATUS]), 'failed')} "
+                              f"(residual {fs[K.F_KKT]:.3g})")
+        if progress is not None:
+            progress(float(fs[K.F_T]))
+        if status in (K.FINISHED, K.STOPPED):
             break
-        h = min(dt, t_end - t)
-        # 1. impact: a corner closes at t (it landed at the end of the last step, or its predicted
-        #    landing is within MIN_STEP of t): the projection of v alone, in this configuration
-        #    (no force acts during an impact); then 2. the landings within the step, predicted
-        #    with the velocity after the impact, cut it there
-        closed = geo.gap <= gap_tol
-        a_g = at(t + 0.5 * h)
-        acc[:-1, 0] = -a_g * g
-        K_in, hit, s = None, None, None
-        while True:
-            if (closed & ~was_closed).any() and (hit is None or (closed & ~hit).any()):
-                if K_in is None:
-                    K_in = kinetic(v)
-                if stale:
-                    geo, stale = con.evaluate(q), False
-                sol, working_imp = _project(con, geo.rows, v, closed, working_imp, nonneg, free, g * h, IMPACT_PIVOTS)
-                pivots += sol.pivots
-                v = v + minv * con.apply_t(geo.rows, sol.P)
-                hit = closed.copy()
-            if closed.all():
-                s = None
-                break
-            vn = con.apply(geo.rows, v).reshape(J, 3)[:, :2]
-            an = con.apply(geo.rows, acc).reshape(J, 3)[:, :2]
-            s = np.where(closed, np.inf, _roots(geo.gap, vn, an))
-            soon = s < h_min
-            if not soon.any():
-                break
-            closed |= soon
-        if K_in is not None:
-            K_out = kinetic(v)
-            D += K_in - K_out
-            res.impacts.append((t, K_in, K_out))
-        if s is not None:
-            s_cut = float(np.min(s))
-            if s_cut < h:
-                h = s_cut
-                cuts += 1
-                a_g = at(t + 0.5 * h)
-                acc[:-1, 0] = -a_g * g
-        # 3. midpoint, free velocity
-        qm = q + 0.5 * h * v
-        v_free = v + h * acc
-        # 4. projection onto the compatible cone
-        P = None
-        if closed.any():
-            gm = con.evaluate(qm)
-            sol, working = _project(con, gm.rows, v_free, closed, working, nonneg, free, g * h)
-            pivots += sol.pivots
-            v_new = v_free + minv * con.apply_t(gm.rows, sol.P)
-            P = sol.P.reshape(J, 3)
-            ab = sol.ab
-        else:
-            v_new = v_free
-            working = None
-        was_closed = closed
-        # 5. positions, projected onto the loaded contacts (velocities untouched)
-        q_new = qm + 0.5 * h * v_new
-        geo = con.evaluate(q_new)
-        stale = False
-        if P is not None:
-            loaded = closed & (((P[:, :2] > 0) & working.reshape(J, 3)[:, :2]) | (geo.gap < 0))
-            if loaded.any():
-                on = np.zeros((J, 3), bool)
-                on[:, :2] = loaded
-                on[:, 2] = loaded.any(axis=1)
-                resid = np.concatenate([geo.gap, geo.slip[jj, geo.contact][:, None]], axis=1)
-                on = on.ravel()
-                lam = _solve_eq(con, ab, on, -np.where(on, resid.ravel(), 0.0))
-                dq = minv * con.apply_t(gm.rows, lam)
-                q_new = q_new + dq
-                geo.gap = geo.gap + con.apply(geo.rows, dq).reshape(J, 3)[:, :2]   # to O(|dq|^2)
-                stale = True                 # rows, slips: of q_new before dq (re-evaluated at an impact)
-                drift += g * float(m @ dq[:-1, 1]) + a_g * g * float(m @ dq[:-1, 0])
-        W += float(-a_g * g * (m @ (q_new[:-1, 0] - q[:-1, 0])))
-        q, v = q_new, v_new
-        t = t + h
-        steps += 1
-    if outcome is None:
-        outcome = "rest" if kinetic(v) < REST_ENERGY * E_unit else "survived"
-    res.finish(outcome=outcome, t_end=t, t_overturn=t_over, peak_rotation=peak, t_peak=t_peak,
-               energy_balance_error=balance, dissipated=D, ground_work=W, projection_drift=drift, steps=steps,
-               cut_steps=cuts, pivots=pivots, time=time.perf_counter() - clock)
+    t_run = time.perf_counter() - clock - t_load
+    H = np.vstack(h_rows) if h_rows else np.zeros((0, K.HISTORY_COLUMNS))
+    from .result import HISTORY_COLUMNS
+    res.history = {k: H[:, i].astype(float) for i, k in enumerate(HISTORY_COLUMNS)}
+    res.positions = p_rows
+    res.impacts = impacts
+    code = int(ist[K.I_OUTCOME])
+    kin = float(0.5 * np.sum(mv * v * v))
+    outcome = ("overturned" if code == K.OVERTURNED else "collapsed_by_sliding" if code == K.SLID_OUT
+               else "rest" if kin < REST_ENERGY * E_unit else "survived")
+
+    def opt(x):
+        return None if not math.isfinite(x) else float(x)
+
+    jr, js = int(ist[K.I_JRATIO]), int(ist[K.I_JSLIP])
+    res.finish(outcome=outcome, t_end=float(fs[K.F_T]), t_overturn=opt(fs[K.F_TOVER]),
+               peak_rotation=float(fs[K.F_PEAK]), t_peak=opt(fs[K.F_TPEAK]),
+               energy_balance_error=float(fs[K.F_BAL]), dissipated=float(fs[K.F_D]), ground_work=float(fs[K.F_W]),
+               projection_drift=float(fs[K.F_DRIFT]), steps=int(ist[K.I_STEPS]), cut_steps=int(ist[K.I_CUTS]),
+               pivots=int(ist[K.I_PIVOTS]), V_min=float(fs[K.F_VMIN]),
+               friction_ratio=float(fs[K.F_RATIO]), t_friction=opt(fs[K.F_TRATIO]),
+               s_friction=None if jr < 0 else float(bodies.joint_s[jr]),
+               friction_at=None if jr < 0 else ("impact" if ist[K.I_ATRATIO] else "motion"),
+               max_slip=float(fs[K.F_SLIP]), t_slip=opt(fs[K.F_TSLIP]),
+               s_slip=None if js < 0 else float(bodies.joint_s[js]), sliding_steps=int(ist[K.I_SLIDING]),
+               time=time.perf_counter() - clock,
+               timings={"load": t_load, "run": t_run, "total": time.perf_counter() - clock})
     return res
-
-
-def _project(con: Contacts, rows, v_free, closed, working, nonneg, free, floor, block_pivots=BLOCK_PIVOTS):
-    """The MLCP of the projection of ``v_free`` with the closed corners ``closed`` ``(J, 2)``;
-    returns the solution (with its banded ``W`` as ``ab``) and the new working set."""
-    nonneg[:, :2] = closed
-    free[:, 2] = closed.any(axis=1)
-    ab = con.delassus(rows)
-    c = con.apply(rows, v_free)
-    vscale = max(float(np.max(np.abs(c))), floor, 1e-300)
-    sol = solve_mlcp(con, ab, c, free.ravel(), nonneg.ravel(), working, vscale, block_pivots)
-    sol.ab = ab
-    return sol, sol.working
-
-
-def _solve_eq(con: Contacts, ab: np.ndarray, on: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """``(W + reg I)_on lam = rhs`` on the rows ``on`` (zero elsewhere)."""
-    return banded_solve(con.restrict(ab, on, REG * float(np.max(ab[BAND]))), rhs)

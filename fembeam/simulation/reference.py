@@ -1,0 +1,221 @@
+"""The reference (pure NumPy) implementation of the time stepping of :mod:`.stepper`, without
+friction: the same algorithm as the compiled loop (:mod:`.kernel`), one step at a time with the
+solvers of :mod:`.projection` (LAPACK band solves).  ``Simulator.run(..., engine="reference")``; the
+tests compare the two."""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..dynamics.ground import GroundMotion
+from ..dynamics.outcomes import overturn_level
+from .contacts import BAND, Contacts
+from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
+from .result import SimulationResult
+
+GAP_TOL = 1e-7
+MIN_STEP = 1e-6
+REST_ENERGY = 1e-12
+IMPACT_PIVOTS = 2
+
+
+def _roots(gap, vn, an):
+    """Smallest ``s`` in ``(0, inf)`` with ``gap + s vn + s^2/2 an = 0`` (``gap > 0``), inf if none."""
+    a2, a1 = 0.5 * an, vn
+    disc = a1 * a1 - 4.0 * a2 * gap
+    den = -a1 + np.sqrt(np.maximum(disc, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where((disc >= 0) & (den > 0), 2.0 * gap / den, np.inf)
+    return s
+
+
+def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
+    """The time history of :meth:`.stepper.Simulator.run` in NumPy (no friction)."""
+    from .stepper import check_dt
+    clock = time.perf_counter()
+    if not isinstance(ground, GroundMotion):
+        raise InputError(f"simulate needs a fembeam.dynamics.GroundMotion, got {type(ground).__name__}")
+    bodies, con, g = sim.bodies, sim.contacts, sim.g
+    V_over = overturn_level(sim.curve, bodies.mass, g)
+    L = sim.curve.length
+    t0 = float(ground.t[0])
+    if t_end is None:
+        t_end = float(ground.t[-1]) + 20.0 * math.sqrt(L / g)
+    t_end = float(t_end)
+    if not (math.isfinite(t_end) and t_end > t0):
+        raise InputError(f"t_end must be finite and after the start of the ground motion ({t0:g} s), got {t_end:g}")
+    dt = check_dt(dt, t0, t_end)
+    dt_out = max(dt, (t_end - t0) / 4000.0) if dt_out is None else float(dt_out)
+    if not (math.isfinite(dt_out) and dt_out > 0):
+        raise InputError(f"dt_out must be a positive number of seconds, got {dt_out!r}")
+    n = bodies.n
+    q = bodies.rest_state() if q0 is None else np.array(q0, float)
+    v = np.zeros((n + 1, 3)) if v0 is None else np.array(v0, float)
+    if q.shape != (n + 1, 3) or v.shape != (n + 1, 3):
+        raise InputError(f"q0 and v0 must be ({n + 1}, 3) arrays (the last row the ground)")
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+        raise InputError("q0 and v0 must be finite numbers")
+    q[-1] = v[-1] = 0.0
+    minv = con.minv
+    m = bodies.m
+    mass = bodies.mass
+    y0 = bodies.G0[1]
+    E_unit = mass * g * L
+    thick = bodies.thickness[:, None]
+    gap_tol = GAP_TOL * thick
+    at = ground.scalar()
+    J = con.J
+
+    def potential(q_):
+        return g * float(m @ (q_[:-1, 1] - y0))
+
+    geo = con.evaluate(q)
+    res = SimulationResult(sim.curve, ground, bodies, mode=sim.mode, dt=dt)
+    mv = np.concatenate([np.repeat(m, 2).reshape(-1, 2), bodies.I[:, None], np.zeros((n, 0))], axis=1)
+    mv = np.vstack([mv, np.zeros((1, 3))]).ravel()             # (vx, vy, omega) weights of 2K
+
+    def kinetic(v_):
+        return 0.5 * float(mv @ (v_.ravel() ** 2))
+
+    E0 = kinetic(v) + potential(q)
+    W = D = drift = 0.0
+    working = working_imp = None      # warm starts of the smooth projections and of the impacts
+    t = t0
+    steps = cuts = pivots = 0
+    next_out = t0
+    peak, t_peak = 0.0, None
+    balance = 0.0
+    E_seen = max(abs(E0), 1e-9 * E_unit)
+    outcome, t_over = None, None
+    h_min = MIN_STEP * dt
+    rec = res.record
+    acc = np.zeros((n + 1, 3))
+    acc[:-1, 1] = -g
+    nonneg = np.zeros((J, 3), bool)
+    free = np.zeros((J, 3), bool)
+    jj = np.arange(J)
+    was_closed = geo.gap <= gap_tol
+    stale = False
+    while True:
+        K = kinetic(v)
+        V = potential(q)
+        E_seen = max(E_seen, K + abs(V), abs(W), D)
+        balance = max(balance, abs(K + V - E0 - W + D) / E_seen)
+        rot = float(np.max(np.abs(q[:-1, 2])))
+        if rot > peak:
+            peak, t_peak = rot, t
+        done = t >= t_end - 1e-12 * dt
+        if V < V_over and outcome is None:
+            outcome, t_over = "overturned", t
+            done = done or stop_at_overturn
+        if t >= next_out or done:
+            rec(t, q, v, K, V, W, D, float(at(t)), geo.gap, thick)
+            next_out = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
+            if progress is not None:
+                progress(t)
+        if done:
+            break
+        h = min(dt, t_end - t)
+        # 1. impact: a corner closes at t (it landed at the end of the last step, or its predicted
+        #    landing is within MIN_STEP of t): the projection of v alone, in this configuration
+        #    (no force acts during an impact); then 2. the landings within the step, predicted
+        #    with the velocity after the impact, cut it there
+        closed = geo.gap <= gap_tol
+        a_g = at(t + 0.5 * h)
+        acc[:-1, 0] = -a_g * g
+        K_in, hit, s = None, None, None
+        while True:
+            if (closed & ~was_closed).any() and (hit is None or (closed & ~hit).any()):
+                if K_in is None:
+                    K_in = kinetic(v)
+                if stale:
+                    geo, stale = con.evaluate(q), False
+                sol, working_imp = _project(con, geo.rows, v, closed, working_imp, nonneg, free, g * h, IMPACT_PIVOTS)
+                pivots += sol.pivots
+                v = v + minv * con.apply_t(geo.rows, sol.P)
+                hit = closed.copy()
+            if closed.all():
+                s = None
+                break
+            vn = con.apply(geo.rows, v).reshape(J, 3)[:, :2]
+            an = con.apply(geo.rows, acc).reshape(J, 3)[:, :2]
+            s = np.where(closed, np.inf, _roots(geo.gap, vn, an))
+            soon = s < h_min
+            if not soon.any():
+                break
+            closed |= soon
+        if K_in is not None:
+            K_out = kinetic(v)
+            D += K_in - K_out
+            res.impacts.append((t, K_in, K_out))
+        if s is not None:
+            s_cut = float(np.min(s))
+            if s_cut < h:
+                h = s_cut
+                cuts += 1
+                a_g = at(t + 0.5 * h)
+                acc[:-1, 0] = -a_g * g
+        # 3. midpoint, free velocity
+        qm = q + 0.5 * h * v
+        v_free = v + h * acc
+        # 4. projection onto the compatible cone
+        P = None
+        if closed.any():
+            gm = con.evaluate(qm)
+            sol, working = _project(con, gm.rows, v_free, closed, working, nonneg, free, g * h)
+            pivots += sol.pivots
+            v_new = v_free + minv * con.apply_t(gm.rows, sol.P)
+            P = sol.P.reshape(J, 3)
+            ab = sol.ab
+        else:
+            v_new = v_free
+            working = None
+        was_closed = closed
+        # 5. positions, projected onto the loaded contacts (velocities untouched)
+        q_new = qm + 0.5 * h * v_new
+        geo = con.evaluate(q_new)
+        stale = False
+        if P is not None:
+            loaded = closed & (((P[:, :2] > 0) & working.reshape(J, 3)[:, :2]) | (geo.gap < 0))
+            if loaded.any():
+                on = np.zeros((J, 3), bool)
+                on[:, :2] = loaded
+                on[:, 2] = loaded.any(axis=1)
+                resid = np.concatenate([geo.gap, geo.slip[jj, geo.contact][:, None]], axis=1)
+                on = on.ravel()
+                lam = _solve_eq(con, ab, on, -np.where(on, resid.ravel(), 0.0))
+                dq = minv * con.apply_t(gm.rows, lam)
+                q_new = q_new + dq
+                geo.gap = geo.gap + con.apply(geo.rows, dq).reshape(J, 3)[:, :2]   # to O(|dq|^2)
+                stale = True                 # rows, slips: of q_new before dq (re-evaluated at an impact)
+                drift += g * float(m @ dq[:-1, 1]) + a_g * g * float(m @ dq[:-1, 0])
+        W += float(-a_g * g * (m @ (q_new[:-1, 0] - q[:-1, 0])))
+        q, v = q_new, v_new
+        t = t + h
+        steps += 1
+    if outcome is None:
+        outcome = "rest" if kinetic(v) < REST_ENERGY * E_unit else "survived"
+    res.finish(outcome=outcome, t_end=t, t_overturn=t_over, peak_rotation=peak, t_peak=t_peak,
+               energy_balance_error=balance, dissipated=D, ground_work=W, projection_drift=drift, steps=steps,
+               cut_steps=cuts, pivots=pivots, time=time.perf_counter() - clock)
+    return res
+
+
+def _project(con: Contacts, rows, v_free, closed, working, nonneg, free, floor, block_pivots=BLOCK_PIVOTS):
+    """The MLCP of the projection of ``v_free`` with the closed corners ``closed`` ``(J, 2)``;
+    returns the solution (with its banded ``W`` as ``ab``) and the new working set."""
+    nonneg[:, :2] = closed
+    free[:, 2] = closed.any(axis=1)
+    ab = con.delassus(rows)
+    c = con.apply(rows, v_free)
+    vscale = max(float(np.max(np.abs(c))), floor, 1e-300)
+    sol = solve_mlcp(con, ab, c, free.ravel(), nonneg.ravel(), working, vscale, block_pivots)
+    sol.ab = ab
+    return sol, sol.working
+
+
+def _solve_eq(con: Contacts, ab: np.ndarray, on: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``(W + reg I)_on lam = rhs`` on the rows ``on`` (zero elsewhere)."""
+    return banded_solve(con.restrict(ab, on, REG * float(np.max(ab[BAND]))), rhs)
