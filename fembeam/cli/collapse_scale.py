@@ -2,7 +2,8 @@
 
 The factor grid is scanned in full, the first overturning factor bisected, and scanned factors
 above it that do not overturn are reported.  The computation is
-:func:`fembeam.studies.spectrum.collapse_scale`.
+:func:`fembeam.studies.spectrum.collapse_scale`; ``--model simulate`` decides every run with the
+multi-block simulation.
 """
 from __future__ import annotations
 
@@ -15,14 +16,18 @@ from ..errors import InputError
 from ..studies.spectrum import FACTOR_SPAN, N_GRID, collapse_scale
 from .args import finite_float, float_list
 from .rock import add_member, member_from
+from .spectrum import add_model, model_from, model_line
 
 
 def register(sub) -> None:
     p = sub.add_parser("collapse-scale", help="smallest scale factor of a record that overturns the member",
                        description="Scans scale factors of a ground-motion record, bisects below the first one that "
                                    "overturns the member, and reports scanned factors above it that do not overturn "
-                                   "(the safe set need not be an interval).")
+                                   "(the safe set need not be an interval). --model simulate runs the multi-block "
+                                   "simulation instead of rock: each run then costs about (record length + 20 "
+                                   "sqrt(L/g)) / dt steps (see docs/studies.md).")
     add_member(p)
+    add_model(p)
     g = p.add_argument_group("record and search")
     g.add_argument("--record", required=True, metavar="FILE",
                    help=f"PEER .AT2 file or CSV (time s, acceleration g), or a shipped record: {', '.join(RECORDS)}")
@@ -49,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--elements must be >= 4, got {args.elements}")
     if args.voussoirs is not None and args.voussoirs < 1:
         raise InputError(f"--voussoirs must be >= 1, got {args.voussoirs}")
+    dt, friction = model_from(args)
     curve, voussoirs, elements = member_from(args)
     ground = GroundMotion.record(args.record)
     bar = None
@@ -58,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         res = collapse_scale(curve, ground, voussoirs=voussoirs, elements=elements, factors=args.factors,
                              t_end=args.t_end, bisect_tol=args.bisect_tol, sign=args.sign, backend=args.backend,
-                             progress=(lambda a, o: bar.update()) if bar is not None else None)
+                             progress=(lambda a, o: bar.update()) if bar is not None else None, model=args.model,
+                             dt=dt, friction=friction)
     finally:
         if bar is not None:
             bar.close()
@@ -71,8 +78,10 @@ def run(args: argparse.Namespace) -> int:
 
 def summary(res: dict) -> str:
     A = res["A_L"]
-    lines = [f"fembeam collapse-scale: {res['record']} (PGA {res['pga']:.4g} g), sign {res['sign']:+d}",
-             f"  A_L = {A['+1']:.6g} g (+1), {A['-1']:.6g} g (-1); the record first moves the member at factor "
+    lines = [f"fembeam collapse-scale: {res['record']} (PGA {res['pga']:.4g} g), sign {res['sign']:+d}"]
+    if res.get("model") == "simulate":
+        lines.append("  " + model_line(res["dt"], res["friction"]))
+    lines += [f"  A_L = {A['+1']:.6g} g (+1), {A['-1']:.6g} g (-1); the record first moves the member at factor "
              f"{res['onset_factor']:.6g}",
              f"  factors: {len(res['factors'])} from {res['factors'][0]:.4g} to {res['factors'][-1]:.4g}"]
     f = res["first_overturning"]
@@ -81,7 +90,8 @@ def summary(res: dict) -> str:
         lines.append(f"  no scanned factor overturns the member (up to {res['factors'][-1]:.6g}, PGA "
                      f"{res['factors'][-1] * res['pga']:.4g} g)")
     else:
-        lines.append(f"  first overturning factor: {f:.6g} (PGA {res['pga_at_first_overturning']:.6g} g)")
+        how = " (collapses by sliding)" if res.get("collapse") == "collapsed_by_sliding" else ""
+        lines.append(f"  first overturning factor: {f:.6g} (PGA {res['pga_at_first_overturning']:.6g} g){how}")
         lines.append(f"  bracket: [{lo:.6g}, {hi:.6g}] (safe, overturns)"
                      + ("" if res["converged"] else "  NOT converged"))
         if res["safe_above"]:
@@ -90,5 +100,6 @@ def summary(res: dict) -> str:
             lines.append("  every scanned factor above it overturns the member")
     for e in res["errors"]:
         lines.append(f"  factor {e['factor']:.6g}: {e['error']}")
-    lines.append(f"  {res['runs']} time histories in {res['time_s']:.1f} s")
+    steps = f" ({res['steps']} time steps)" if "steps" in res else ""
+    lines.append(f"  {res['runs']} time histories{steps} in {res['time_s']:.1f} s")
     return "\n".join(lines)

@@ -3,6 +3,8 @@
 For each period (sine, Ricker) or duration (rect) the amplitude grid is scanned in full, the
 first overturning amplitude bisected, and scanned amplitudes above it that do not overturn are
 reported (safe regions above).  The computation is :func:`fembeam.studies.spectrum.spectrum`.
+``--model simulate`` decides every run with the multi-block simulation (``fembeam simulate``)
+instead of ``rock``; :func:`add_model` and :func:`model_from` serve ``collapse-scale`` too.
 """
 from __future__ import annotations
 
@@ -13,10 +15,32 @@ import json
 from ..errors import InputError
 from ..output.files import atomic, check_output
 from ..studies.parallel import journal_for
-from ..studies.spectrum import (AMPLITUDE_SPAN, N_GRID, PULSES, T_END_FACTOR, SpectrumResult, plot_spectrum,
-                                spectrum)
+from ..studies.spectrum import (AMPLITUDE_SPAN, DT, MODELS, N_GRID, PULSES, T_END_FACTOR, SpectrumResult,
+                                check_model, plot_spectrum, spectrum)
 from .args import finite_float, float_list
 from .rock import add_member, member_from
+
+MODEL_HELP = ("rock: one mechanism between impacts (default); simulate: the voussoirs, rigid elements or block "
+              "as rigid bodies in contact (fembeam simulate, hinges anywhere), much slower; a run collapses when "
+              "it overturns or, with --friction, collapses by sliding")
+
+
+def add_model(p) -> None:
+    """``--model``, ``--dt``, ``--friction``."""
+    g = p.add_argument_group("model of each run")
+    g.add_argument("--model", choices=MODELS, default="rock", help=MODEL_HELP)
+    g.add_argument("--dt", type=finite_float, default=None, metavar="S",
+                   help=f"--model simulate: time step (s; default {DT:g}, in [1e-6, 0.05], at most 1e7 steps a run)")
+    g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
+                   help="--model simulate: Coulomb coefficient at every joint, the springings included (default: "
+                        "joints never slide); collapse by sliding then counts as overturning, and amplitudes below "
+                        "A_L are run too")
+
+
+def model_from(args) -> tuple[float | None, float | None]:
+    """``(dt, friction)`` of ``--model`` (InputError, exit 2: ``--dt`` or ``--friction`` with rock, or
+    out of range)."""
+    return check_model(args.model, args.dt, args.friction, names=("--model", "--dt", "--friction"))
 
 
 def register(sub) -> None:
@@ -25,8 +49,12 @@ def register(sub) -> None:
                                    "the member: a scan of the amplitude grid, then bisection below the first "
                                    "overturning grid point. Scanned amplitudes above it that do not overturn are "
                                    "reported (the safe set need not be an interval). Amplitudes in g; a positive "
-                                   "pulse loads the member to the left (--sign -1: mirrored pulse).")
+                                   "pulse loads the member to the left (--sign -1: mirrored pulse). --model "
+                                   "simulate runs the multi-block simulation instead of rock (about 1-2 s per run "
+                                   "of 7 voussoirs at --dt 1e-3, growing with the number of bodies; see "
+                                   "docs/studies.md).")
     add_member(p)
+    add_model(p)
     g = p.add_argument_group("pulses")
     g.add_argument("--pulse", choices=PULSES, required=True, help="rectangular, one-sine or Ricker pulse")
     g.add_argument("--periods", type=float_list, required=True, metavar="S[,S..|A:B:STEP]",
@@ -64,12 +92,14 @@ def run(args: argparse.Namespace) -> int:
             import distributed  # noqa: F401
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
+    dt, friction = model_from(args)
     curve, voussoirs, elements = member_from(args)
     journal = journal_for(csv_path or plot_path, "spectrum")     # finished periods kept: a re-run resumes
     res = spectrum(curve, args.pulse, args.periods, voussoirs=voussoirs, elements=elements,
                    amplitudes=args.amplitudes, workers=args.workers, scheduler=args.scheduler,
                    progress=not args.quiet, bisect_tol=args.bisect_tol, t_end_factor=args.t_end_factor,
-                   sign=args.sign, backend=args.backend, journal=journal)
+                   sign=args.sign, backend=args.backend, journal=journal, model=args.model, dt=dt,
+                   friction=friction)
     written = []
     if csv_path:
         write_csv(res, csv_path)
@@ -116,8 +146,10 @@ def table(res: SpectrumResult) -> str:
         head = f"{geo.get('shape', 'member')} arch, {shape}, {disc}"
     A0, amps = res.onset, res.amplitudes
     col = "duration" if res.kind == "rect" else "period"
-    out = [f"fembeam spectrum: {head}; {res.kind} pulses, sign {res.sign:+d}",
-           f"  A_L = {res.A_L[1]:.6g} g (+1), {res.A_L[-1]:.6g} g (-1); onset amplitude {A0:.6g} g",
+    out = [f"fembeam spectrum: {head}; {res.kind} pulses, sign {res.sign:+d}"]
+    if res.model == "simulate":
+        out.append("  " + model_line(res.settings["dt"], res.settings["friction"]))
+    out += [f"  A_L = {res.A_L[1]:.6g} g (+1), {res.A_L[-1]:.6g} g (-1); onset amplitude {A0:.6g} g",
            f"  amplitudes: {len(amps)} from {amps[0]:.4g} to {amps[-1]:.4g} g ({res.settings['grid']}); "
            f"runs to pulse end + {res.settings['t_end_factor']:g} sqrt(L/g)",
            f"  {col + ' [s]':>12} {'a_over [g]':>11} {'a/onset':>8} {'bracket [g]':>23} {'safe above':>10} {'runs':>5}"]
@@ -129,14 +161,27 @@ def table(res: SpectrumResult) -> str:
             br, ratio = f"[{lo:.5g}, {hi:.5g}]", f"{a / A0:.4f}"
         safe = f"yes ({len(r['safe_amplitudes_above'])})" if r["safe_above"] else "no"
         out.append(f"  {r['period']:12.5g} {_num(a, '11.6g'):>11} {ratio:>8} {br:>23} {safe:>10} {r['runs']:5d}"
+                   + ("  collapses by sliding" if r.get("collapse") == "collapsed_by_sliding" else "")
                    + (f"  {len(r['errors'])} solver error(s)" if r["errors"] else ""))
     for r in res.rows:
         if r["safe_above"]:
             out.append(f"  {col} {r['period']:g} s: safe above the first overturning amplitude at "
                        + ", ".join(f"{x:.4g}" for x in r["safe_amplitudes_above"]) + " g")
         for e in r["errors"]:
-            out.append(f"  {col} {r['period']:g} s, amplitude {e['amplitude']:.6g} g: {e['error']}")
+            if isinstance(e, dict):
+                out.append(f"  {col} {r['period']:g} s, amplitude {e['amplitude']:.6g} g: {e['error']}")
+            else:                                    # a period lost with its worker process
+                out.append(f"  {col} {r['period']:g} s: {e}")
     tm = res.timing
-    out.append(f"  {tm['runs']} time histories; wall time {tm['wall']:.1f} s, CPU in cases {tm['cases_cpu']:.1f} s, "
-               f"{res.settings['executor']}")
+    steps = f" ({tm['steps']} time steps)" if "steps" in tm else ""
+    out.append(f"  {tm['runs']} time histories{steps}; wall time {tm['wall']:.1f} s, CPU in cases "
+               f"{tm['cases_cpu']:.1f} s, {res.settings['executor']}")
     return "\n".join(out)
+
+
+def model_line(dt: float, friction: float | None) -> str:
+    """The line naming ``--model simulate`` and what counts as collapse."""
+    if friction is None:
+        return f"model: simulate (rigid bodies in contact, dt = {dt:g} s, joints never slide); collapse = overturned"
+    return (f"model: simulate (rigid bodies in contact, dt = {dt:g} s, Coulomb friction mu = {friction:g}); "
+            f"collapse = overturned or collapsed by sliding")

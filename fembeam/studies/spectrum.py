@@ -27,17 +27,30 @@ it cannot overturn.  This avoids the tens to thousands of impacts of a member ro
 per period on local processes or Dask (:mod:`fembeam.studies.parallel`); each task builds its
 own :class:`Rocker`, so results do not depend on the executor.  :func:`collapse_scale` does the
 search over scale factors of a record.
+
+``model="simulate"`` decides each run with the multi-block simulation instead
+(:class:`MultiBody`: :meth:`fembeam.simulation.Simulator.run` with time step ``dt``, stopped at
+overturning; optional Coulomb ``friction``).  A run then collapses when its outcome is
+``"overturned"`` or ``"collapsed_by_sliding"`` (:data:`COLLAPSE`); the amplitudes are still
+called overturning amplitudes, and each row's ``collapse`` says which outcome the upper end of its
+bracket had.  There is no energy shortcut (every run lasts to ``t_end`` unless it collapses), and
+the no-motion shortcut below ``A_L`` holds only without friction (a joint may slide below
+``A_L``).  The :class:`~fembeam.simulation.Simulator` is built once per worker (thread) and
+reused by every run of the tasks that worker runs on the same member.
 """
 from __future__ import annotations
 
 import functools
 import math
+import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 import numpy as np
 
+from ..dynamics.equation import GRAVITY
 from ..dynamics.ground import PERIOD_RANGE, GroundMotion
 from ..dynamics.rocking import Rocker
 from ..errors import CannotStandError, InputError, SolverError
@@ -45,10 +58,15 @@ from ..geometry import MidCurve
 from .parallel import Journal, default_workers, run_tasks
 
 __all__ = ["overturning_amplitude", "spectrum", "spectrum_case", "SpectrumResult", "plot_spectrum",
-           "collapse_scale", "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "PULSES", "SAFE"]
+           "collapse_scale", "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "check_model", "MultiBody",
+           "PULSES", "SAFE", "COLLAPSE", "MODELS", "DT"]
 
 PULSES = ("rect", "sine", "ricker")
+MODELS = ("rock", "simulate")   # one mechanism between impacts; the multi-block simulation
 SAFE = ("no_motion", "rest", "survived", "below_barrier")   # outcomes that are not overturning
+COLLAPSE = ("overturned", "collapsed_by_sliding")           # outcomes that count as collapse (sliding: simulate
+                                                            # with friction only)
+DT = 1e-3               # default time step of model="simulate" (s), that of fembeam simulate
 N_GRID = 40             # default grid points (amplitudes or factors)
 AMPLITUDE_SPAN = 10.0   # default amplitude grid: onset .. 10 x onset (geometric)
 FACTOR_SPAN = 20.0      # default factor grid: onset factor .. 20 x it (geometric)
@@ -105,11 +123,123 @@ def _check_grid(values, name: str) -> list[float]:
     return v
 
 
-class _Decider:
-    """Overturns or not, for one member and one family of ground motions."""
+def check_model(model: str, dt: float | None = None, friction: float | None = None,
+                names: tuple[str, str, str] = ("model", "dt", "friction")) -> tuple[float | None, float | None]:
+    """``(dt, friction)`` of ``model``: None, None for ``"rock"`` (which takes neither: InputError
+    if one is given); for ``"simulate"`` ``dt`` (s, default :data:`DT`) a finite number in the
+    simulation's ``DT_RANGE`` and ``friction`` None (joints never slide) or a coefficient the
+    Simulator admits.  ``names``: how the messages call the three (the CLI's options)."""
+    m, d, f = names
+    if model not in MODELS:
+        raise InputError(f"{m} must be one of {', '.join(MODELS)}, got {model!r}")
+    if model == "rock":
+        given = [n for n, x in ((d, dt), (f, friction)) if x is not None]
+        if given:
+            raise InputError(f"{' and '.join(given)} appl{'y' if len(given) > 1 else 'ies'} to the multi-block "
+                             f"simulation only ({m} simulate), not to rock")
+        return None, None
+    from ..simulation import DT_RANGE
+    lo, hi = DT_RANGE
+    if dt is None:
+        dt = DT
+    try:
+        dt = float(dt)
+    except (TypeError, ValueError):
+        raise InputError(f"{d} must be a number of seconds, got {dt!r}") from None
+    if not (math.isfinite(dt) and lo <= dt <= hi):
+        raise InputError(f"{d} must be in [{lo:g}, {hi:g}] s, got {dt:g}")
+    if friction is not None:
+        friction = _check_friction(friction, f)
+    return dt, friction
 
-    def __init__(self, rk: Rocker, make_ground: Callable[[float], GroundMotion], t_end, sign: int, progress=None):
-        self.rk, self.make_ground, self.t_end, self.sign, self.progress = rk, make_ground, t_end, sign, progress
+
+def _check_friction(mu, name: str) -> float:
+    """``mu`` checked by the Simulator's own rule (InputError naming ``name`` otherwise)."""
+    try:
+        mu = float(mu)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {mu!r}") from None
+    if not (math.isfinite(mu) and mu >= 0):
+        raise InputError(f"{name} must be a friction coefficient (a finite number >= 0; omit it for joints that "
+                         f"never slide), got {mu:g}")
+    if not _simulator_has_friction():
+        raise InputError(f"{name}: this fembeam's Simulator has no Coulomb friction")
+    from ..simulation.stepper import check_friction
+    try:
+        return check_friction(mu)
+    except InputError as e:
+        raise InputError(f"{name}: {e}") from None
+
+
+def _check_steps(dt: float, t0: float, t_end: float, name: str = "dt") -> None:
+    """The simulation's own check of ``dt`` against the longest run (at most MAX_STEPS steps)."""
+    from ..simulation.stepper import check_dt
+    try:
+        check_dt(dt, t0, t_end)
+    except InputError as e:
+        raise InputError(f"{name}: {e}") from None
+
+
+def _simulator_has_friction() -> bool:
+    import inspect
+
+    from ..simulation import Simulator
+    return "friction" in inspect.signature(Simulator).parameters
+
+
+_SIMULATORS = threading.local()
+
+
+def _simulator(curve: MidCurve, voussoirs: int | None, elements: int | None, friction: float | None):
+    """This thread's :class:`~fembeam.simulation.Simulator` of the member, built on first use and
+    kept for the next tasks on the same member (one at a time: a worker runs one study)."""
+    from ..simulation import Simulator
+    with np.printoptions(threshold=sys.maxsize, precision=17):
+        key = (repr(curve), voussoirs, elements, friction)
+    kept = getattr(_SIMULATORS, "kept", None)
+    if kept is not None and kept[0] == key:
+        return kept[1]
+    kw = {"voussoirs": voussoirs} if voussoirs is not None else {"elements": elements}
+    if friction is not None:
+        kw["friction"] = friction
+    sim = Simulator(curve, **kw)
+    _SIMULATORS.kept = (key, sim)
+    return sim
+
+
+class MultiBody:
+    """The member as ``fembeam simulate`` moves it, for :func:`overturning_amplitude`: its
+    :class:`~fembeam.simulation.Simulator` (of this worker thread, reused), the onset thresholds
+    ``A`` (g, ``{+1: A_L(+1), -1: A_L(-1)}``, from the limit analysis), the time step ``dt`` (s) and
+    the Coulomb coefficient ``friction`` (None: the joints never slide).  ``steps`` counts the time
+    steps of its runs."""
+
+    def __init__(self, curve: MidCurve, A: dict, *, voussoirs: int | None = None, elements: int = 200,
+                 dt: float = DT, friction: float | None = None):
+        self.curve, self.dt, self.friction = curve, float(dt), friction
+        self.A = {1: float(A[1]), -1: float(A[-1])}
+        self.stands = not any(math.isnan(x) for x in self.A.values())
+        self.sim = _simulator(curve, voussoirs, None if voussoirs is not None else elements, friction)
+        self.steps = 0
+
+    @property
+    def still_below_onset(self) -> bool:
+        """A ground motion below ``A_L`` both ways leaves the member at rest (no sliding joints)."""
+        return self.friction is None
+
+    def outcome(self, ground: GroundMotion, t_end: float | None) -> str:
+        res = self.sim.run(ground, dt=self.dt, t_end=t_end, stop_at_overturn=True)
+        self.steps += int(res.steps)
+        return res.outcome
+
+
+class _Decider:
+    """Overturns or not, for one member (a :class:`Rocker` or a :class:`MultiBody`) and one family
+    of ground motions."""
+
+    def __init__(self, member, make_ground: Callable[[float], GroundMotion], t_end, sign: int, progress=None):
+        self.member, self.make_ground, self.t_end, self.sign, self.progress = member, make_ground, t_end, sign, progress
+        self.shortcut = getattr(member, "still_below_onset", True)
         self.runs, self.errors = 0, []
 
     def __call__(self, a: float) -> str:
@@ -120,12 +250,14 @@ class _Decider:
 
     def _decide(self, a: float) -> str:
         ground = self.make_ground(self.sign * a)
-        rk = self.rk
-        if _cannot_move(ground, rk.A):
+        m = self.member
+        if self.shortcut and _cannot_move(ground, m.A):
             return "no_motion"
         self.runs += 1
         try:
-            res = rk.run(ground, t_end=self.t_end, thrust_check=False, history=False, settle=True)
+            if isinstance(m, MultiBody):
+                return m.outcome(ground, self.t_end)
+            res = m.run(ground, t_end=self.t_end, thrust_check=False, history=False, settle=True)
             return "below_barrier" if res.settled_at is not None else res.outcome
         except SolverError as e:      # kept, reported; bad input (InputError) propagates
             self.errors.append({"amplitude": float(a), "error": f"{type(e).__name__}: {e}"})
@@ -133,10 +265,12 @@ class _Decider:
 
 
 # --------------------------------------------------------------------------- one search
-def overturning_amplitude(rocker: Rocker, make_ground: Callable[[float], GroundMotion], amplitudes: Sequence[float],
-                          t_end: float | None = None, bisect_tol: float = 1e-3, sign: int = 1,
-                          onset: float | None = None, progress: Callable | None = None) -> dict:
-    """The smallest amplitude of ``make_ground`` that overturns the member of ``rocker``.
+def overturning_amplitude(rocker: Rocker | MultiBody, make_ground: Callable[[float], GroundMotion],
+                          amplitudes: Sequence[float], t_end: float | None = None, bisect_tol: float = 1e-3,
+                          sign: int = 1, onset: float | None = None, progress: Callable | None = None) -> dict:
+    """The smallest amplitude of ``make_ground`` that overturns the member of ``rocker`` (a
+    :class:`Rocker`, or a :class:`MultiBody` for the multi-block simulation, whose collapse by
+    sliding counts as overturning: :data:`COLLAPSE`).
 
     ``make_ground(a)``: the ground motion of amplitude ``a`` (g for pulses, a factor for
     records), called with ``sign * a``; ``amplitudes``: the increasing scan grid (> 0);
@@ -148,8 +282,11 @@ def overturning_amplitude(rocker: Rocker, make_ground: Callable[[float], GroundM
     Returns ``first_overturning`` (upper end of the bracket; None if no scanned amplitude
     overturns), ``bracket`` ``[lo, hi]`` (lo safe, hi overturning; ``[largest safe, None]``
     without overturning), ``safe_above`` and ``safe_amplitudes_above`` (scanned amplitudes above
-    the first overturning one that do not overturn), ``runs`` (time histories computed),
-    ``scan`` (amplitude, outcome) and ``bisection`` steps, ``converged``, ``errors``."""
+    the first overturning one that do not overturn), ``collapse`` (the outcome at the upper end of
+    the bracket: ``"overturned"`` or ``"collapsed_by_sliding"``; None without one), ``runs`` (time
+    histories computed), ``scan`` (amplitude, outcome) and ``bisection`` steps, ``converged``,
+    ``errors``.  Amplitudes up to ``onset`` are not run (``no_motion``) unless the member may slide
+    below it (a :class:`MultiBody` with friction)."""
     amps = _check_grid(amplitudes, "the amplitudes")
     if sign not in (1, -1):
         raise InputError(f"sign must be +1 or -1, got {sign!r}")
@@ -160,14 +297,14 @@ def overturning_amplitude(rocker: Rocker, make_ground: Callable[[float], GroundM
     if onset is None:
         onset = min(rocker.A[1], rocker.A[-1])
     decide = _Decider(rocker, make_ground, t_end, sign, progress)
-    scan = [(a, "no_motion" if a <= onset else decide(a)) for a in amps]
-    over = [i for i, (_, o) in enumerate(scan) if o == "overturned"]
+    scan = [(a, "no_motion" if a <= onset and decide.shortcut else decide(a)) for a in amps]
+    over = [i for i, (_, o) in enumerate(scan) if o in COLLAPSE]
     safe = [a for a, o in scan if o in SAFE]
     out = {"first_overturning": None, "bracket": [safe[-1] if safe else None, None], "safe_above": False,
-           "safe_amplitudes_above": [], "converged": False, "onset": float(onset), "bisection": []}
+           "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": float(onset), "bisection": []}
     if over:
         i = over[0]
-        hi = scan[i][0]
+        hi, how = scan[i]
         below = [a for a, o in scan[:i] if o in SAFE]
         if below:
             lo = below[-1]
@@ -178,15 +315,15 @@ def overturning_amplitude(rocker: Rocker, make_ground: Callable[[float], GroundM
             mid = 0.5 * (lo + hi)
             o = decide(mid)
             steps.append({"amplitude": mid, "outcome": o})
-            if o == "overturned":
-                hi = mid
+            if o in COLLAPSE:
+                hi, how = mid, o
             elif o in SAFE:
                 lo = mid
             else:
                 break
         above = [a for a, o in scan[i + 1:] if o in SAFE]
         out.update(first_overturning=hi, bracket=[lo, hi], safe_above=bool(above), safe_amplitudes_above=above,
-                   converged=hi - lo <= bisect_tol * hi, bisection=steps)
+                   converged=hi - lo <= bisect_tol * hi, collapse=how, bisection=steps)
     out.update(runs=decide.runs, scan=[{"amplitude": a, "outcome": o} for a, o in scan], errors=decide.errors)
     return out
 
@@ -194,15 +331,23 @@ def overturning_amplitude(rocker: Rocker, make_ground: Callable[[float], GroundM
 # --------------------------------------------------------------------------- spectrum
 def spectrum_case(curve: MidCurve, kind: str, period: float, amplitudes: list[float], t_end: float,
                   voussoirs: int | None = None, elements: int = 200, backend: str = "clarabel",
-                  bisect_tol: float = 1e-3, sign: int = 1, onset: float | None = None) -> dict:
-    """One period (a task of :func:`spectrum`): its own :class:`Rocker`, then
-    :func:`overturning_amplitude` of ``pulse(kind, a, period)``; a row with ``period`` (s),
-    ``t_end`` (s) and ``time_s``."""
+                  bisect_tol: float = 1e-3, sign: int = 1, onset: float | None = None, model: str = "rock",
+                  dt: float | None = None, friction: float | None = None,
+                  thresholds: Sequence[float] | None = None) -> dict:
+    """One period (a task of :func:`spectrum`): its own :class:`Rocker` (``model="rock"``) or the
+    worker's :class:`MultiBody` (``"simulate"``, with ``dt``, ``friction`` and ``thresholds``
+    ``[A_L(+1), A_L(-1)]``), then :func:`overturning_amplitude` of ``pulse(kind, a, period)``; a row
+    with ``period`` (s), ``t_end`` (s), ``time_s`` and for simulate ``steps`` (time steps run)."""
     clock = time.perf_counter()
-    rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
-    res = overturning_amplitude(rk, functools.partial(_pulse_of, kind, period), amplitudes, t_end=t_end,
+    if model == "simulate":
+        member = MultiBody(curve, {1: thresholds[0], -1: thresholds[1]}, voussoirs=voussoirs, elements=elements,
+                           dt=dt, friction=friction)
+    else:
+        member = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
+    res = overturning_amplitude(member, functools.partial(_pulse_of, kind, period), amplitudes, t_end=t_end,
                                 bisect_tol=bisect_tol, sign=sign, onset=onset)
-    return {"period": float(period), **res, "t_end": float(t_end), "time_s": time.perf_counter() - clock}
+    extra = {"steps": member.steps} if model == "simulate" else {}
+    return {"period": float(period), **res, "t_end": float(t_end), **extra, "time_s": time.perf_counter() - clock}
 
 
 def _pulse_of(kind: str, period: float, amplitude: float) -> GroundMotion:
@@ -239,10 +384,12 @@ class SpectrumResult:
     settings: dict
     wall_time: float = 0.0
     timing: dict = field(default_factory=dict)
+    model: str = "rock"
 
     def to_dict(self) -> dict:
         """JSON-safe (null for undefined or non-finite numbers)."""
-        return _json_safe({"study": "spectrum", "pulse": self.kind, "sign": self.sign,
+        return _json_safe({"study": "spectrum", "model": self.model, "collapse_outcomes": _collapse_outcomes(self.model),
+                           "pulse": self.kind, "sign": self.sign,
                            "abscissa": "duration_s" if self.kind == "rect" else "period_s",
                            "geometry": self.geometry, "A_L": {"+1": self.A_L[1], "-1": self.A_L[-1]},
                            "onset_g": self.onset, "amplitudes_g": self.amplitudes, "settings": self.settings,
@@ -258,7 +405,14 @@ class SpectrumResult:
                         "bracket_lo_g": lo, "bracket_hi_g": hi, "safe_above": r["safe_above"],
                         "safe_amplitudes_above_g": ";".join(f"{x:.6g}" for x in r["safe_amplitudes_above"]),
                         "runs": r["runs"], "errors": len(r["errors"]), "time_s": round(r["time_s"], 4)})
+            if self.model == "simulate":
+                out[-1].update(collapse=r.get("collapse") or "", steps=r.get("steps", 0))
         return out
+
+
+def _collapse_outcomes(model: str) -> list[str]:
+    """The outcomes a search counts as collapse (rock has no sliding)."""
+    return list(COLLAPSE) if model == "simulate" else ["overturned"]
 
 
 def _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign, n_amplitudes,
@@ -295,14 +449,22 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
              elements: int = 200, amplitudes: Sequence[float] | None = None, workers: int | None = None,
              scheduler=None, progress: bool = True, bisect_tol: float = 1e-3, t_end_factor: float = T_END_FACTOR,
              *, sign: int = 1, backend: str = "clarabel", n_amplitudes: int = N_GRID,
-             span: float = AMPLITUDE_SPAN, journal: Journal | None = None) -> SpectrumResult:
+             span: float = AMPLITUDE_SPAN, journal: Journal | None = None, model: str = "rock",
+             dt: float | None = None, friction: float | None = None) -> SpectrumResult:
     """Overturning amplitude (g) of ``curve`` under ``kind`` pulses for each of ``periods`` (s;
     durations for rect).  Default grid: ``n_amplitudes`` geometric points from the onset
     amplitude (``A_L`` of the direction the pulse loads first) to ``span`` times it.  Each run
     lasts to the end of the pulse + ``t_end_factor sqrt(L/g)``.  Bad input raises
     :class:`InputError` before any run; a member that cannot stand, :class:`CannotStandError`.
     ``journal``: finished periods are kept there and taken from there (an interrupted
-    spectrum resumes; :class:`~fembeam.studies.parallel.Journal`)."""
+    spectrum resumes; :class:`~fembeam.studies.parallel.Journal`; the tasks' keys hold the model
+    and its ``dt`` and ``friction``, so a journal of one model is never read for another).
+
+    ``model="simulate"``: each run is the multi-block simulation (:class:`MultiBody`) with time
+    step ``dt`` (s, default :data:`DT`) and Coulomb coefficient ``friction`` (default None: no
+    sliding); collapse by sliding counts as overturning.  ``dt`` and ``friction`` with
+    ``model="rock"`` are an :class:`InputError`."""
+    dt, friction = check_model(model, dt, friction)
     ps = _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign,
                          n_amplitudes, span)
     clock = time.perf_counter()
@@ -315,27 +477,37 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     grid = [float(a) for a in amplitudes] if amplitudes is not None else geometric_grid(onset, span, n_amplitudes)
     free = t_end_factor * math.sqrt(curve.length / rk.g)
     common = {"curve": curve, "kind": kind, "amplitudes": grid, "voussoirs": voussoirs, "elements": elements,
-              "backend": backend, "bisect_tol": bisect_tol, "sign": sign, "onset": onset}
+              "backend": backend, "bisect_tol": bisect_tol, "sign": sign, "onset": onset, "model": model}
+    if model == "simulate":
+        _check_steps(dt, 0.0, max(pulse_end(kind, p) for p in ps) + free)
+        common.update(dt=dt, friction=friction, thresholds=[rk.A[1], rk.A[-1]])
     rows = run_tasks([(spectrum_case, {**common, "period": p, "t_end": pulse_end(kind, p) + free}) for p in ps],
-                     workers=workers, scheduler=scheduler, progress=progress, desc=f"spectrum: {kind} pulses",
+                     workers=workers, scheduler=scheduler, progress=progress,
+                     desc=f"spectrum: {kind} pulses" + (" (simulate)" if model == "simulate" else ""),
                      journal=journal, lost=_lost_period)
     wall = time.perf_counter() - clock
-    settings = {"voussoirs": voussoirs, "elements": elements if voussoirs is None else None, "backend": backend,
-                "bisect_tol": bisect_tol, "t_end_factor": t_end_factor, "t_end": "pulse end + t_end_factor sqrt(L/g)",
+    settings = {"model": model, "voussoirs": voussoirs, "elements": elements if voussoirs is None else None,
+                "backend": backend, "bisect_tol": bisect_tol, "t_end_factor": t_end_factor,
+                "t_end": "pulse end + t_end_factor sqrt(L/g)",
                 "grid": "given" if amplitudes is not None else f"geometric, {n_amplitudes} points, onset to {span:g} x",
                 "executor": "dask" if scheduler is not None else f"local ({workers or default_workers()} workers)"}
+    timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
+              "runs": sum(r["runs"] for r in rows)}
+    if model == "simulate":
+        settings.update(dt=dt, friction=friction)
+        timing["steps"] = sum(r.get("steps", 0) for r in rows)
     geo = curve.describe() if hasattr(curve, "describe") else {}
-    return SpectrumResult(kind, sign, rows, dict(rk.A), onset, grid, geo, settings, wall,
-                          {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
-                           "runs": sum(r["runs"] for r in rows)})
+    return SpectrumResult(kind, sign, rows, dict(rk.A), onset, grid, geo, settings, wall, timing, model)
 
 
 def _lost_period(task, message: str) -> dict:
     """The row of a period whose worker process died twice: undecided, with the error."""
     kw = task[1]
+    extra = {"steps": 0} if kw.get("model") == "simulate" else {}
     return {"period": float(kw["period"]), "first_overturning": None, "bracket": [None, None], "safe_above": False,
-            "safe_amplitudes_above": [], "converged": False, "onset": kw["onset"], "bisection": [], "runs": 0,
-            "errors": [f"the worker process died twice ({message})"], "t_end": float(kw["t_end"]), "time_s": 0.0}
+            "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": kw["onset"], "bisection": [],
+            "runs": 0, "errors": [f"the worker process died twice ({message})"], "t_end": float(kw["t_end"]),
+            **extra, "time_s": 0.0}
 
 
 def plot_spectrum(result: SpectrumResult, path) -> None:
@@ -350,9 +522,13 @@ def plot_spectrum(result: SpectrumResult, path) -> None:
     rows = sorted(result.rows, key=lambda r: r["period"])
     fig, ax = plt.subplots(figsize=(8.0, 5.0))
     over = [(r["period"], s["amplitude"] / A0) for r in rows for s in r["scan"] if s["outcome"] == "overturned"]
+    slid = [(r["period"], s["amplitude"] / A0) for r in rows for s in r["scan"]
+            if s["outcome"] == "collapsed_by_sliding"]
     above = [(r["period"], a / A0) for r in rows for a in r["safe_amplitudes_above"]]
     if over:
         ax.plot(*zip(*over), ".", color="tab:red", ms=3, alpha=0.5, label="scanned: overturns")
+    if slid:
+        ax.plot(*zip(*slid), "x", color="tab:purple", ms=4, alpha=0.7, label="scanned: collapses by sliding")
     if above:
         ax.plot(*zip(*above), "o", color="tab:green", mfc="none", ms=5,
                 label="scanned: safe above the first overturning")
@@ -367,7 +543,10 @@ def plot_spectrum(result: SpectrumResult, path) -> None:
     ax.set_xlabel("pulse duration (s)" if result.kind == "rect" else "pulse period (s)")
     ax.set_ylabel(f"amplitude / onset ({A0:.4g} g)")
     ax.set_ylim(bottom=0.0)
-    ax.set_title(f"Overturning spectrum, {result.kind} pulses (sign {result.sign:+d})", fontsize=10)
+    model = "" if result.model == "rock" else (f", simulate (dt = {result.settings['dt']:g} s"
+                                               + ("" if result.settings.get("friction") is None
+                                                  else f", friction {result.settings['friction']:g}") + ")")
+    ax.set_title(f"Overturning spectrum, {result.kind} pulses (sign {result.sign:+d}){model}", fontsize=10)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -379,14 +558,18 @@ def plot_spectrum(result: SpectrumResult, path) -> None:
 def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None = None, elements: int = 200,
                    factors: Sequence[float] | None = None, *, t_end: float | None = None, bisect_tol: float = 1e-3,
                    sign: int = 1, backend: str = "clarabel", n_factors: int = N_GRID, span: float = FACTOR_SPAN,
-                   progress: Callable | None = None) -> dict:
+                   progress: Callable | None = None, model: str = "rock", dt: float | None = None,
+                   friction: float | None = None) -> dict:
     """Smallest scale factor of ``ground`` that overturns ``curve`` (the search of
     :func:`overturning_amplitude` over factors; ``sign = -1`` mirrors the record).  Default
     grid: ``n_factors`` geometric points from the onset factor (the record first exceeds
     ``A_L``; ``A_L / PGA`` for a symmetric member) to ``span`` times it.  ``t_end`` (s):
     default the end of the record + ``20 sqrt(L/g)``.  Returns the search's dict with factors
     (``first_overturning``, ``bracket``, ``safe_factors_above``, ``scan``), plus
-    ``pga_at_first_overturning`` (g), the record's ``pga`` and ``A_L``."""
+    ``pga_at_first_overturning`` (g), the record's ``pga`` and ``A_L``.  ``model``, ``dt``,
+    ``friction``: as in :func:`spectrum` (``"simulate"``: the multi-block simulation, collapse by
+    sliding counted as overturning; ``collapse`` says which outcome the bracket's upper end had)."""
+    dt, friction = check_model(model, dt, friction)
     if not isinstance(ground, GroundMotion):
         raise InputError(f"collapse_scale needs a GroundMotion, got {type(ground).__name__}")
     if ground.pga == 0:
@@ -397,6 +580,9 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
         raise InputError(f"the default factor grid needs 2..{MAX_CASES} points and a span > 1")
     if t_end is not None and not (math.isfinite(t_end) and t_end > ground.t[0]):
         raise InputError(f"t_end must be finite and after the start of the record ({ground.t[0]:g} s), got {t_end}")
+    if model == "simulate":
+        _check_steps(dt, float(ground.t[0]), t_end if t_end is not None else
+                     float(ground.t[-1]) + T_END_FACTOR * math.sqrt(curve.length / GRAVITY))
     clock = time.perf_counter()
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
     if not rk.stands:
@@ -405,8 +591,10 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     if not math.isfinite(f0):
         raise InputError("no scale factor of this record can set the member moving (A_L infinite)")
     grid = [float(f) for f in factors] if factors is not None else geometric_grid(f0, span, n_factors)
-    res = overturning_amplitude(rk, ground.scaled, grid, t_end=t_end, bisect_tol=bisect_tol, sign=sign, onset=f0,
-                                progress=progress)
+    member = rk if model == "rock" else MultiBody(curve, rk.A, voussoirs=voussoirs, elements=elements, dt=dt,
+                                                  friction=friction)
+    res = overturning_amplitude(member, ground.scaled, grid, t_end=t_end, bisect_tol=bisect_tol, sign=sign,
+                                onset=f0, progress=progress)
     f = res["first_overturning"]
     res["safe_factors_above"] = res.pop("safe_amplitudes_above")
     for key in ("scan", "bisection", "errors"):
@@ -415,6 +603,8 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
                pga_at_first_overturning=None if f is None else f * ground.pga,
                A_L={"+1": rk.A[1], "-1": rk.A[-1]}, geometry=curve.describe() if hasattr(curve, "describe") else {},
                voussoirs=voussoirs, elements=elements if voussoirs is None else None,
-               t_end=t_end, time_s=time.perf_counter() - clock)
+               t_end=t_end, model=model, collapse_outcomes=_collapse_outcomes(model), time_s=time.perf_counter() - clock)
+    if model == "simulate":
+        res.update(dt=dt, friction=friction, steps=member.steps)
     res.pop("onset")
     return _json_safe(res)
