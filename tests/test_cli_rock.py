@@ -32,7 +32,7 @@ def test_json_is_one_strict_object(capsys):
 def test_overturning_block_in_the_summary(capsys):
     code, out, _ = run(["rock", "--block", "0.5", "2.0", "--pulse", "rect", "--amplitude", "0.6", "--duration", "1"],
                        capsys)
-    assert code == 0 and "OVERTURNED at t =" in out and "unstable equilibrium" in out
+    assert code == 0 and "OVERTURNED at t =" in out and "centroid a tenth of the thickness below" in out
 
 
 def test_csv_history(tmp_path, capsys):

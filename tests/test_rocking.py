@@ -106,11 +106,14 @@ def test_rectangular_pulse_threshold_small_angle():
         formula = alpha / (1 - math.exp(-p * t1))
         rk = Rocker(b, voussoirs=1, qp=False)
         lo, hi = formula * 0.98, formula * 1.02
-        assert rk.run(GroundMotion.rectangular(lo, t1), t_end=t1 + 10 / p, thrust_check=False).outcome != "overturned"
-        assert rk.run(GroundMotion.rectangular(hi, t1), t_end=t1 + 10 / p, thrust_check=False).outcome == "overturned"
+        # near the threshold the block creeps over its unstable equilibrium, then falls to the
+        # overturning level: 40 / p after the pulse leaves every bisection step time to do so
+        t_end = t1 + 40 / p
+        assert rk.run(GroundMotion.rectangular(lo, t1), t_end=t_end, thrust_check=False).outcome != "overturned"
+        assert rk.run(GroundMotion.rectangular(hi, t1), t_end=t_end, thrust_check=False).outcome == "overturned"
         for _ in range(18):
             mid = 0.5 * (lo + hi)
-            over = rk.run(GroundMotion.rectangular(mid, t1), t_end=t1 + 10 / p, thrust_check=False).outcome
+            over = rk.run(GroundMotion.rectangular(mid, t1), t_end=t_end, thrust_check=False).outcome
             lo, hi = (lo, mid) if over == "overturned" else (mid, hi)
         errs.append(abs(hi / formula - 1))
     assert errs[1] < 1e-3
@@ -249,10 +252,106 @@ def test_accumulation_ends_at_rest_in_finite_time():
 
 
 def test_overturning_reported_with_its_time():
-    res = rock(block(), GroundMotion.rectangular(0.6, 1.0), voussoirs=1, thrust_check=False)
-    assert res.outcome == "overturned" and res.overturn_reason == "unstable_equilibrium"
+    """The block overturns when its centroid is a tenth of its width below its height at rest:
+    ``R cos(theta - alpha) = h/2 - 0.1 w`` (R: half-diagonal), V = -0.1 m g w there."""
+    w, h = 0.5, 2.0
+    res = rock(block(w, h), GroundMotion.rectangular(0.6, 1.0), voussoirs=1, thrust_check=False)
+    assert res.outcome == "overturned" and res.overturn_reason == "below_rest"
     assert 0 < res.t_overturn < 1.0
-    assert res.peak_rotation == pytest.approx(math.atan(0.25), rel=1e-6)
+    alpha, R = math.atan(w / h), 0.5 * math.hypot(w, h)
+    assert res.peak_rotation == pytest.approx(alpha + math.acos((h / 2 - 0.1 * w) / R), rel=1e-9)
+    assert res.t_peak == res.t_overturn and res.history["t"][-1] == res.t_overturn
+    assert res.history["V"][-1] == pytest.approx(-0.1 * (1.0 * w * h) * GRAVITY * w, rel=1e-9)   # density 1
+
+
+def test_barrier_and_settles_agree_with_the_overturning_event():
+    """The overturning level is -0.1 m g t (m = rho R t beta, the annular sector); the barrier
+    is the largest V from rest to the overturning rotation (a 20001-point grid of V); a free
+    motion from rest with 1 -+ 1e-6 of the barrier as kinetic energy returns to an impact (and
+    ``settles`` says so) or reaches the overturning rotation with V at the level (and
+    ``settles`` says it cannot tell)."""
+    from fembeam.dynamics.rocking import _episode, _Signal, _Track
+
+    rk = Rocker(PAPER, voussoirs=7, qp=False)
+    mass = PAPER.density * PAPER.radius * PAPER.thickness * math.radians(PAPER.embrace_deg)
+    assert rk.level == pytest.approx(-0.1 * mass * GRAVITY * PAPER.thickness, rel=1e-12)
+    k = rk.index(rk.start[1])
+    eq, top = rk.equations[k], rk.tops[k]
+    V = np.array([eq.potential(eq.sign * x) for x in np.linspace(0.0, top, 20001)])
+    assert V.max() <= rk.barrier(k) <= V.max() * (1 + 1e-8) and rk.events[k] == "overturn"
+    assert eq.potential(eq.sign * top) == pytest.approx(rk.level, rel=1e-12) and np.all(V[:-1] > rk.level)
+    still = GroundMotion(np.array([0.0, 1.0]), np.zeros(2))
+    for f, event in ((1 - 1e-6, "impact"), (1 + 1e-6, "overturn")):
+        rate = eq.sign * math.sqrt(2 * f * rk.barrier(k) / eq.coefficients(0.0)[0])
+        ev, t, theta, _, err = _episode(eq, k, _Signal(still), 0.0, 30.0, 0.0, rate, _Track(np.empty(0), False),
+                                        top, rk.events[k])
+        assert ev == event and err < 1e-8
+        assert rk.settles(k, 0.0, rate) == (event == "impact")
+        if event == "overturn":
+            assert eq.potential(theta) == pytest.approx(rk.level, rel=1e-9)
+
+
+def _housner_overturns_at_alpha(A, alpha, p, t1, t_end):
+    """The former rule by an independent route: Housner's equation about the corner,
+    ``phi'' = p^2 (A cos(alpha - phi) - sin(alpha - phi))`` (``A`` in g during the pulse, 0 after),
+    from rest; overturned when ``phi`` reaches ``alpha`` before ``t_end``; safe when it returns to
+    0 after the pulse (the impact then leaves less energy than the barrier)."""
+    from scipy.integrate import solve_ivp
+
+    def f(t, y, a):
+        return [y[1], p * p * (a * math.cos(alpha - y[0]) - math.sin(alpha - y[0]))]
+
+    def up(t, y, a):
+        return y[0] - alpha
+
+    def back(t, y, a):
+        return y[0]
+    up.terminal, up.direction, back.terminal, back.direction = True, 1, True, -1
+    y = [0.0, 0.0]
+    for (t0, t1_, a) in ((0.0, t1, A), (t1, t_end, 0.0)):
+        s = solve_ivp(f, (t0, t1_), y, args=(a,), events=(up, back), method="DOP853", rtol=1e-12, atol=1e-14)
+        if s.t_events[0].size:
+            return True
+        if s.t_events[1].size:
+            assert a == 0.0          # back at rest after the pulse, never during it
+            return False
+        y = s.y[:, -1]
+    return False
+
+
+@pytest.mark.parametrize("width", [0.5, 0.04])
+def test_rectangular_pulse_threshold_same_under_the_former_rule(width):
+    """A rectangular pulse that ends before the block reaches its unstable equilibrium: the
+    overturning amplitude bisected with the overturning rule (centroid 0.1 w below rest) and
+    with the former one (the rotation reaches alpha, integrated independently) fall in the same
+    bracket of the bisection (18 steps from [0.9, 1.3] x the small-angle formula: 1.5e-6 wide)."""
+    b = block(width, 2.0)
+    alpha, R = math.atan(width / 2.0), 0.5 * math.hypot(width, 2.0)
+    p = math.sqrt(3 * GRAVITY / (4 * R))
+    t1 = 1.0 / p
+    t_end = t1 + 40 / p
+    formula = alpha / (1 - math.exp(-p * t1))      # small-angle threshold: the bracket's scale
+    rk = Rocker(b, voussoirs=1, qp=False)
+
+    def bisect(overturns, lo, hi):
+        assert not overturns(lo) and overturns(hi)
+        for _ in range(18):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if overturns(mid) else (mid, hi)
+        return lo, hi
+
+    def new(a):
+        return rk.run(GroundMotion.rectangular(a, t1), t_end=t_end, thrust_check=False).outcome == "overturned"
+
+    lo, hi = 0.9 * formula, 1.3 * formula
+    new_lo, new_hi = bisect(new, lo, hi)
+    old_lo, old_hi = bisect(lambda a: _housner_overturns_at_alpha(a, alpha, p, t1, t_end), lo, hi)
+    assert (new_lo, new_hi) == (old_lo, old_hi)
+    # the pulse is over before the block reaches alpha at the threshold: it lingers near it
+    res = rk.run(GroundMotion.rectangular(new_hi, t1), t_end=t_end, thrust_check=False)
+    eq = rk.equations[res.onsets[0][1]]
+    th = np.interp(t1, res.history["t"], res.history["theta"])
+    assert eq.sign * th < 0.9 * alpha and res.t_overturn > t1
 
 
 def test_cannot_stand_is_an_outcome():
@@ -339,23 +438,52 @@ def test_integrator_agrees_with_solve_ivp_on_a_record():
 
 
 def test_an_event_within_one_step_is_found():
-    """A crossing of the unstable equilibrium and back within one step overturns (the
-    former stepper, restarted at each sample, reported rest with a peak rotation beyond the
-    unstable one at this amplitude); a return to theta = 0 within one step is an impact, so
-    no turning point lies on the closed side of theta = 0 or beyond the unstable rotation."""
+    """The member crosses the unstable equilibrium by 1e-5 of it and the pulse pushes it back
+    (the former stepper, restarted at each sample, missed this crossing): the run follows it
+    (the overturning rule waits for the level below rest) and agrees with solve_ivp at rtol
+    1e-13 on the turning point and the next impact; a return to theta = 0 within one step is an
+    impact, so no turning point lies on the closed side of theta = 0 or beyond the overturning
+    rotation."""
     rk = Rocker(PAPER, voussoirs=7, qp=False)
-    res = rk.run(GroundMotion.sine(3.4692178537028293, 0.15), thrust_check=False)
-    assert res.outcome == "overturned" and res.t_overturn == pytest.approx(0.1254649572071, abs=1e-9)
+    ground = GroundMotion.sine(3.4692178537028293, 0.15)
+    res = rk.run(ground, thrust_check=False)
+    eq = rk.equations[0]
+    (t_on, k0), (t_turn, k1, th_turn) = res.onsets[0], res.peaks[0]
+    assert k0 == k1 == res.impacts[0].before == 0
+    assert eq.theta_unstable < eq.sign * th_turn < eq.theta_unstable * (1 + 1e-4) and res.outcome != "overturned"
+    t_hit, pieces = _reference_episode(eq, ground, t_on, 0.0, res.impacts[0].t + 0.05)
+    assert t_hit == pytest.approx(res.impacts[0].t, abs=1e-8)
+    sol = next(p[2] for p in pieces if p[0] <= t_turn <= p[1])
+    assert sol(t_turn)[0] == pytest.approx(th_turn, abs=1e-9 * eq.theta_unstable)
+    assert abs(sol(t_turn)[1]) < 1e-6 * abs(res.impacts[0].rate_in)     # a turning point
     arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
     rk = Rocker(arch, voussoirs=7, qp=False)
     res = rk.run(GroundMotion.record("elcentro").to_pga(1.0), t_end=3.0, thrust_check=False)
     assert res.outcome != "overturned" and len(res.peaks) > 15
     for t, k, theta in res.peaks:
         eq = rk.equations[k]
-        assert -1e-12 * eq.theta_unstable <= eq.sign * theta <= eq.theta_unstable, (t, k, theta)
+        assert -1e-12 * eq.theta_unstable <= eq.sign * theta <= rk.tops[k], (t, k, theta)
     # the impacts near 2.05 s that a step across both crossings of theta = 0 would miss
     assert [e.t for e in res.impacts if 2.05 < e.t < 2.052] == pytest.approx([2.0511895565756, 2.0513058267577],
                                                                           abs=1e-9)
+
+
+def test_a_crossing_of_the_overturning_rotation_and_back_within_one_step():
+    """One step whose interpolant rises from 0.9 top to 1.1 top and back to 0.9 top
+    (``theta(x) = 0.9 top + 0.8 top x (1 - x)`` on ``x`` in [0, 1]): the overturning event is at
+    ``x (1 - x) = 1/8``, before the turning point at ``x = 1/2``."""
+    from fembeam.dynamics.rocking import _step_events
+
+    top, h, ta = 0.4, 0.01, 2.0
+    F = ((0.0, 0.8 * top, 0.0, 0.0, 0.0, 0.0, 0.0),               # theta: F0 x + F1 x (1 - x)
+         (-2 * 0.8 * top / h, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))      # rate: -2 F1 x / h
+    ya = (0.9 * top, 0.8 * top / h)
+    ga, gb = (0.9 * top, -0.1 * top, ya[1]), (0.9 * top, -0.1 * top, -ya[1])
+    events = _step_events(ya, F, ta, ta + h, ga, gb, 1.0, top, "overturn")
+    x = (1 - math.sqrt(0.5)) / 2
+    assert sorted(name or "turn" for _, name in events) == ["overturn", "turn"]
+    assert dict((name, t) for t, name in events)["overturn"] == pytest.approx(ta + x * h, abs=1e-14)
+    assert dict((name, t) for t, name in events)[None] == pytest.approx(ta + 0.5 * h, abs=1e-14)
 
 
 @pytest.mark.parametrize("amplitude", [0.45, 0.55, 0.6, 0.8, 1.0])

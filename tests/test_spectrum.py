@@ -5,7 +5,9 @@
 * the spectrum (parallel tasks, the block's energy shortcut) gives the bracket of an independent
   scan-and-bisect written with plain :meth:`Rocker.run`, float for float;
 * safe regions above the first overturning amplitude: a stocky block (tan alpha = 0.5) under a
-  one-sine pulse of 0.68 s overturns at 3.1 A_L and survives 3.5 and 3.6 A_L (found by scanning);
+  one-sine pulse of 0.68 s overturns at 3.1 A_L and survives 3.5, 3.6, 4.0 and 4.5 A_L (found by
+  scanning; Housner's equation integrated independently gives the same, and with the former
+  overturning rule, at the unstable equilibrium, 4.0 and 4.5 A_L overturn);
 * collapse-scale on a shipped record: the bracket's ends against direct runs;
 * JSON without NaN, CLI errors as one line with exit 2, CSV written atomically.
 """
@@ -82,16 +84,74 @@ def test_spectrum_equals_independent_bisection(island):
     assert island.rows[1]["first_overturning"] < island.rows[0]["first_overturning"]
 
 
+def housner_sine_overturns(A, period, width, height, angle, t_end):
+    """Housner's block under one sine pulse ``a_g = A sin(2 pi t / T)`` (g) by an independent
+    route: ``theta'' = p^2 (-a_g cos(alpha - |theta|) - sgn sin(alpha - |theta|))`` about the corner
+    of sign ``sgn``, ``p^2 = 3 g / (4 R)``, from the onset ``|a_g| = tan alpha``; at each impact the
+    rate times ``1 - 1.5 sin^2 alpha`` about the other corner; at rest when the kinetic energy
+    left after an impact past the pulse is below 1e-12 of the barrier.  True when ``|theta|``
+    reaches ``angle`` before ``t_end``."""
+    from scipy.integrate import solve_ivp
+
+    alpha, R = math.atan(width / height), 0.5 * math.hypot(width, height)
+    p2, rv = 3 * GRAVITY / (4 * R), 1 - 1.5 * math.sin(alpha) ** 2
+    if abs(A) <= math.tan(alpha):
+        return False
+    sgn = -1.0 if A > 0 else 1.0                 # the inertia load -a_g tips the block towards -x first
+
+    def f(t, y):
+        a = A * math.sin(2 * math.pi * t / period) if t <= period else 0.0
+        return [y[1], p2 * (-a * math.cos(alpha - sgn * y[0]) - sgn * math.sin(alpha - sgn * y[0]))]
+
+    def out(t, y):
+        return abs(y[0]) - angle
+
+    def impact(t, y):
+        return sgn * y[0]
+    out.terminal, out.direction, impact.terminal, impact.direction = True, 1, True, -1
+    t, y = period / (2 * math.pi) * math.asin(math.tan(alpha) / abs(A)), [0.0, 0.0]
+    while t < t_end:
+        tb = period if t < period else t_end
+        sol = solve_ivp(f, (t, tb), y, events=(out, impact), method="DOP853", rtol=1e-12, atol=1e-14)
+        if sol.t_events[0].size:
+            return True
+        if sol.t_events[1].size:
+            t, w = sol.t_events[1][0], rv * sol.y_events[1][0][1]
+            if t > period and 0.5 * w * w < 1e-12 * p2 * (1 - math.cos(alpha)):
+                return False
+            sgn, y = -sgn, [0.0, w]
+        else:
+            t, y = tb, sol.y[:, -1]
+    return False
+
+
 def test_safe_region_above_the_first_overturning_amplitude(island):
+    """The scan's outcomes against Housner's equation integrated independently (the overturning
+    rule: the centroid 0.1 w below its height at rest, ``R cos(theta - alpha) = h/2 - 0.1 w``);
+    with the former rule (``|theta|`` reaches ``alpha``) 4.0 and 4.5 A_L would overturn: the end
+    of the pulse pushes the block back after it has passed its unstable equilibrium."""
     row = island.rows[0]
     assert row["period"] == ISLAND_T
     assert 2.9 * 0.5 <= row["first_overturning"] <= 3.1 * 0.5
-    assert row["safe_above"] and row["safe_amplitudes_above"] == [3.5 * 0.5, 3.6 * 0.5]
+    w, h = STOCKY.width, STOCKY.height
+    alpha, R = math.atan(w / h), 0.5 * math.hypot(w, h)
+    t_end = ISLAND_T + 20 * math.sqrt(h / GRAVITY)                      # the spectrum's default
+    level = alpha + math.acos((h / 2 - 0.1 * w) / R)
+    ref = {a: housner_sine_overturns(a, ISLAND_T, w, h, level, t_end) for a in ISLAND_GRID}
+    former = {a: housner_sine_overturns(a, ISLAND_T, w, h, alpha, t_end) for a in ISLAND_GRID}
+    assert [a for a in ISLAND_GRID if a > row["first_overturning"] and not ref[a]] == row["safe_amplitudes_above"]
+    assert row["safe_above"] and row["safe_amplitudes_above"] == [3.5 * 0.5, 3.6 * 0.5, 4.0 * 0.5, 4.5 * 0.5]
+    assert [a for a in ISLAND_GRID if a > row["first_overturning"] and not former[a]] == [3.5 * 0.5, 3.6 * 0.5]
     rk = Rocker(STOCKY, voussoirs=1, qp=False)
     outcome = {a: overturns(rk, GroundMotion.sine(a, ISLAND_T)) for a in ISLAND_GRID}
-    assert [a for a in ISLAND_GRID if a > row["first_overturning"] and not outcome[a]] == row["safe_amplitudes_above"]
-    assert outcome[3.1 * 0.5] and outcome[4.0 * 0.5] and not outcome[2.9 * 0.5]
-    assert not island.rows[1]["safe_above"]
+    assert outcome == ref
+    assert outcome[3.1 * 0.5] and not outcome[4.0 * 0.5] and not outcome[2.9 * 0.5]
+    # at 1 s too, one amplitude is pushed back past the unstable equilibrium (none by the former rule)
+    row1, t_end1 = island.rows[1], 1.0 + 20 * math.sqrt(h / GRAVITY)
+    above = [a for a in ISLAND_GRID if a > row1["first_overturning"]]
+    assert row1["safe_amplitudes_above"] == [a for a in above if not housner_sine_overturns(a, 1.0, w, h, level, t_end1)]
+    assert row1["safe_amplitudes_above"] == [2.9 * 0.5]
+    assert all(housner_sine_overturns(a, 1.0, w, h, alpha, t_end1) for a in above)
     d = island.to_dict()
     json.dumps(d, allow_nan=False)
     assert d["rows"][0]["safe_above"] is True and d["onset_g"] == pytest.approx(0.5)

@@ -19,6 +19,8 @@ from ..output.files import atomic, check_output
 from .args import add_arch, arch_from, arch_title, finite_float
 
 PULSES = ("rect", "sine", "ricker")
+REASONS = {"below_rest": "centroid a tenth of the thickness below its height at rest",
+           "linkage_locked": "the four-bar linkage locks"}
 
 
 def add_member(p: argparse.ArgumentParser) -> None:
@@ -151,8 +153,7 @@ def summary(res: RockingResult, max_impacts: int = 12) -> str:
     lines.append(f"  onset: inertia load above A_L = {A[1]:.6g} g to the right (a_g < 0) or "
                  f"{A[-1]:.6g} g to the left (a_g > 0)")
     if res.outcome == "overturned":
-        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s "
-                     f"({res.overturn_reason.replace('_', ' ')})")
+        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s ({REASONS[res.overturn_reason]})")
     elif res.outcome == "rest":
         lines.append(f"  outcome: rest (the member is at rest at t = {res.t_end:.4g} s)")
     else:

@@ -15,8 +15,11 @@
   mechanism); an impact that arrests the member (r = 0), or a post-impact kinetic energy below
   ``REST_ENERGY`` of the energy barrier (the accumulation of infinitely many impacts in finite
   time, whose times form a geometric series), ends the episode at rest;
-* **overturning**: the rotation passes the unstable equilibrium of the mechanism under gravity
-  (``V' = 0``), or the four-bar linkage locks first.
+* **overturning** (the rule shared with ``fembeam simulate``, :mod:`.outcomes`): the potential
+  energy falls below ``-0.1 m g t`` (the member's centroid a tenth of its mean thickness below its
+  height at rest: reason ``"below_rest"``), the integration going on past the unstable
+  equilibrium (``V' = 0``), where the ground may still push the member back; or the four-bar
+  linkage locks first (``"linkage_locked"``).
 
 Along the motion the ground's work is integrated as a third state, so that
 ``K + V = E_start + W_ground - impact losses`` is checked (``energy_balance_error``).
@@ -38,6 +41,7 @@ from ..geometry import MidCurve
 from ..mechanisms import Mechanism
 from .equation import GRAVITY, EquationOfMotion
 from .ground import GroundMotion
+from .outcomes import OUTCOMES, overturn_level
 from .thrust import section_forces, thrust_line_margin
 from .transitions import ImpactModel, Transition
 
@@ -45,7 +49,6 @@ __all__ = ["rock", "Rocker", "RockingResult", "ImpactEvent", "onset_time", "REST
 
 REST_ENERGY = 1e-12     # post-impact K / energy barrier below which the member is at rest
 MAX_EPISODES = 100_000  # bound on the number of episodes (impacts + onsets) of one run
-OUTCOMES = ("rest", "survived", "overturned", "cannot_stand")
 RTOL = 1e-10
 EPS = np.finfo(float).eps
 MAX_OUTPUT_STEPS = 10_000_000   # history rows (about 0.5 GB)
@@ -89,11 +92,12 @@ class RockingResult:
     peaks: list = field(default_factory=list)   # (t, mechanism index, theta): every turning point
     t_overturn: float | None = None
     settled_at: float | None = None         # Rocker.run(settle=True): the free motion ends at rest
-    overturn_reason: str | None = None      # "unstable_equilibrium" or "linkage_locked"
+    overturn_reason: str | None = None      # "below_rest" or "linkage_locked"
     thrust_line_exits_at: float | None = None
     energy_balance_error: float = 0.0
     history: dict = field(default_factory=dict)
-    unstable_rotation: list[float] = field(default_factory=list)   # per mechanism (rad, signed)
+    unstable_rotation: list[float] = field(default_factory=list)   # per mechanism: V' = 0 (rad, signed)
+    overturn_rotation: list[float] = field(default_factory=list)   # per mechanism: overturned there (rad, signed)
     mode: str = "continuous"
     elements: int = 0
     timings: dict = field(default_factory=dict)
@@ -128,8 +132,9 @@ class RockingResult:
                          "hinges_after": self.mechanisms[e.after].to_list() if e.after is not None else [],
                          "mechanism_before": e.before, "mechanism_after": e.after, "at_rest": e.at_rest}
                         for e in self.impacts],
-            "mechanisms": [{"index": i, "hinges": m.to_list(), "unstable_rotation": num(u)}
-                           for i, (m, u) in enumerate(zip(self.mechanisms, self.unstable_rotation))],
+            "mechanisms": [{"index": i, "hinges": m.to_list(), "unstable_rotation": num(u), "overturn_rotation": num(o)}
+                           for i, (m, u, o) in enumerate(zip(self.mechanisms, self.unstable_rotation,
+                                                             self.overturn_rotation))],
             "energy_balance_error": float(self.energy_balance_error),
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
@@ -271,18 +276,29 @@ class Rocker:
                 self.start[d] = Mechanism.from_hinges(curve, res.hinges_before)
         self.model = ImpactModel(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=qp)
         self.joints = uniform_nodes(curve, voussoirs) if voussoirs is not None else None
+        self.mass = float(curve.segment_inertia(0.0, curve.length)[0][0])     # kg per unit depth
+        self.level = overturn_level(curve, self.mass, self.g)                 # V below it: overturned
         self.mechanisms: list[Mechanism] = []
         self.equations: list[EquationOfMotion] = []
+        self.tops: list[float] = []        # per mechanism: sign * theta where it has overturned
+        self.events: list[str] = []        # per mechanism: "overturn" (V falls to the level) or "locked"
+        self.barriers: list[float] = []    # per mechanism: the largest V up to its top
         self._index: dict = {}
         self.setup_time = time.perf_counter() - clock
 
     def index(self, m: Mechanism) -> int:
-        """Index of mechanism ``m`` (its equation of motion set up on first use)."""
+        """Index of mechanism ``m`` (its equation of motion and overturning angle set up on
+        first use)."""
         key = (m.s, m.sides)
         if key not in self._index:
             self._index[key] = len(self.mechanisms)
             self.mechanisms.append(m.with_alpha(1.0))
-            self.equations.append(EquationOfMotion(m, self.g))
+            eq = EquationOfMotion(m, self.g)
+            self.equations.append(eq)
+            top, event, barrier = overturning(eq, self.level)
+            self.tops.append(top)
+            self.events.append(event)
+            self.barriers.append(barrier)
         return self._index[key]
 
     def run(self, ground: GroundMotion, *, t_end: float | None = None, dt_out: float | None = None,
@@ -297,23 +313,29 @@ class Rocker:
         return _run(self, ground, t_end, dt_out, thrust_check, progress, history, settle)
 
     def barrier(self, k: int) -> float:
-        """``V`` (J per unit depth) where mechanism ``k`` overturns (the overturning event of
-        the integration: the unstable equilibrium, or just before the linkage locks)."""
-        eq = self.equations[k]
-        top = min(eq.theta_unstable, eq.theta_lock * (1 - 1e-9))
-        return eq.potential(eq.sign * top) if math.isfinite(top) else math.inf
+        """The energy barrier of mechanism ``k`` (J per unit depth): the largest ``V`` from rest
+        to its overturning angle (:func:`overturning`; ``V`` at the unstable equilibrium, or
+        just before the linkage locks if it locks first).  A free motion whose energy stays
+        below it turns back; one above it reaches the overturning angle."""
+        return self.barriers[k]
 
     def settles(self, k: int, theta: float, rate: float, margin: float = 1e-8) -> bool:
         """True when the free motion (no ground acceleration) from ``theta``, ``rate`` on
         mechanism ``k`` comes to rest without overturning.  Along a mechanism ``E = K + V`` is
-        conserved and ``V`` rises from 0 to the barrier (:meth:`barrier`), so a member heading
-        back, or heading out with ``E`` below the barrier, returns to ``theta = 0`` with
-        ``K = E``; each impact leads to a fixed mechanism (the impact model's, solved once) with
-        ``K' = r K``.  This map is iterated until ``r = 0`` or ``K`` falls below ``REST_ENERGY``
-        of the barrier (True), or an energy heading out comes within ``margin`` of its barrier
-        (False: only the integration can tell)."""
-        E = self.equations[k].energy(theta, rate)
-        if self.equations[k].sign * rate > 0 and not E < self.barrier(k) * (1.0 - margin):
+        conserved and ``V`` rises from 0 to the unstable equilibrium, then falls to the
+        overturning level (:func:`overturning`; the barrier, :meth:`barrier`, is the largest ``V``
+        on the way).  So a member short of the unstable equilibrium heading back, or heading out
+        with ``E`` below the barrier, returns to ``theta = 0`` with ``K = E``, while one heading
+        out with ``E`` above the barrier reaches the overturning angle.  Each impact leads to a
+        fixed mechanism (the impact model's, solved once) with ``K' = r K``.  This map is
+        iterated until ``r = 0`` or ``K`` falls below ``REST_ENERGY`` of the barrier (True), or an
+        energy heading out comes within ``margin`` of its barrier (False: only the integration
+        can tell; so too a member past the unstable equilibrium)."""
+        eq = self.equations[k]
+        if eq.sign * theta > eq.theta_unstable:
+            return False
+        E = eq.energy(theta, rate)
+        if eq.sign * rate > 0 and not E < self.barrier(k) * (1.0 - margin):
             return False
         for _ in range(MAX_EPISODES):       # an impact with K = E on mechanism k
             tr = self.model(self.mechanisms[k])
@@ -323,6 +345,57 @@ class Rocker:
             if not E < self.barrier(k) * (1.0 - margin):
                 return False
         return False
+
+
+OVERTURN_GRID = 256     # steps from the unstable equilibrium to the lock (or pi) scanning for the level
+
+
+def overturning(eq: EquationOfMotion, level: float) -> tuple[float, str, float]:
+    """Where mechanism ``eq`` has overturned under the shared rule (:mod:`.outcomes`: ``V`` below
+    ``level`` < 0): ``(top, event, barrier)`` with ``top`` the smallest ``sign * theta`` at which
+    ``V = level`` (``event`` ``"overturn"``), or just before the four-bar locks if it locks
+    first (``"locked"``); ``barrier`` the largest ``V`` on ``[0, top]``.
+
+    ``V`` rises from 0 to the unstable equilibrium ``theta_unstable`` (the first ``V' = 0``), so the
+    level is looked for beyond it: on ``OVERTURN_GRID`` steps up to the lock (or pi), the first
+    step that ends below it is bisected (``brentq``).  ``V`` past the unstable equilibrium is
+    scanned on the same steps for a higher hump; one found is maximised (bounded Brent)."""
+    sg = eq.sign
+    lock = eq.theta_lock * (1 - 1e-9)
+
+    def V(x):
+        return eq.potential(sg * x)
+
+    xu = eq.theta_unstable
+    if not math.isfinite(xu):                       # V rises all the way to the lock
+        if not math.isfinite(lock):
+            raise SolverError("gravity restores the mechanism at every rotation: it cannot overturn")
+        return lock, "locked", V(lock)
+    barrier, hump = V(xu), None
+    hi = min(lock, math.pi)
+    prev, v_prev = xu, barrier
+    for i in range(1, OVERTURN_GRID + 1):
+        x = xu + (hi - xu) * i / OVERTURN_GRID
+        v = V(x)
+        if v <= level:
+            top = _brentq()(lambda y: V(y) - level, prev, x, xtol=1e-15, rtol=1e-14)
+            break
+        if v > barrier and (hump is None or v > hump[1]):
+            hump = (x, v)
+        prev, v_prev = x, v
+    else:
+        if hi < lock:
+            raise SolverError(f"the mechanism neither falls to the overturning level nor locks up to a rotation "
+                              f"of pi (V = {v_prev:g} J/m at pi, level {level:g} J/m)")
+        top = lock
+    if hump is not None:                            # a higher hump past the unstable equilibrium
+        from scipy.optimize import minimize_scalar
+
+        step = (hi - xu) / OVERTURN_GRID
+        r = minimize_scalar(lambda y: -V(y), bounds=(max(xu, hump[0] - step), min(top, hump[0] + step)),
+                            method="bounded", options={"xatol": 1e-12})
+        barrier = max(hump[1], -float(r.fun))
+    return float(top), ("overturn" if top < lock else "locked"), float(barrier)
 
 
 def rock(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int = 200,
@@ -389,7 +462,8 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
         eq = eqs[k]
         ti = time.perf_counter()
         check = settle and t < t_quiet < t_end
-        ev, t, theta, rate, err = _episode(eq, k, sig, t, t_quiet if check else t_end, theta, rate, track)
+        ev, t, theta, rate, err = _episode(eq, k, sig, t, t_quiet if check else t_end, theta, rate, track,
+                                           rk.tops[k], rk.events[k])
         t_int += time.perf_counter() - ti
         balance = max(balance, err)
         if ev == "end":
@@ -403,15 +477,14 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
         if ev in ("overturn", "locked"):
             out.outcome = "overturned"
             out.t_overturn = t
-            out.overturn_reason = "unstable_equilibrium" if ev == "overturn" else "linkage_locked"
+            out.overturn_reason = "below_rest" if ev == "overturn" else "linkage_locked"
             state = (k, theta, rate)
             break
         # impact at theta = 0
         tt = time.perf_counter()
         tr: Transition = model(mechs[k])
         t_tr += time.perf_counter() - tt
-        top = min(eq.theta_unstable, eq.theta_lock)
-        barrier = eq.potential(eq.sign * top) if math.isfinite(top) else math.inf
+        barrier = rk.barriers[k]
         K_in = 0.5 * eq.coefficients(0.0)[0] * rate * rate
         if tr.after is None:
             out.impacts.append(ImpactEvent(t, k, None, rate, 0.0, 0.0, tr.r_qp, True))
@@ -441,6 +514,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
                 track.add(t_end, k, th, w, 0.5 * eqs[k].coefficients(th)[0] * w * w, eqs[k].potential(th), a_end)
     out.mechanisms = list(mechs)
     out.unstable_rotation = [e.sign * min(e.theta_unstable, e.theta_lock) for e in eqs]
+    out.overturn_rotation = [e.sign * x for e, x in zip(eqs, rk.tops)]
     out.peak_rotation, out.t_peak, out.peaks = track.peak, track.t_peak, track.peaks
     out.peak_theta, out.t_peak_theta = track.peak_theta, track.t_peak_theta
     out.energy_balance_error = balance
@@ -701,22 +775,23 @@ def _step_events(ya: tuple, F: tuple, ta: float, tb: float, ga: tuple, gb: tuple
 
 
 def _episode(eq: EquationOfMotion, k: int, sig: _Signal, t: float, t_end: float, theta: float,
-             rate: float, track: _Track):
+             rate: float, track: _Track, top: float, reason: str):
     """Integrate along ``eq`` from ``(t, theta, rate)`` to the first event.  Returns
-    ``(event, t, theta, rate, energy_balance_error)`` with event ``"impact"``,
-    ``"overturn"``, ``"locked"`` or ``"end"``.
+    ``(event, t, theta, rate, energy_balance_error)`` with event ``"impact"``, ``reason`` (the
+    rotation ``sign * theta`` reaches ``top``: ``"overturn"`` or ``"locked"``, :func:`overturning`)
+    or ``"end"``.
 
     :class:`_Dop853` steps never cross a break of the signal (a kink): a step that would is
     shortened to end on it, and the steps left to it are made equal; the step-size control
     carries on across breaks (no restart).  Events are located on the interpolant of the
     step (``brentq``) with the conventions of ``solve_ivp``."""
     sg = eq.sign
-    top = min(eq.theta_unstable, eq.theta_lock * (1 - 1e-9))
-    reason = "overturn" if eq.theta_unstable <= eq.theta_lock else "locked"
-    scale_th = max(top if math.isfinite(top) else 1.0, 1e-6)
+    # the scales of the tolerances and of the energy error: the unstable equilibrium (or the lock)
+    hump = min(eq.theta_unstable, eq.theta_lock * (1 - 1e-9))
+    scale_th = max(hump if math.isfinite(hump) else 1.0, 1e-6)
     scale_w = scale_th * math.sqrt(eq.g / eq.mechanism.curve.length)
     E0 = eq.energy(theta, rate)
-    E_scale = max(abs(eq.potential(sg * top)) if math.isfinite(top) else abs(E0), abs(E0), 1e-300)
+    E_scale = max(abs(eq.potential(sg * hump)) if math.isfinite(hump) else abs(E0), abs(E0), 1e-300)
     coef, at = eq.coefficients, sig.at
     tb, ag = sig.interval(t)
     st = _Dop853(coef, (1e-12 * scale_th, 1e-12 * scale_w, 1e-12 * E_scale), ag)
