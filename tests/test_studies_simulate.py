@@ -1,0 +1,245 @@
+"""``fembeam spectrum`` and ``fembeam collapse-scale`` on the multi-block simulation (``--model simulate``).
+
+* a rocking block under rectangular pulses: rock and simulate follow the same Housner dynamics, so
+  their overturning amplitudes agree (measured 7.1e-4 relative at dt = 2e-3, 3.6e-4 at 1e-3,
+  -1.1e-4 at 5e-4, brackets of 1e-5; docs/studies.md);
+* the journal: an interrupted simulate spectrum resumes to the rows of an uninterrupted run
+  without recomputing the finished period; a rock journal (or one of another dt) is not read
+  for simulate;
+* local workers and Dask give the rows of one process, bit for bit;
+* collapse-scale: the bracket's ends against direct runs of the Simulator;
+* outputs (JSON, CSV, plot) name the model, dt, friction and what counts as collapse;
+* bad input (``--dt 0``, ``--friction -1``, ``--dt`` or ``--friction`` with ``--model rock``): exit 2,
+  one line.
+
+Small cases only (a block, coarse dt, short runs): nothing here depends on the machine's speed.
+"""
+import csv
+import functools
+import json
+
+import pytest
+
+from fembeam import StraightMember
+from fembeam.cli import main
+from fembeam.dynamics.ground import GroundMotion
+from fembeam.simulation import Simulator
+from fembeam.studies import spectrum as sp
+from fembeam.studies.parallel import Journal, journal_for
+from fembeam.studies.spectrum import collapse_scale, spectrum
+
+BLOCK = StraightMember(height=2.0, width=0.5)        # tan alpha = 0.25: A_L = 0.25 g
+ARGS = ["--block", "0.5", "2", "--pulse", "rect", "--periods", "0.3,0.5", "--amplitudes", "0.3,0.4,0.6",
+        "--bisect-tol", "0.02", "--t-end-factor", "3", "--quiet"]
+SMALL = dict(voussoirs=1, amplitudes=[0.3, 0.4, 0.6], bisect_tol=0.02, t_end_factor=3, progress=False)
+DT = 4e-3
+
+
+def strip(rows):
+    return [{k: v for k, v in r.items() if k != "time_s"} for r in rows]
+
+
+@pytest.fixture(scope="module")
+def small():
+    return spectrum(BLOCK, "rect", [0.3, 0.5], workers=1, model="simulate", dt=DT, **SMALL)
+
+
+def test_block_rectangular_pulse_rock_and_simulate_agree():
+    """Housner's block under a 0.5 s rectangular pulse: the same threshold (rock 0.339036 g) from
+    both models.  Measured with brackets of 1e-5 and this t_end: simulate is above rock by 7.1e-4
+    at dt = 2e-3 (1.4e-3 at 4e-3, 3.6e-4 at 1e-3: first order in dt); brackets of 1e-4 add at
+    most 1e-4 each.  Asserted: 1.5e-3 (the 1 % asked of the study is met with a margin of 6)."""
+    kw = dict(voussoirs=1, amplitudes=[0.33, 0.345], bisect_tol=1e-4, t_end_factor=10, workers=1, progress=False)
+    rock = spectrum(BLOCK, "rect", [0.5], **kw).rows[0]
+    sim = spectrum(BLOCK, "rect", [0.5], model="simulate", dt=2e-3, **kw).rows[0]
+    assert rock["converged"] and sim["converged"] and sim["collapse"] == "overturned"
+    assert rock["first_overturning"] == pytest.approx(0.339036, rel=5e-4)
+    assert abs(sim["first_overturning"] / rock["first_overturning"] - 1) < 1.5e-3
+    assert sim["steps"] > 0 and "steps" not in rock
+
+
+def test_outcomes_are_the_simulators(small):
+    """Every decided amplitude has the outcome of a direct run of the Simulator; below A_L nothing
+    is run (no friction: the block cannot move)."""
+    sim = Simulator(BLOCK, voussoirs=1)
+    for row in small.rows:
+        for step in row["scan"] + row["bisection"]:
+            a = step["amplitude"]
+            if step["outcome"] == "no_motion":
+                assert a <= 0.25
+                continue
+            res = sim.run(GroundMotion.rectangular(a, row["period"]), dt=DT, t_end=row["t_end"], stop_at_overturn=True)
+            assert res.outcome == step["outcome"], (row["period"], a)
+        lo, hi = row["bracket"]
+        assert row["first_overturning"] == hi and hi - lo <= 0.02 * hi and row["collapse"] == "overturned"
+    assert small.model == "simulate" and small.settings["dt"] == DT and small.settings["friction"] is None
+
+
+def test_workers_and_dask_give_the_same_rows(small):
+    two = spectrum(BLOCK, "rect", [0.3, 0.5], workers=2, model="simulate", dt=DT, **SMALL)
+    assert strip(two.rows) == strip(small.rows)
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cl:
+        dask = spectrum(BLOCK, "rect", [0.3, 0.5], scheduler=cl.scheduler_address, model="simulate", dt=DT, **SMALL)
+    assert dask.settings["executor"] == "dask" and strip(dask.rows) == strip(small.rows)
+
+
+def test_interrupted_simulate_spectrum_resumes(tmp_path, monkeypatch, capsys, small):
+    """Ctrl-C during the second period: exit 130, the first period kept; the re-run computes
+    only the second one and prints the rows of an uninterrupted run."""
+    real, calls = sp.spectrum_case, []
+
+    @functools.wraps(real)                 # the same module and name: the same journal keys
+    def case(**kw):
+        calls.append(kw["period"])
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(**kw)
+
+    monkeypatch.setattr(sp, "spectrum_case", case)
+    out = tmp_path / "s.csv"
+    argv = ["spectrum", *ARGS, "--model", "simulate", "--dt", str(DT), "--workers", "1", "--json", "--csv", str(out)]
+    assert main(argv) == 130
+    journal = tmp_path / ".s.csv.spectrum-journal.jsonl"
+    assert "1 of 2 cases kept in" in capsys.readouterr().err and len(Journal(journal).done) == 1
+    calls.clear()
+    assert main(argv) == 0
+    assert calls == [0.5] and not journal.exists()
+    d = json.loads(capsys.readouterr().out)
+    assert strip(d["rows"]) == strip(small.to_dict()["rows"])
+
+
+def test_a_rock_journal_is_not_read_for_simulate(tmp_path):
+    j = journal_for(tmp_path / "s.csv", "spectrum")
+    rock = spectrum(BLOCK, "rect", [0.5], workers=1, journal=j, **SMALL)
+    assert len(Journal(j.path).done) == 1
+    sim = spectrum(BLOCK, "rect", [0.5], workers=1, journal=Journal(j.path), model="simulate", dt=DT, **SMALL)
+    other = spectrum(BLOCK, "rect", [0.5], workers=1, journal=Journal(j.path), model="simulate", dt=2 * DT, **SMALL)
+    done = Journal(j.path).done
+    assert len(done) == 3                                   # each run computed its own period
+    assert "steps" not in rock.rows[0] and sim.rows[0]["steps"] > 0 and other.settings["dt"] == 2 * DT
+    keys = [json.loads(k) for k in done]
+    models = sorted((k[3]["model"], k[3].get("dt"), k[3].get("friction", "-")) for k in keys)
+    assert models == [("rock", None, "-"), ("simulate", DT, None), ("simulate", 2 * DT, None)]
+    again = spectrum(BLOCK, "rect", [0.5], workers=1, journal=Journal(j.path), model="simulate", dt=DT, **SMALL)
+    assert len(Journal(j.path).done) == 3 and strip(again.rows) == strip(sim.rows)     # read, not recomputed
+
+
+def test_cli_spectrum_outputs_name_the_model(tmp_path, capsys):
+    csv_path, png = tmp_path / "s.csv", tmp_path / "s.png"
+    assert main(["spectrum", *ARGS, "--model", "simulate", "--dt", str(DT), "--workers", "1", "--json",
+                 "--csv", str(csv_path), "--plot", str(png)]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["model"] == "simulate" and d["settings"]["dt"] == DT and d["settings"]["friction"] is None
+    assert d["collapse_outcomes"] == ["overturned", "collapsed_by_sliding"] and d["timing_s"]["steps"] > 0
+    assert [r["collapse"] for r in d["rows"]] == ["overturned", "overturned"]
+    rows = list(csv.DictReader(csv_path.open()))
+    assert [r["collapse"] for r in rows] == ["overturned", "overturned"] and int(rows[0]["steps"]) > 0
+    assert png.stat().st_size > 0 and sorted(p.name for p in tmp_path.iterdir()) == ["s.csv", "s.png"]
+    assert main(["spectrum", *ARGS, "--model", "simulate", "--dt", str(DT), "--workers", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "model: simulate (rigid bodies in contact, dt = 0.004 s, joints never slide)" in text
+    assert "time steps" in text
+    assert main(["spectrum", *ARGS, "--workers", "1", "--json"]) == 0        # rock: the model named, no dt
+    d = json.loads(capsys.readouterr().out)
+    assert d["model"] == "rock" and "dt" not in d["settings"] and d["collapse_outcomes"] == ["overturned"]
+
+
+def test_collapse_scale_simulate_against_direct_runs(capsys):
+    rec, t_end = GroundMotion.record("elcentro_chopra"), 6.0
+    res = collapse_scale(BLOCK, rec, voussoirs=1, factors=[1.0, 2.0, 3.0, 4.0], bisect_tol=0.05, t_end=t_end,
+                         model="simulate", dt=DT)
+    lo, hi = res["bracket"]
+    assert res["first_overturning"] == hi and 1.0 <= lo < hi <= 4.0 and hi - lo <= 0.05 * hi
+    assert res["model"] == "simulate" and res["dt"] == DT and res["collapse"] == "overturned" and res["steps"] > 0
+    sim = Simulator(BLOCK, voussoirs=1)
+    assert sim.run(rec.scaled(hi), dt=DT, t_end=t_end).outcome == "overturned"
+    assert sim.run(rec.scaled(lo), dt=DT, t_end=t_end).outcome in ("rest", "survived")
+    json.dumps(res, allow_nan=False)
+    assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--factors", "1,2,3,4",
+                 "--bisect-tol", "0.05", "--t-end", str(t_end), "--model", "simulate", "--dt", str(DT), "--json",
+                 "--quiet"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["bracket"] == res["bracket"] and d["model"] == "simulate" and d["friction"] is None
+
+
+def test_friction_reaches_the_simulator(monkeypatch):
+    """``friction`` is handed to the Simulator (a stand-in here, whatever the stepper offers) and
+    the multi-block model runs every amplitude, A_L or not: a joint may slide below it."""
+    made = []
+
+    class Fake:
+        def __init__(self, curve, *, voussoirs=None, elements=None, friction=None):
+            made.append((voussoirs, elements, friction))
+
+        def run(self, ground, *, dt, t_end, stop_at_overturn):
+            class R:
+                outcome = "collapsed_by_sliding" if max(abs(ground.a)) > 0.2 else "rest"
+                steps = 1
+            return R
+
+    import fembeam.simulation as simulation
+    monkeypatch.setattr(simulation, "Simulator", Fake)
+    monkeypatch.setattr(sp, "_check_friction", lambda mu, name: float(mu))
+    monkeypatch.setattr(sp._SIMULATORS, "kept", None, raising=False)
+    res = spectrum(BLOCK, "rect", [0.5], voussoirs=1, amplitudes=[0.1, 0.15, 0.3], bisect_tol=0.05, workers=1,
+                   progress=False, model="simulate", dt=DT, friction=0.4)
+    row = res.rows[0]
+    assert made == [(1, None, 0.4)]                         # built once for all the runs of the period
+    assert [s["outcome"] for s in row["scan"]] == ["rest", "rest", "collapsed_by_sliding"]     # 0.1, 0.15 g < A_L run
+    assert row["collapse"] == "collapsed_by_sliding" and 0.2 <= row["first_overturning"] <= 0.21
+    assert res.settings["friction"] == 0.4 and res.to_dict()["settings"]["friction"] == 0.4
+    from fembeam.cli.spectrum import table
+    assert "collapses by sliding" in table(res) and "friction mu = 0.4" in table(res)
+
+
+def test_block_sliding_threshold_with_friction():
+    """A block on a base with mu = 0.1 < tan alpha slides instead of rocking; a rectangular pulse
+    of a > mu (g) for T1 slides it by (a - mu) g T1^2 / 2 * a / mu (pushed, then braked at mu g).
+    Collapse by sliding at a slip s of half the joint's depth (0.25 m) gives the threshold
+    a (a - mu) = 2 mu s / (g T1^2): a = 0.201286 g.  Below A_L (0.25 g) the amplitudes are run."""
+    if not sp._simulator_has_friction():
+        pytest.skip("this Simulator has no Coulomb friction")
+    mu, t1, g, slip = 0.1, 0.5, 9.81, 0.25
+    exact = 0.5 * (mu + (mu * mu + 4 * 2 * slip * mu / (g * t1 * t1)) ** 0.5)
+    res = spectrum(BLOCK, "rect", [t1], voussoirs=1, amplitudes=[0.05, 0.15, 0.3, 0.5], bisect_tol=1e-3,
+                   t_end_factor=3, workers=1, progress=False, model="simulate", dt=2e-3, friction=mu)
+    row = res.rows[0]
+    assert [s["outcome"] for s in row["scan"]] == ["rest", "rest", "collapsed_by_sliding", "collapsed_by_sliding"]
+    assert row["collapse"] == "collapsed_by_sliding" and res.settings["friction"] == mu
+    assert row["first_overturning"] == pytest.approx(exact, rel=2e-3)
+
+
+@pytest.mark.parametrize("argv", [
+    ["spectrum", *ARGS, "--model", "simulate", "--dt", "0"],
+    ["spectrum", *ARGS, "--model", "simulate", "--dt", "0.1"],
+    ["spectrum", *ARGS, "--model", "simulate", "--dt", "nan"],
+    ["spectrum", *ARGS, "--model", "simulate", "--dt", "1e-6", "--t-end-factor", "1000"],      # > 1e7 steps
+    ["spectrum", *ARGS, "--model", "simulate", "--friction", "-1"],
+    ["spectrum", *ARGS, "--model", "simulate", "--friction", "inf"],
+    ["spectrum", *ARGS, "--dt", "1e-3"],
+    ["spectrum", *ARGS, "--model", "rock", "--friction", "0.5"],
+    ["spectrum", *ARGS, "--model", "verlet"],
+    ["collapse-scale", "--record", "elcentro", "--model", "simulate", "--dt", "0"],
+    ["collapse-scale", "--record", "elcentro", "--model", "simulate", "--friction", "-1"],
+    ["collapse-scale", "--record", "elcentro", "--dt", "1e-3"],
+    ["collapse-scale", "--record", "elcentro", "--model", "simulate", "--dt", "1e-6", "--t-end", "100"],
+])
+def test_cli_bad_input_exits_2_with_one_line(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as e:      # argparse's own errors
+        code = e.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "error" in err
+
+
+def test_api_refuses_simulate_options_for_rock():
+    from fembeam.errors import InputError
+    with pytest.raises(InputError, match="dt applies to the multi-block simulation only"):
+        spectrum(BLOCK, "rect", [0.5], voussoirs=1, dt=1e-3, progress=False)
+    with pytest.raises(InputError, match="friction"):
+        collapse_scale(BLOCK, GroundMotion.record("elcentro"), voussoirs=1, friction=0.5)
+    with pytest.raises(InputError, match="dt must be in"):
+        spectrum(BLOCK, "rect", [0.5], voussoirs=1, model="simulate", dt=0.0, progress=False)
