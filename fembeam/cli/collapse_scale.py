@@ -24,8 +24,9 @@ def register(sub) -> None:
                        description="Scans scale factors of a ground-motion record, bisects below the first one that "
                                    "overturns the member, and reports scanned factors above it that do not overturn "
                                    "(the safe set need not be an interval). --model simulate runs the multi-block "
-                                   "simulation instead of rock: each run then costs about (record length + 20 "
-                                   "sqrt(L/g)) / dt steps (see docs/studies.md).")
+                                   "simulation instead of rock: each run then costs (t_end - record start) / dt "
+                                   "time steps unless it collapses earlier, each dearer with more bodies (see "
+                                   "docs/studies.md).")
     add_member(p)
     add_model(p)
     g = p.add_argument_group("record and search")

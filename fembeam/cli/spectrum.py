@@ -33,8 +33,8 @@ def add_model(p) -> None:
                    help=f"--model simulate: time step (s; default {DT:g}, in [1e-6, 0.05], at most 1e7 steps a run)")
     g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
                    help="--model simulate: Coulomb coefficient at every joint, the springings included (default: "
-                        "joints never slide); collapse by sliding then counts as overturning, and amplitudes below "
-                        "A_L are run too")
+                        "joints never slide); collapse by sliding then counts as overturning, and amplitudes "
+                        "(factors) below the onset at A_L are run too")
 
 
 def model_from(args) -> tuple[float | None, float | None]:
@@ -50,9 +50,9 @@ def register(sub) -> None:
                                    "overturning grid point. Scanned amplitudes above it that do not overturn are "
                                    "reported (the safe set need not be an interval). Amplitudes in g; a positive "
                                    "pulse loads the member to the left (--sign -1: mirrored pulse). --model "
-                                   "simulate runs the multi-block simulation instead of rock (about 1-2 s per run "
-                                   "of 7 voussoirs at --dt 1e-3, growing with the number of bodies; see "
-                                   "docs/studies.md).")
+                                   "simulate runs the multi-block simulation instead of rock: each run then costs "
+                                   "(pulse end + F sqrt(L/g)) / dt time steps unless it collapses earlier, each "
+                                   "dearer with more bodies (see docs/studies.md).")
     add_member(p)
     add_model(p)
     g = p.add_argument_group("pulses")
