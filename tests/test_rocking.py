@@ -176,6 +176,52 @@ def test_energy_conserved_in_free_motion_and_balanced_under_forcing():
             assert 0.5 * ea.coefficients(0.0)[0] * e.rate_out**2 == pytest.approx(e.r * K_in, rel=1e-10)
 
 
+@pytest.mark.parametrize("case", ["rest", "pushed_back", "overturned", "survived"])
+def test_energy_block(case):
+    """``energy``: ``K_end + V_end = ground_work - dissipated`` (from rest); ``dissipated`` the sum
+    of ``K_in - K_out`` over the impacts (``Lambda(0)`` of each mechanism, its rates); the ground's
+    work against ``-int a_g Q theta' dt`` by the trapezoidal rule on a fine history; ``V_min``
+    against the history's smallest V (and the level -0.1 m g w of a block that overturns)."""
+    if case == "overturned":
+        b = block(0.5, 2.0)
+        rk, ground, t_end = Rocker(b, voussoirs=1, qp=False), GroundMotion.rectangular(0.6, 1.0), None
+    else:
+        rk = Rocker(PAPER, voussoirs=7, qp=False)
+        ground, t_end = {"rest": (GroundMotion.sine(0.6, 0.3), 3.0), "pushed_back": (GroundMotion.sine(1.0095, 0.45), 3.0),
+                         "survived": (GroundMotion.sine(0.6, 0.3), 0.5)}[case]
+    res = rk.run(ground, t_end=t_end, dt_out=1e-4, thrust_check=False)
+    assert res.outcome == {"pushed_back": "rest"}.get(case, case)
+    d = res.to_dict()
+    e = d["energy"]
+    assert set(e) == {"K_end", "V_end", "V_min", "ground_work", "dissipated"}
+    assert d["n_impacts"] == len(res.impacts) and all({"t", "r"} <= set(i) for i in d["impacts"])
+    scale = max(rk.barriers)
+    assert e["K_end"] + e["V_end"] == pytest.approx(e["ground_work"] - e["dissipated"], abs=1e-8 * scale)
+    eqs = [EquationOfMotion(m) for m in res.mechanisms]
+    lam = [eq.coefficients(0.0)[0] for eq in eqs]
+    lost = sum(0.5 * lam[i.before] * i.rate_in ** 2 - (0.5 * lam[i.after] * i.rate_out ** 2 if i.after is not None else 0.0)
+               for i in res.impacts)
+    assert e["dissipated"] == pytest.approx(lost, abs=1e-12 * scale)
+    h = res.history
+    moving = h["mechanism"] >= 0
+    Q = np.array([eqs[int(k)].coefficients(th)[3] if k >= 0 else 0.0 for k, th in zip(h["mechanism"], h["theta"])])
+    power = np.where(moving, -h["a_g"] * Q * h["rate"], 0.0)
+    keep = np.r_[True, np.diff(h["t"]) > 0]          # an event row repeats its time: one side of a jump
+    W = np.trapezoid(power[keep], h["t"][keep])
+    assert e["ground_work"] == pytest.approx(W, rel=1e-3, abs=1e-6 * scale)
+    assert e["V_min"] <= h["V"].min() + 1e-12 * scale and e["V_min"] >= h["V"].min() - 1e-6 * scale
+    if case == "overturned":
+        assert e["V_min"] == pytest.approx(-0.1 * 1.0 * 0.5 * 2.0 * GRAVITY * 0.5, rel=1e-9)
+        assert e["V_end"] == e["V_min"] and e["K_end"] > 0
+    if case == "pushed_back":         # past the unstable equilibrium of the first mechanism, and back
+        assert res.peak_theta > rk.equations[0].theta_unstable and e["V_min"] >= -1e-12 * scale
+    if case == "rest":
+        assert e["K_end"] == e["V_end"] == 0.0 and abs(e["V_min"]) <= 1e-12 * scale
+        assert e["dissipated"] == pytest.approx(e["ground_work"], abs=1e-8 * scale)
+    if case == "survived":
+        assert e["K_end"] > 0
+
+
 # --------------------------------------------------------------------------- invariance
 def test_time_scales_with_sqrt_R_over_g():
     small = rock(CircularArch.from_ratio(157.5, 0.15, radius=1.0), GroundMotion.sine(0.6, 0.3), voussoirs=7,
@@ -283,7 +329,7 @@ def test_barrier_and_settles_agree_with_the_overturning_event():
     still = GroundMotion(np.array([0.0, 1.0]), np.zeros(2))
     for f, event in ((1 - 1e-6, "impact"), (1 + 1e-6, "overturn")):
         rate = eq.sign * math.sqrt(2 * f * rk.barrier(k) / eq.coefficients(0.0)[0])
-        ev, t, theta, _, err = _episode(eq, k, _Signal(still), 0.0, 30.0, 0.0, rate, _Track(np.empty(0), False),
+        ev, t, theta, _, err, _ = _episode(eq, k, _Signal(still), 0.0, 30.0, 0.0, rate, _Track(np.empty(0), False),
                                         top, rk.events[k])
         assert ev == event and err < 1e-8
         assert rk.settles(k, 0.0, rate) == (event == "impact")

@@ -95,6 +95,11 @@ class RockingResult:
     overturn_reason: str | None = None      # "below_rest" or "linkage_locked"
     thrust_line_exits_at: float | None = None
     energy_balance_error: float = 0.0
+    K_end: float = 0.0                      # J per unit depth, at the end (t_end or t_overturn)
+    V_end: float = 0.0
+    V_min: float = 0.0                      # the smallest V of the motion
+    ground_work: float = 0.0                # the ground's work on the member
+    dissipated: float = 0.0                 # sum over the impacts of K_in - K_out
     history: dict = field(default_factory=dict)
     unstable_rotation: list[float] = field(default_factory=list)   # per mechanism: V' = 0 (rad, signed)
     overturn_rotation: list[float] = field(default_factory=list)   # per mechanism: overturned there (rad, signed)
@@ -127,6 +132,7 @@ class RockingResult:
             "overturn_reason": self.overturn_reason,
             "thrust_line_exits_at": num(self.thrust_line_exits_at),
             "onsets": [{"t": t, "mechanism": k} for t, k in self.onsets],
+            "n_impacts": len(self.impacts),
             "impacts": [{"t": e.t, "r": e.r, "r_qp": num(e.r_qp), "rate_in": e.rate_in, "rate_out": e.rate_out,
                          "hinges_before": self.mechanisms[e.before].to_list(),
                          "hinges_after": self.mechanisms[e.after].to_list() if e.after is not None else [],
@@ -135,6 +141,8 @@ class RockingResult:
             "mechanisms": [{"index": i, "hinges": m.to_list(), "unstable_rotation": num(u), "overturn_rotation": num(o)}
                            for i, (m, u, o) in enumerate(zip(self.mechanisms, self.unstable_rotation,
                                                              self.overturn_rotation))],
+            "energy": {"K_end": float(self.K_end), "V_end": float(self.V_end), "V_min": float(self.V_min),
+                       "ground_work": float(self.ground_work), "dissipated": float(self.dissipated)},
             "energy_balance_error": float(self.energy_balance_error),
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
@@ -207,6 +215,7 @@ class _Track:
     t_peak: float | None = None
     peak_theta: float = 0.0      # largest |theta|, and its time
     t_peak_theta: float | None = None
+    V_min: float = 0.0           # smallest V at the turning points and ends of the episodes
     pieces: list = field(default_factory=list)   # (ta, tb, mechanism, dense solution) of the motion
     peaks: list = field(default_factory=list)    # (t, mechanism, theta) where the rate vanishes
 
@@ -221,9 +230,11 @@ class _Track:
         """A turning point or the end of an episode at ``t``: the running peaks.  The pieces'
         rotations are taken where ``|theta|`` peaks: exact while each grows with ``|theta|`` along
         the mechanism (the four-bar's rates ``w3``, ``w2`` keep their sign; so on every mechanism
-        of the tests), otherwise a lower bound."""
+        of the tests), otherwise a lower bound.  So is the smallest ``V`` (``V`` rises to the
+        unstable equilibrium, then falls: over an excursion its smallest value is at an end)."""
         if abs(theta) > self.peak_theta:
             self.peak_theta, self.t_peak_theta = abs(theta), float(t)
+        self.V_min = min(self.V_min, eq.potential(theta))
         rot = max(abs(x) for x in eq.piece_rotations(theta))
         if rot > self.peak:
             self.peak, self.t_peak = rot, float(t)
@@ -462,10 +473,11 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
         eq = eqs[k]
         ti = time.perf_counter()
         check = settle and t < t_quiet < t_end
-        ev, t, theta, rate, err = _episode(eq, k, sig, t, t_quiet if check else t_end, theta, rate, track,
-                                           rk.tops[k], rk.events[k])
+        ev, t, theta, rate, err, work = _episode(eq, k, sig, t, t_quiet if check else t_end, theta, rate, track,
+                                                 rk.tops[k], rk.events[k])
         t_int += time.perf_counter() - ti
         balance = max(balance, err)
+        out.ground_work += work
         if ev == "end":
             state = (k, theta, rate)
             if check and t < t_end:     # the end of the ground motion
@@ -488,6 +500,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
         K_in = 0.5 * eq.coefficients(0.0)[0] * rate * rate
         if tr.after is None:
             out.impacts.append(ImpactEvent(t, k, None, rate, 0.0, 0.0, tr.r_qp, True))
+            out.dissipated += K_in
             state = None
             continue
         k2 = mech_index(tr.after)
@@ -497,6 +510,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
             raise SolverError(f"impact at t = {t:g} s: K'/K = {K_out / K_in:.12g} differs from r = {tr.r:.12g}")
         at_rest = K_out < REST_ENERGY * barrier
         out.impacts.append(ImpactEvent(t, k, k2, rate, 0.0 if at_rest else rate2, tr.r, tr.r_qp, at_rest))
+        out.dissipated += K_in - (0.0 if at_rest else K_out)      # at rest: what is left is lost too
         state = None if at_rest else (k2, 0.0, rate2)
     else:
         raise SolverError(f"the motion needed more than {MAX_EPISODES} episodes (impacts and onsets) before "
@@ -512,6 +526,10 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
             else:
                 k, th, w = state
                 track.add(t_end, k, th, w, 0.5 * eqs[k].coefficients(th)[0] * w * w, eqs[k].potential(th), a_end)
+    if state is not None:
+        k, th, w = state
+        out.K_end, out.V_end = 0.5 * eqs[k].coefficients(th)[0] * w * w, eqs[k].potential(th)
+    out.V_min = track.V_min
     out.mechanisms = list(mechs)
     out.unstable_rotation = [e.sign * min(e.theta_unstable, e.theta_lock) for e in eqs]
     out.overturn_rotation = [e.sign * x for e, x in zip(eqs, rk.tops)]
@@ -777,9 +795,10 @@ def _step_events(ya: tuple, F: tuple, ta: float, tb: float, ga: tuple, gb: tuple
 def _episode(eq: EquationOfMotion, k: int, sig: _Signal, t: float, t_end: float, theta: float,
              rate: float, track: _Track, top: float, reason: str):
     """Integrate along ``eq`` from ``(t, theta, rate)`` to the first event.  Returns
-    ``(event, t, theta, rate, energy_balance_error)`` with event ``"impact"``, ``reason`` (the
-    rotation ``sign * theta`` reaches ``top``: ``"overturn"`` or ``"locked"``, :func:`overturning`)
-    or ``"end"``.
+    ``(event, t, theta, rate, energy_balance_error, ground_work)`` with event ``"impact"``,
+    ``reason`` (the rotation ``sign * theta`` reaches ``top``: ``"overturn"`` or ``"locked"``,
+    :func:`overturning`) or ``"end"``; ``ground_work`` (J per unit depth): the ground's work over
+    the episode.
 
     :class:`_Dop853` steps never cross a break of the signal (a kink): a step that would is
     shortened to end on it, and the steps left to it are made equal; the step-size control
@@ -862,9 +881,9 @@ def _episode(eq: EquationOfMotion, k: int, sig: _Signal, t: float, t_end: float,
     track.peak_at(te, y[0], eq)
     err = abs(eq.energy(y[0], y[1]) - E0 - y[2]) / E_scale
     if hit is None:
-        return "end", t_end, float(y[0]), float(y[1]), err
+        return "end", t_end, float(y[0]), float(y[1]), err, float(y[2])
     Lam = coef(y[0])[0]
     track.add(te, k, y[0], y[1], 0.5 * Lam * y[1] ** 2, eq.potential(y[0]), at(te))
     if hit[0] == "impact":
-        return "impact", te, 0.0, float(y[1]), err
-    return hit[0], te, float(y[0]), float(y[1]), err
+        return "impact", te, 0.0, float(y[1]), err, float(y[2])
+    return hit[0], te, float(y[0]), float(y[1]), err, float(y[2])
