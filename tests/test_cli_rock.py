@@ -64,6 +64,13 @@ def test_csv_history(tmp_path, capsys):
     (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--frames", "1"], "--frames"),
     (["rock", "--pulse", "sine", "--amplitude", "nan", "--period", "0.5"], "finite"),
     (["rock"], "required"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--friction", "0"], "> 0"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--friction", "-0.3"], "> 0"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--friction", "nan"], "> 0"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--friction", "inf"], "> 0"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--friction", "low"], "friction coefficient"),
+    (["rock", "--pulse", "sine", "--amplitude", "1", "--period", "0.5", "--friction", "0.3", "--no-thrust-check"],
+     "--no-thrust-check"),
 ])
 def test_bad_input_exits_2_with_one_line(argv, words, capsys):
     with pytest.raises(SystemExit) as e:

@@ -187,7 +187,8 @@ def test_energy_block(case):
         rk, ground, t_end = Rocker(b, voussoirs=1, qp=False), GroundMotion.rectangular(0.6, 1.0), None
     else:
         rk = Rocker(PAPER, voussoirs=7, qp=False)
-        ground, t_end = {"rest": (GroundMotion.sine(0.6, 0.3), 3.0), "pushed_back": (GroundMotion.sine(1.0095, 0.45), 3.0),
+        ground, t_end = {"rest": (GroundMotion.sine(0.6, 0.3), 3.0),
+                         "pushed_back": (GroundMotion.sine(1.0095, 0.45), 3.0),
                          "survived": (GroundMotion.sine(0.6, 0.3), 0.5)}[case]
     res = rk.run(ground, t_end=t_end, dt_out=1e-4, thrust_check=False)
     assert res.outcome == {"pushed_back": "rest"}.get(case, case)
@@ -199,8 +200,8 @@ def test_energy_block(case):
     assert e["K_end"] + e["V_end"] == pytest.approx(e["ground_work"] - e["dissipated"], abs=1e-8 * scale)
     eqs = [EquationOfMotion(m) for m in res.mechanisms]
     lam = [eq.coefficients(0.0)[0] for eq in eqs]
-    lost = sum(0.5 * lam[i.before] * i.rate_in ** 2 - (0.5 * lam[i.after] * i.rate_out ** 2 if i.after is not None else 0.0)
-               for i in res.impacts)
+    lost = sum(0.5 * lam[i.before] * i.rate_in ** 2
+               - (0.5 * lam[i.after] * i.rate_out ** 2 if i.after is not None else 0.0) for i in res.impacts)
     assert e["dissipated"] == pytest.approx(lost, abs=1e-12 * scale)
     h = res.history
     moving = h["mechanism"] >= 0

@@ -149,7 +149,8 @@ def test_safe_region_above_the_first_overturning_amplitude(island):
     # at 1 s too, one amplitude is pushed back past the unstable equilibrium (none by the former rule)
     row1, t_end1 = island.rows[1], 1.0 + 20 * math.sqrt(h / GRAVITY)
     above = [a for a in ISLAND_GRID if a > row1["first_overturning"]]
-    assert row1["safe_amplitudes_above"] == [a for a in above if not housner_sine_overturns(a, 1.0, w, h, level, t_end1)]
+    assert row1["safe_amplitudes_above"] == [a for a in above
+                                             if not housner_sine_overturns(a, 1.0, w, h, level, t_end1)]
     assert row1["safe_amplitudes_above"] == [2.9 * 0.5]
     assert all(housner_sine_overturns(a, 1.0, w, h, alpha, t_end1) for a in above)
     d = island.to_dict()

@@ -140,3 +140,22 @@ def test_block_rocking_closed_form(block):
     assert f.residual < 1e-12
     off = section_forces(eq, theta, rate, 1.01 * accel, a_g, [0.0])
     assert off.residual > 1e-4 and abs(off.eccentricity[0] / w - EDGE[res.hinges_before[0].side]) > 1e-4
+
+
+# ---------------------------------------------------------------------- 5. many instants at once
+def test_many_instants_equal_one_at_a_time(arch_eq, block):
+    """section_forces_many on a batch of instants = section_forces instant by instant."""
+    from fembeam.dynamics.thrust import section_forces_many, uniform_sections
+
+    for eq in (arch_eq, block[2]):
+        x = eq.sign * np.array([0.0, 0.2, 0.6, 0.9]) * eq.theta_unstable
+        rate, a_g = np.array([0.0, 0.7, -0.4, 1.1]), np.array([-0.1, 0.2, 0.0, 0.35])
+        acc = np.array([eq.acceleration(*args) for args in zip(x, rate, a_g)])
+        s = uniform_sections(eq.mechanism, 20)
+        many = section_forces_many(eq, x, rate, acc, a_g, s)
+        for i in range(x.size):
+            one = section_forces(eq, x[i], rate[i], acc[i], a_g[i], s)
+            scale = np.max(np.abs(one.N))
+            for a, b in ((many.N[i], one.N), (many.V[i], one.V), (many.M[i], one.M)):
+                assert np.allclose(a, b, rtol=0, atol=1e-13 * scale)
+            assert many.margin[i] == pytest.approx(one.margin, abs=1e-13) and many.residual[i] < 1e-10

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import math
 import sys
 
 from ..dynamics.ground import RECORDS, GroundMotion
@@ -105,7 +106,11 @@ def register(sub) -> None:
                    help="end of the simulation (s; default: end of the ground motion + 20 sqrt(L/g))")
     t.add_argument("--dt-out", type=finite_float, default=None, metavar="S",
                    help="sampling step of the history (s; default: 1/4000 of the simulated time)")
-    t.add_argument("--no-thrust-check", action="store_true", help="skip the thrust-line check along the motion")
+    t.add_argument("--no-thrust-check", action="store_true",
+                   help="skip the thrust-line check along the motion (and with it the friction demand)")
+    t.add_argument("--friction", type=coulomb, default=None, metavar="MU",
+                   help="Coulomb coefficient MU > 0 at the joints: friction_demand's sliding_risk when the largest "
+                        "|S|/N of the motion or |P_t|/P_n of an impact exceeds it (the motion itself never slides)")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
@@ -116,6 +121,35 @@ def register(sub) -> None:
     o.add_argument("--frames", type=int, default=None, metavar="N",
                    help="--vtk and --gif: at most N frames, taken from the history (default 200 and 120)")
     p.set_defaults(func=run)
+
+
+def coulomb(text: str) -> float:
+    """A finite Coulomb coefficient > 0 (argparse type: exit 2 with one line otherwise)."""
+    try:
+        mu = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number > 0), got {text!r}") from None
+    if not (math.isfinite(mu) and mu > 0):
+        raise argparse.ArgumentTypeError(f"the friction coefficient must be a finite number > 0, got {text!r}")
+    return mu
+
+
+def friction_line(res: RockingResult) -> str | None:
+    """The summary's line of the friction demand (None when it was not checked)."""
+    fd = res.friction_demand
+    if fd is None:
+        return None
+    if fd["t"] is None:
+        line = "  friction demand: none (no motion)"
+    else:
+        where = f"s = {fd['s']:.6g} m" if fd["s"] is not None else "no section in compression"
+        if fd["s"] is not None and res.curve.describe().get("shape") != "block":
+            where += f" ({float(res.curve.angle_deg(fd['s'])):.2f} deg)"
+        what = "|S|/N during the motion" if fd["at"] == "motion" else "|P_t|/P_n of an impact"
+        line = f"  friction demand: largest {what} = {fd['max_ratio']:.4f} at {where}, t = {fd['t']:.6g} s"
+    if fd["mu"] is not None:
+        line += (f": SLIDING RISK (above mu = {fd['mu']:g})" if fd["sliding_risk"] else f" (within mu = {fd['mu']:g})")
+    return line
 
 
 def _progress(t_end: float):
@@ -164,9 +198,12 @@ def summary(res: RockingResult, max_impacts: int = 12) -> str:
     if res.thrust_line_exits_at is not None:
         lines.append(f"  thrust line leaves the section at t = {res.thrust_line_exits_at:.6g} s: from then on other "
                      f"hinges would open (the one-mechanism model is not valid)")
-    elif res.onsets:
+    elif res.onsets and res.thrust_checked:
         lines.append("  thrust line inside the section throughout the motion")
-    lines.append(f"  energy balance error: {res.energy_balance_error:.2e} (relative)")
+    if friction_line(res) is not None:
+        lines.append(friction_line(res))
+    lines.append(f"  energy: ground work {res.ground_work:.6g} J/m, dissipated by the impacts "
+                 f"{res.dissipated:.6g} J/m; balance error {res.energy_balance_error:.2e} (relative)")
     lines.append(f"  impacts: {len(res.impacts)}; mechanisms met: {len(res.mechanisms)}")
     if res.impacts:
         lines.append("      t [s]          r       r_qp  hinges before -> after (deg, i/e)")
@@ -204,6 +241,9 @@ def motion_outputs(args) -> dict:
 
 def run(args) -> int:
     outputs = motion_outputs(args)
+    if args.friction is not None and args.no_thrust_check:
+        raise InputError("--friction is checked against the friction demand, which comes with the thrust-line "
+                         "check: drop --no-thrust-check")
     curve, voussoirs, elements = member_from(args)
     ground = ground_from(args)
     rocker = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=args.backend, qp=not args.no_qp)
@@ -212,7 +252,7 @@ def run(args) -> int:
                             float(ground.t[-1]) + 20.0 * (curve.length / rocker.g) ** 0.5)
     try:
         res = rocker.run(ground, t_end=t_end, dt_out=args.dt_out, thrust_check=not args.no_thrust_check,
-                         progress=update)
+                         progress=update, friction=args.friction)
     finally:
         if bar is not None:
             bar.close()

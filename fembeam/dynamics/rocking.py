@@ -41,8 +41,8 @@ from ..geometry import MidCurve
 from ..mechanisms import Mechanism
 from .equation import GRAVITY, EquationOfMotion
 from .ground import GroundMotion
-from .outcomes import OUTCOMES, overturn_level
-from .thrust import section_forces, thrust_line_margin
+from .outcomes import OUTCOMES, friction_demand, overturn_level
+from .thrust import friction_ratio, impact_impulses, section_forces_many, uniform_sections
 from .transitions import ImpactModel, Transition
 
 __all__ = ["rock", "Rocker", "RockingResult", "ImpactEvent", "onset_time", "REST_ENERGY", "OUTCOMES"]
@@ -53,6 +53,7 @@ RTOL = 1e-10
 EPS = np.finfo(float).eps
 MAX_OUTPUT_STEPS = 10_000_000   # history rows (about 0.5 GB)
 THRUST_TOL = 1e-6       # thrust line outside the section by more than this fraction of t: exit
+SECTIONS = 50           # continuous member: sections checked per moving piece (and one next to each hinge)
 
 
 @dataclass(frozen=True)
@@ -100,6 +101,10 @@ class RockingResult:
     V_min: float = 0.0                      # the smallest V of the motion
     ground_work: float = 0.0                # the ground's work on the member
     dissipated: float = 0.0                 # sum over the impacts of K_in - K_out
+    thrust_checked: bool = False            # the thrust line and the friction demand were checked
+    friction: float | None = None           # Coulomb coefficient given (None: unlimited)
+    friction_motion: tuple | None = None    # (largest |S|/N, t, s) over the motion
+    friction_impact: tuple | None = None    # (largest |P_t|/P_n, t, s) over the impacts
     history: dict = field(default_factory=dict)
     unstable_rotation: list[float] = field(default_factory=list)   # per mechanism: V' = 0 (rad, signed)
     overturn_rotation: list[float] = field(default_factory=list)   # per mechanism: overturned there (rad, signed)
@@ -131,6 +136,7 @@ class RockingResult:
             "t_overturn": num(self.t_overturn),
             "overturn_reason": self.overturn_reason,
             "thrust_line_exits_at": num(self.thrust_line_exits_at),
+            "friction_demand": self.friction_demand,
             "onsets": [{"t": t, "mechanism": k} for t, k in self.onsets],
             "n_impacts": len(self.impacts),
             "impacts": [{"t": e.t, "r": e.r, "r_qp": num(e.r_qp), "rate_in": e.rate_in, "rate_out": e.rate_out,
@@ -149,6 +155,19 @@ class RockingResult:
         if history:
             out["history"] = {k: [float(x) for x in v] for k, v in self.history.items()}
         return out
+
+    @property
+    def friction_demand(self) -> dict | None:
+        """The block ``friction_demand`` (:func:`.outcomes.friction_demand`): the larger of the
+        motion's ``|S|/N`` and the impacts' ``|P_t|/P_n`` (``at``: ``"motion"`` or ``"impact"``),
+        ``sliding_risk`` against :attr:`friction`; None when the thrust line was not checked."""
+        if not self.thrust_checked:
+            return None
+        ratio, t, s = self.friction_motion or (0.0, None, None)
+        at = None if t is None else "motion"
+        if self.friction_impact is not None and self.friction_impact[0] > ratio:
+            (ratio, t, s), at = self.friction_impact, "impact"
+        return friction_demand(ratio, t, s, at, self.friction)
 
     def csv_rows(self) -> list[dict]:
         h = self.history
@@ -295,6 +314,7 @@ class Rocker:
         self.events: list[str] = []        # per mechanism: "overturn" (V falls to the level) or "locked"
         self.barriers: list[float] = []    # per mechanism: the largest V up to its top
         self._index: dict = {}
+        self._impact_friction: dict = {}   # (before, after, sign of the rate): (|P_t|/P_n, s)
         self.setup_time = time.perf_counter() - clock
 
     def index(self, m: Mechanism) -> int:
@@ -313,15 +333,19 @@ class Rocker:
         return self._index[key]
 
     def run(self, ground: GroundMotion, *, t_end: float | None = None, dt_out: float | None = None,
-            thrust_check: bool = True, progress=None, history: bool = True, settle: bool = False) -> RockingResult:
+            thrust_check: bool = True, progress=None, history: bool = True, settle: bool = False,
+            friction: float | None = None) -> RockingResult:
         """Time history under ``ground``.  ``t_end`` (s): default the end of the ground
         motion plus ``20 sqrt(L/g)`` (L: the member's length); ``dt_out`` (s): history
         sampling step (default ``(t_end - t_0) / 4000``); ``thrust_check``: find the first
-        time the thrust line leaves the section; ``progress(t)`` is called after each episode.
+        time the thrust line leaves the section and the friction demand (:func:`thrust_scan`,
+        :func:`impact_friction`); ``progress(t)`` is called after each episode.
         ``history=False``: only the rows at events and at the end.  ``settle``: at the end of
         the ground motion, stop if the free motion is known to come to rest without
-        overturning (:meth:`settles`): outcome ``"rest"``, ``settled_at`` and ``t_end`` that time."""
-        return _run(self, ground, t_end, dt_out, thrust_check, progress, history, settle)
+        overturning (:meth:`settles`): outcome ``"rest"``, ``settled_at`` and ``t_end`` that time.
+        ``friction``: a Coulomb coefficient (> 0) for ``friction_demand``'s ``sliding_risk``
+        (it does not change the motion: the joints never slide in this model)."""
+        return _run(self, ground, t_end, dt_out, thrust_check, progress, history, settle, friction)
 
     def barrier(self, k: int) -> float:
         """The energy barrier of mechanism ``k`` (J per unit depth): the largest ``V`` from rest
@@ -411,16 +435,32 @@ def overturning(eq: EquationOfMotion, level: float) -> tuple[float, str, float]:
 
 def rock(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int = 200,
          t_end: float | None = None, dt_out: float | None = None, backend: str = "clarabel",
-         qp: bool = True, thrust_check: bool = True, g: float = GRAVITY, progress=None) -> RockingResult:
+         qp: bool = True, thrust_check: bool = True, g: float = GRAVITY, progress=None,
+         friction: float | None = None) -> RockingResult:
     """Time history of ``curve`` under ``ground`` (see the module docstring, :class:`Rocker`)."""
     return Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=qp, g=g).run(
-        ground, t_end=t_end, dt_out=dt_out, thrust_check=thrust_check, progress=progress)
+        ground, t_end=t_end, dt_out=dt_out, thrust_check=thrust_check, progress=progress, friction=friction)
 
 
-def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True, settle=False) -> RockingResult:
+def _check_friction(mu) -> float | None:
+    """None, or a Coulomb coefficient: a finite number > 0 (InputError otherwise)."""
+    if mu is None:
+        return None
+    if isinstance(mu, bool) or not isinstance(mu, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(mu) and mu > 0):
+        raise InputError(f"the friction coefficient must be a finite number > 0, got {mu!r}")
+    return float(mu)
+
+
+def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True, settle=False,
+         friction=None) -> RockingResult:
     clock = time.perf_counter()
     curve, g = rk.curve, rk.g
     t_end = _check_inputs(curve, ground, t_end)
+    friction = _check_friction(friction)
+    if friction is not None and not thrust_check:
+        raise InputError("a friction coefficient is checked against the friction demand, which comes with the "
+                         "thrust-line check: do not turn the check off")
     t0 = float(ground.t[0])
     if t_end is None:
         t_end = float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / g)
@@ -435,7 +475,8 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     A, start, model, mechs, eqs = rk.A, rk.start, rk.model, rk.mechanisms, rk.equations
     mech_index = rk.index
     if not rk.stands:
-        out = RockingResult(curve, ground, "cannot_stand", t_end, dict(A), mode=rk.mode, elements=rk.n)
+        out = RockingResult(curve, ground, "cannot_stand", t_end, dict(A), mode=rk.mode, elements=rk.n,
+                            friction=friction)
         out.timings = {"setup": rk.setup_time, "total": time.perf_counter() - clock}
         return out
     timings = {"setup": rk.setup_time}
@@ -445,7 +486,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     track = _Track(np.arange(t0, t_end + 0.5 * dt_out, dt_out) if history else np.empty(0), thrust_check)
     sig = _Signal(ground)
     t_quiet = float(ground.t[-1])   # the ground is still from then on
-    out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, elements=rk.n)
+    out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, elements=rk.n, friction=friction)
     t, state = t0, None         # state: (mechanism index, theta, rate) while moving
     balance = 0.0               # largest |K + V - E_start - W_ground| of an episode (relative)
     t_int = 0.0
@@ -539,56 +580,126 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     out.history = {k_: np.asarray(v, float) for k_, v in track.rows.items()}
     timings.update(integration=t_int, transitions=t_tr)
     out.timings = {**timings, "total": time.perf_counter() - clock}
-    if thrust_check and track.pieces:
+    if thrust_check:
         t_chk = time.perf_counter()
-        out.thrust_line_exits_at = first_exit(track.pieces, eqs, ground, dt_out, rk.joints)
+        out.thrust_checked = True
+        out.thrust_line_exits_at, out.friction_motion = thrust_scan(track.pieces, eqs, ground, dt_out, rk.joints)
+        hits = [(*impact_friction(rk, e.before, e.after, e.rate_in), e.t) for e in out.impacts if e.after is not None]
+        if hits:             # the first impact within rounding of the largest (mirrored transitions tie)
+            top = max(h[0] for h in hits)
+            ratio, s_, t_ = next(h for h in hits if h[0] >= top * (1 - 1e-12))
+            out.friction_impact = (top, t_, s_)
         out.timings["thrust_check"] = time.perf_counter() - t_chk
+    out.timings["total"] = time.perf_counter() - clock
     return out
 
 
-def first_exit(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: float,
-               joints: np.ndarray | None = None, tol: float = THRUST_TOL) -> float | None:
-    """First time (s) at which the thrust line, inertia forces included, leaves the section
-    by more than ``tol`` of the thickness anywhere in the moving pieces (from then on other
-    hinges would open); None if it never does.  ``joints`` (m): a voussoir arch, whose
-    voussoirs are monolithic, is checked at its joints only; otherwise at uniform sections of
-    every moving piece and next to its hinges.  Each piece of motion is scanned every
-    ``dt`` (at least 5, at most 400 instants), then the first crossing is located (``brentq``)
-    to 2^-32 of a scan interval."""
-    def sections(eq):     # the joints of the moving pieces, not a free end (it carries nothing)
-        m = eq.mechanism
-        br = m.breaks[np.flatnonzero(m.moving)[[0, -1]] + [0, 1]]
-        keep = (joints >= br[0]) & (joints <= br[1])
-        for end, s_end in zip(m.curve.ends, (0.0, m.curve.length)):
-            keep &= ~((end == "free") & (joints == s_end))
-        return joints[keep]
+def motion_sections(eq: EquationOfMotion, joints: np.ndarray | None) -> np.ndarray:
+    """The sections checked on mechanism ``eq``: a voussoir arch's joints in its moving pieces
+    (the voussoirs are monolithic), not a free end (it carries nothing); otherwise
+    :func:`~fembeam.dynamics.thrust.uniform_sections` (``SECTIONS`` per moving piece and one next to
+    each hinge)."""
+    m = eq.mechanism
+    if joints is None:
+        return uniform_sections(m, SECTIONS)
+    br = m.breaks[np.flatnonzero(m.moving)[[0, -1]] + [0, 1]]
+    keep = (joints >= br[0]) & (joints <= br[1])
+    for end, s_end in zip(m.curve.ends, (0.0, m.curve.length)):
+        keep &= ~((end == "free") & (joints == s_end))
+    return joints[keep]
 
-    cuts = [None if joints is None else sections(eq) for eq in eqs]
 
+def thrust_scan(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: float,
+                joints: np.ndarray | None = None, tol: float = THRUST_TOL):
+    """The dynamic thrust line along the motion (``pieces``: ``(ta, tb, mechanism, dense
+    solution)``) at the sections of :func:`motion_sections`: ``(exit, (ratio, t, s))``.
+
+    ``exit``: the first time (s) at which it leaves the section by more than ``tol`` of the
+    thickness anywhere (from then on other hinges would open); None if it never does.
+    ``(ratio, t, s)``: the largest ``|S| / N`` over the sections in compression (S the shear, N
+    the normal force) and its time and section (m); ``(0, None, None)`` without motion.
+
+    Each piece of motion is evaluated every ``dt`` (at least 5, at most 400 instants; all the
+    instants of a mechanism at once: :func:`~fembeam.dynamics.thrust.section_forces_many`); the first exit is located
+    (``brentq``) to 2^-32 of a scan interval, the largest ratio refined by bounded Brent on the
+    scan intervals either side of its best instant."""
+    cuts: dict[int, np.ndarray] = {}
     at = ground.scalar()
 
-    def margin(k, sol, tt):
-        theta, rate = sol(tt)[:2]
-        a = at(tt)
-        acc = eqs[k].acceleration(theta, rate, a)
-        if cuts[k] is None:
-            return thrust_line_margin(eqs[k], theta, rate, acc, a, sections=50).margin + tol
-        return section_forces(eqs[k], theta, rate, acc, a, cuts[k]).margin + tol
+    def state(k, instants):
+        """The forces on mechanism ``k`` at the ``(dense solution, t)`` pairs ``instants``."""
+        y = np.array([sol(tt)[:2] for sol, tt in instants]).reshape(-1, 2)
+        a = np.array([at(tt) for _, tt in instants])
+        acc = np.array([eqs[k].acceleration(th, w, x) for (th, w), x in zip(y.tolist(), a.tolist())])
+        return section_forces_many(eqs[k], y[:, 0], y[:, 1], acc, a, cuts[k])
 
-    for ta, tb, k, sol in pieces:
-        ts = np.linspace(ta, tb, int(np.clip(np.ceil((tb - ta) / dt), 5, 400)))
-        prev = ta
-        for tt in ts:
-            if margin(k, sol, tt) < 0:
-                if tt == ta:
-                    return float(ta)
-                xtol = (tt - prev) * 2.0 ** -32     # to 2^-32 of a scan interval, on the exit side
-                x = _brentq()(lambda s: margin(k, sol, s), prev, tt, xtol=xtol)
-                while x < tt and margin(k, sol, x) >= 0:
-                    x = min(x + xtol, tt)
-                return float(x)
-            prev = tt
-    return None
+    def margin(k, sol, tt):
+        return float(state(k, [(sol, tt)]).margin[0]) + tol
+
+    def ratio(k, sol, tt):
+        _, best, i = friction_ratio(state(k, [(sol, tt)]))
+        return float(best[0]), (float(cuts[k][i[0]]) if i[0] >= 0 else None)
+
+    grids = [np.linspace(ta, tb, int(np.clip(np.ceil((tb - ta) / dt), 5, 400))) for ta, tb, _, _ in pieces]
+    results: list = [None] * len(pieces)
+    for k in sorted({p[2] for p in pieces}):     # every instant of a mechanism in one evaluation
+        cuts[k] = motion_sections(eqs[k], joints)
+        idx = [i for i, p in enumerate(pieces) if p[2] == k]
+        f = state(k, [(pieces[i][3], tt) for i in idx for tt in grids[i].tolist()])
+        _, best, _ = friction_ratio(f)
+        ends = np.cumsum([0] + [grids[i].size for i in idx])
+        for i, lo, hi in zip(idx, ends[:-1], ends[1:]):
+            results[i] = (f.margin[lo:hi], best[lo:hi])
+    exit_at, top = None, (0.0, None, None, None)       # ratio, time, piece, scan interval
+    for (ta, tb, k, sol), ts, (margins, best) in zip(pieces, grids, results):
+        if exit_at is None:
+            out = np.flatnonzero(margins + tol < 0)
+            if out.size:
+                i = int(out[0])
+                if i == 0:
+                    exit_at = float(ta)
+                else:
+                    prev, tt = ts[i - 1], ts[i]
+                    xtol = (tt - prev) * 2.0 ** -32     # to 2^-32 of a scan interval, on the exit side
+                    x = _brentq()(lambda x_: margin(k, sol, x_), prev, tt, xtol=xtol)
+                    while x < tt and margin(k, sol, x) >= 0:
+                        x = min(x + xtol, tt)
+                    exit_at = float(x)
+        i = int(np.argmax(best))
+        if best[i] > top[0]:
+            top = (float(best[i]), float(ts[i]), (k, sol), (ts[max(i - 1, 0)], ts[min(i + 1, ts.size - 1)]))
+    if top[1] is None:
+        return exit_at, (0.0, None, None)
+    value, t_best, (k, sol), (lo, hi) = top
+    s_best = ratio(k, sol, t_best)[1]
+    if hi > lo:
+        from scipy.optimize import minimize_scalar
+
+        r = minimize_scalar(lambda x: -ratio(k, sol, x)[0], bounds=(lo, hi), method="bounded",
+                            options={"xatol": 1e-10 * (hi - lo)})
+        if -r.fun > value:
+            value, t_best = float(-r.fun), float(r.x)
+            s_best = ratio(k, sol, t_best)[1]
+    return exit_at, (value, t_best, s_best)
+
+
+def impact_friction(rk: "Rocker", before: int, after: int, rate_in: float) -> tuple[float, float | None]:
+    """The largest ``|P_t| / P_n`` of the percussions (:func:`~fembeam.dynamics.thrust.impact_impulses`)
+    over the sections in compression (:func:`motion_sections` of the mechanism after) of an impact
+    from mechanism ``before`` to ``after`` (rate ``rate_in``, sign only: the ratios do not depend on
+    its size), and its section (m); cached per pair."""
+    key = (before, after, rate_in > 0)
+    if key not in rk._impact_friction:
+        eq, eq2 = rk.equations[before], rk.equations[after]
+        tr = rk.model(rk.mechanisms[before])
+        cuts = motion_sections(eq2, rk.joints)
+        f = impact_impulses(eq, eq2, math.copysign(1.0, rate_in), tr.alpha_ratio, cuts)
+        if not f.residual < 1e-8:
+            raise SolverError(f"the impulses of the impact from mechanism {before} to {after} do not balance "
+                              f"(relative residual {f.residual:.1e})")
+        _, best, i = friction_ratio(f)
+        rk._impact_friction[key] = (float(best[0]), float(cuts[i[0]]) if i[0] >= 0 else None)
+    return rk._impact_friction[key]
 
 
 def _rest_rows(track: _Track, ground: GroundMotion, ta: float, tb: float):
