@@ -15,12 +15,12 @@ import numpy as np
 from numba import njit
 
 from .kernel_linalg import BAND, apply_h, apply_ht, delassus, factor, geometry, solve
-from .kernel_solve import REG, solve_friction, solve_mlcp
+from .kernel_solve import REG, nsgs, solve_friction, solve_mlcp
 
 # float state
 F_T, F_W, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_TOVER, F_RATIO, F_TRATIO, \
-    F_SLIP, F_TSLIP, F_VMIN, F_KKT = range(17)
-N_FLOAT = 17
+    F_SLIP, F_TSLIP, F_VMIN, F_KKT, F_FRICTION, F_COULOMB = range(19)
+N_FLOAT = 19
 # integer state
 I_STEPS, I_CUTS, I_PIVOTS, I_OUTCOME, I_HASW, I_HASWI, I_STALE, I_JRATIO, I_ATRATIO, I_JSLIP, I_STATUS, \
     I_SLIDING = range(12)
@@ -84,7 +84,7 @@ def _roots(gap, vn, an):
 
 @njit(cache=True, error_model="numpy")
 def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_pivots, ab, U, P, w, c,
-             fs, ist, t, at_impact, kkt_tol):
+             fs, ist, t, at_impact, kkt_tol, coulomb_tol):
     """The contact problem of ``v_free`` with the closed corners ``closed`` ``(J, 2)``: ``P``, ``w``,
     ``ab`` (W) filled, ``F`` the new working set.  Returns the solver's status (0: solved) and
     tracks the friction demand in ``fs``/``ist``."""
@@ -112,26 +112,43 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
     if mu < np.inf:
         slide = False
         for j in range(J):
-            if cj[j] and abs(P[3 * j + 2]) > mu * (P[3 * j] + P[3 * j + 1]):
+            if cj[j] and abs(P[3 * j + 2]) > mu * (P[3 * j] + P[3 * j + 1]) + 1e-12 * vscale / max(ab[BAND, 3 * j + 2], 1e-300):
                 slide = True
                 break
         if slide:
-            status, piv, res = solve_friction(ab, c, nonneg, cj, mu, vscale, box, U, P, w, kkt_tol)
+            # the stick solution violates the cone: the Tresca fixed point from it, then
+            # non-smooth Gauss-Seidel
+            for j in range(J):              # start: the stick solution's working set, the violated bounds
+                for r in range(2):
+                    box[3 * j + r] = 0 if F[3 * j + r] else 1
+                N = P[3 * j] + P[3 * j + 1]
+                box[3 * j + 2] = 2 if P[3 * j + 2] > mu * N else (1 if P[3 * j + 2] < -mu * N else 0)
+            status, piv, res = solve_friction(ab, c, nonneg, cj, mu, vscale, box, U, P, w, coulomb_tol)
             ist[I_PIVOTS] += piv
-            if status != 0:
-                fs[F_KKT] = res
-                return status
+            if status != 0:                 # non-smooth Gauss-Seidel from the best iterate
+                dmax = 0.0
+                for i in range(m):
+                    dmax = max(dmax, ab[BAND, i])
+                ok, sweeps, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
+                ist[I_PIVOTS] += sweeps
+                if not ok:
+                    fs[F_KKT] = res
+                    return 4
+            fs[F_COULOMB] = max(fs[F_COULOMB], res)
             for i in range(m):
-                F[i] = free[i] or (nonneg[i] and box[i] == 0)
+                F[i] = free[i] or (nonneg[i] and P[i] > 0)
             ist[I_SLIDING] += 1
-    # friction demand: |P_t| / N at the joints that carry a normal percussion
-    Nmax = 0.0
-    for j in range(J):
-        if cj[j]:
-            Nmax = max(Nmax, P[3 * j] + P[3 * j + 1])
+    # friction demand: |P_t| / N at the joints whose normal percussion is at least 1e-3 of the
+    # percussion scale of the step's tolerances (the largest, or the rates' scale over W's
+    # diagonal): a lighter joint's ratio is not resolved by them
+    pmax, dmax = 0.0, 0.0
+    for i in range(m):
+        pmax = max(pmax, abs(P[i]))
+        dmax = max(dmax, ab[BAND, i])
+    pscale = max(pmax, vscale / max(dmax, 1e-300))
     for j in range(J):
         N = P[3 * j] + P[3 * j + 1]
-        if cj[j] and N > 1e-6 * Nmax and N > 0:
+        if cj[j] and N > 1e-3 * pscale:
             ratio = abs(P[3 * j + 2]) / N
             if ratio > fs[F_RATIO]:
                 fs[F_RATIO] = ratio
@@ -146,7 +163,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
             fs, ist, dt, t_end, t0, dt_out, g, h_min, gap_tol, V_over, slide_out, mu, stop,
             kind, amp, period, ts, av, impact_pivots, block_pivots,
-            hist, pos, imp, max_steps, kkt_tol):
+            hist, pos, imp, max_steps, kkt_tol, coulomb_tol):
     """Steps from the state given until the end, a stop, ``max_steps`` steps, or the buffers
     ``hist`` ``(rows, 9)`` / ``pos`` ``(rows, n, 3)`` / ``imp`` ``(rows, 3)`` are full.  Returns
     ``(status, history rows written, impacts written)``."""
@@ -260,7 +277,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
                     geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
                     ist[I_STALE] = 0
                 st = _project(rows, sides, minv, v, closed, working_imp, ist[I_HASWI] == 1, box_imp, mu, g * h,
-                              impact_pivots, ab, U, P, w, c, fs, ist, t, 1, kkt_tol)
+                              impact_pivots, ab, U, P, w, c, fs, ist, t, 1, kkt_tol, coulomb_tol)
                 if st != 0:
                     ist[I_STATUS] = st
                     fs[F_T] = t
@@ -313,8 +330,10 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
                 any_closed = True
         if any_closed:
             geometry(qm, A, B, ra, rb, nu0, tau0, gm_gap, gm_slip, gm_rows, gm_contact)
+            if mu < np.inf:
+                apply_h(gm_rows, sides, v, Hv)      # the rates at the start of the step
             st = _project(gm_rows, sides, minv, v_free, closed, working, ist[I_HASW] == 1, box, mu, g * h,
-                          block_pivots, ab, U, P, w, c, fs, ist, t, 0, kkt_tol)
+                          block_pivots, ab, U, P, w, c, fs, ist, t, 0, kkt_tol, coulomb_tol)
             if st != 0:
                 ist[I_STATUS] = st
                 fs[F_T] = t
@@ -333,10 +352,15 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
                 q_new[i, d] = qm[i, d] + 0.5 * h * v_new[i, d]
         geometry(q_new, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
         ist[I_STALE] = 0
-        if mu < np.inf:                   # the slip carried by the joints
+        if mu < np.inf:                   # the slip carried by the joints, the work of friction
             for j in range(J):
                 if closed[j, 0] or closed[j, 1]:
-                    s_ref[j] += h * w[3 * j + 2]
+                    # the slip and the work of P_t over the step: positions move by h/2 (v_k + v_k+1)
+                    rate = 0.5 * (Hv[3 * j + 2] + w[3 * j + 2])
+                    s_ref[j] += h * rate
+                    work = -P[3 * j + 2] * rate              # P_t opposes the sliding rate
+                    fs[F_FRICTION] += work
+                    fs[F_D] += work
                 else:
                     s_ref[j] = slip[j, contact[j]]
                 if abs(s_ref[j]) > fs[F_SLIP]:

@@ -19,8 +19,9 @@ Tresca fixed point (Panagiotopoulos; Siconos' ``TFP`` solver): with the bounds `
 the problem is the convex QP ``min 1/2 P^T W P + c^T P`` with ``P_N >= 0`` and ``|P_t| <= mu N^k``,
 solved by block principal pivoting on the box (a row is free, at its lower or at its upper bound;
 every solve is the symmetric band of ``W`` on the free rows) or, failing that, by projected
-Gauss-Seidel; ``N^{k+1}`` is its normal percussion, until ``N`` repeats.  The result is then
-checked against Coulomb's law itself (:func:`coulomb_residual`).
+Gauss-Seidel; ``N^{k+1}`` is its normal percussion, until the solution satisfies Coulomb's law
+with its own normal percussions (:func:`coulomb_residual`, relative to the scales of the
+percussions and rates, below ``COULOMB_TOL`` times the KKT tolerance).
 
 Status codes: 0 solved, 1 did not converge, 2 the KKT (or Coulomb) check failed, 3 not positive
 definite.
@@ -38,11 +39,16 @@ REG = 1e-12          # as projection.REG
 KKT_TOL = 1e-8       # as projection.KKT_TOL (the default of the kkt_tol arguments)
 MAX_PIVOTS = 1000
 IPM_ITERATIONS = 80
-BOX_PIVOTS = 30      # box pivots per Tresca problem
-PGS_SWEEPS = 20000   # projected Gauss-Seidel sweeps (fallback)
-FIXED_POINT = 200    # Tresca fixed-point iterations
-FP_TOL = 1e-10       # relative change of N that ends the fixed point
-COULOMB_TOL = 1e3    # Coulomb residual admitted, in units of the KKT tolerance
+BOX_PIVOTS = 100     # box pivots per Tresca problem
+PGS_SWEEPS = 2000   # projected Gauss-Seidel sweeps (fallback)
+FIXED_POINT = 60     # Tresca fixed-point iterations
+RELAX_FROM = 10      # fixed-point iterations before the update of N is relaxed
+COULOMB_TOL = 1e-5   # Coulomb residual admitted (relative to the scales of percussions and rates)
+REG_FRICTION = 1e-9  # regularisation of the Tresca problems (relative to the largest diagonal entry of W):
+                     # the self-stress states of redundant closed joints are otherwise decided by
+                     # round-off at a condition number of 1e12, and the pivots cycle on them
+NSGS_SWEEPS = 2000   # non-smooth Gauss-Seidel sweeps (the last resort of the frictional problem)
+PGS_TOL = 1e-9       # projected gradient that ends the projected Gauss-Seidel, relative to the rates
 
 
 @njit(cache=True, error_model="numpy")
@@ -367,7 +373,7 @@ def _pgs(ab, c, lo, hi, reg, vscale, P, w):
             if (P[i] <= lo[i] and g > 0) or (P[i] >= hi[i] and g < 0):
                 continue
             worst = max(worst, abs(g))
-        if worst <= 1e-12 * vscale:
+        if worst <= PGS_TOL * vscale:
             return True
         for i in range(m):               # one sweep, rates updated row by row
             if hi[i] <= lo[i]:
@@ -383,19 +389,24 @@ def _pgs(ab, c, lo, hi, reg, vscale, P, w):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, kkt_tol):
-    """The frictional problem from the sticking solution ``P`` (in) by the Tresca fixed point;
-    ``state`` the box statuses (warm start; out: the solution's).  Returns ``(status, solves,
-    residual)``."""
+def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol):
+    """The frictional problem from the sticking solution ``P`` (in; out: the solution, or the
+    iterate of smallest residual) by the Tresca fixed point; ``state`` the box statuses (warm
+    start; out: the solution's).  The bounds follow ``N`` (relaxed by 1/2 from iteration
+    :data:`RELAX_FROM` on: a joint whose normal percussion vanishes when it slides and returns
+    when it sticks makes the plain iteration a 2-cycle).  Returns ``(status, solves, residual)``:
+    0 when :func:`coulomb_residual` is below ``tol``."""
     m = c.size
     J = closed_joint.size
     dmax = 0.0
     for i in range(m):
         dmax = max(dmax, ab[BAND, i])
-    reg = REG * dmax
+    reg = REG_FRICTION * dmax
     lo = np.zeros(m)
     hi = np.zeros(m)
     N = np.empty(J)
+    best = np.inf
+    Pbest = P.copy()
     for j in range(J):
         N[j] = max(P[3 * j], 0.0) + max(P[3 * j + 1], 0.0)
     solves = 0
@@ -413,17 +424,143 @@ def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, kkt_
             ok = _pgs(ab, c, lo, hi, reg, vscale, P, w)
             solves += 1
             if not ok:
-                return 1, solves, 0.0
-        change, scale = 0.0, 0.0
+                break
+        # Coulomb's law with the new normal percussions (the bounds used were the previous ones)
+        matvec(ab, P, w)
+        w += c
+        pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
+        res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
+        if res < best:
+            best = res
+            Pbest[:] = P
+        if res <= tol:
+            return 0, solves, res
+        omega = 0.5 if it >= RELAX_FROM else 1.0
         for j in range(J):
-            Nn = P[3 * j] + P[3 * j + 1]
-            change = max(change, abs(Nn - N[j]))
-            scale = max(scale, abs(Nn))
-            N[j] = Nn
-        if change <= FP_TOL * max(scale, vscale / max(dmax, 1e-300)):
-            matvec(ab, P, w)
-            w += c
-            pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
-            res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
-            return (0 if res <= COULOMB_TOL * kkt_tol else 2), solves, res
-    return 1, solves, 0.0
+            N[j] += omega * (P[3 * j] + P[3 * j + 1] - N[j])
+    P[:] = Pbest
+    matvec(ab, P, w)
+    w += c
+    return 1, solves, best
+
+
+@njit(cache=True, error_model="numpy")
+def _local(Wl, q, mu, active0, active1, Pl):
+    """Exact solution of one joint's frictional problem ``w = Wl P + q`` (``P = (P_n0, P_n1, P_t)``,
+    ``active0/1``: the corner is closed) by enumeration of its cases: which corners carry a
+    percussion, and sticking or sliding either way.  ``Pl`` the solution; False if no case is
+    consistent (round-off), in which case ``Pl`` is the case with the smallest violation."""
+    best, bestP0, bestP1, bestPt = np.inf, 0.0, 0.0, 0.0
+    d = max(Wl[0, 0], Wl[1, 1], Wl[2, 2])          # percussions times d: rates (violations in m/s)
+    tol = 1e-10 * (abs(q[0]) + abs(q[1]) + abs(q[2]) + 1e-300)
+    for corners in range(4):                       # 0: none, 1: corner 0, 2: corner 1, 3: both
+        a0, a1 = corners & 1 == 1, corners & 2 == 2
+        if (a0 and not active0) or (a1 and not active1):
+            continue
+        for s in (0, 1, -1):                       # stick, P_t = +mu N, P_t = -mu N
+            if corners == 0 and s != 0:
+                continue
+            # unknowns x = (P_n0, P_n1, P_t) with the inactive ones zero; equations w_i = 0 on the
+            # active normal rows and, when sticking, on the tangential row; when sliding
+            # P_t = s mu (P_n0 + P_n1) is substituted.
+            A = np.zeros((3, 3))
+            b = np.zeros(3)
+            idx = np.zeros(3, np.int64)
+            k = 0
+            if a0:
+                idx[k] = 0
+                k += 1
+            if a1:
+                idx[k] = 1
+                k += 1
+            nn = k
+            if s == 0 and corners != 0:
+                idx[k] = 2
+                k += 1
+            for r in range(k):
+                row = idx[r]
+                b[r] = -q[row]
+                for cc in range(k):
+                    col = idx[cc]
+                    A[r, cc] = Wl[row, col]
+                    if s != 0 and col < 2:
+                        A[r, cc] += Wl[row, 2] * s * mu
+            x = np.zeros(3)
+            if k > 0:
+                sol = np.linalg.solve(A[:k, :k] + 0.0, b[:k])
+                for r in range(k):
+                    x[idx[r]] = sol[r]
+            N = x[0] + x[1]
+            if s != 0:
+                x[2] = s * mu * N
+            w0 = Wl[0, 0] * x[0] + Wl[0, 1] * x[1] + Wl[0, 2] * x[2] + q[0]
+            w1 = Wl[1, 0] * x[0] + Wl[1, 1] * x[1] + Wl[1, 2] * x[2] + q[1]
+            wt = Wl[2, 0] * x[0] + Wl[2, 1] * x[1] + Wl[2, 2] * x[2] + q[2]
+            viol = max(0.0, -x[0] * d, -x[1] * d)
+            if active0 and not a0:
+                viol = max(viol, -w0)
+            if active1 and not a1:
+                viol = max(viol, -w1)
+            if s == 0:
+                viol = max(viol, (abs(x[2]) - mu * N) * d)
+            else:
+                viol = max(viol, s * wt)
+            if viol < best:
+                best, bestP0, bestP1, bestPt = viol, x[0], x[1], x[2]
+            if viol <= tol:
+                Pl[0], Pl[1], Pl[2] = x[0], x[1], x[2]
+                return True
+    Pl[0], Pl[1], Pl[2] = bestP0, bestP1, bestPt
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def nsgs(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
+    """Non-smooth Gauss-Seidel (Jean and Moreau; the solver of LMGC90 and Siconos): sweeps over
+    the joints, each solved exactly (:func:`_local`) with the others' percussions frozen, from
+    the ``P`` given, until :func:`coulomb_residual` is below ``tol``.  Returns
+    ``(converged, sweeps, residual)``."""
+    m = c.size
+    J = closed_joint.size
+    dmax = 0.0
+    for i in range(m):
+        dmax = max(dmax, ab[BAND, i])
+    Wl = np.zeros((3, 3))
+    ql = np.zeros(3)
+    Pl = np.zeros(3)
+    res = np.inf
+    for j in range(J):
+        if not closed_joint[j]:
+            P[3 * j] = P[3 * j + 1] = P[3 * j + 2] = 0.0
+    for sweep in range(NSGS_SWEEPS):
+        matvec(ab, P, w)
+        for i in range(m):
+            w[i] += c[i]
+        pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
+        res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
+        if res <= tol:
+            return True, sweep, res
+        for j in range(J):
+            if not closed_joint[j]:
+                continue
+            base = 3 * j
+            for r in range(3):               # the joint's block of W and its free rates
+                for cc in range(3):
+                    i, k = base + r, base + cc
+                    lo_, hi_ = min(i, k), max(i, k)
+                    Wl[r, cc] = ab[BAND + lo_ - hi_, hi_]
+                Wl[r, r] += reg
+            for r in range(3):
+                i = base + r
+                acc = c[i] + ab[BAND, i] * P[i]
+                for k in range(max(0, i - BAND), i):
+                    acc += ab[BAND + k - i, i] * P[k]
+                for k in range(i + 1, min(m, i + BAND + 1)):
+                    acc += ab[BAND + i - k, k] * P[k]
+                ql[r] = acc
+            for r in range(3):
+                for cc in range(3):
+                    ql[r] -= (Wl[r, cc] - (reg if r == cc else 0.0)) * P[base + cc]
+            _local(Wl, ql, mu, nonneg[base], nonneg[base + 1], Pl)
+            P[base], P[base + 1], P[base + 2] = Pl[0], Pl[1], Pl[2]
+    return False, NSGS_SWEEPS, res

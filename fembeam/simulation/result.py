@@ -57,6 +57,8 @@ class SimulationResult:
     t_slip: float | None = None
     s_slip: float | None = None
     sliding_steps: int = 0
+    friction_work: float = 0.0
+    coulomb_residual: float = 0.0
     V_min: float = 0.0
     timings: dict = field(default_factory=dict)
     steps: int = 0
@@ -113,14 +115,16 @@ class SimulationResult:
             "energy": {"K_end": num(h["K"][-1]) if len(h["K"]) else 0.0,
                        "V_end": num(h["V"][-1]) if len(h["V"]) else 0.0,
                        "ground_work": num(self.ground_work), "dissipated": num(self.dissipated),
-                       "projection_drift": num(self.projection_drift), "V_min": num(self.V_min)},
+                       "projection_drift": num(self.projection_drift), "V_min": num(self.V_min),
+                       "friction_work": num(self.friction_work)},
             "energy_balance_error": num(self.energy_balance_error),
             "n_impacts": len(self.impacts),
             "impacts": [{"t": float(t), "r": float(b / a) if a > 0 else 0.0} for t, a, b in self.impacts],
             "friction_demand": friction_demand(self.friction_ratio, self.t_friction, self.s_friction,
                                                self.friction_at, self.friction),
             "sliding": {"mu": num(self.friction), "max_slip": num(self.max_slip), "t": num(self.t_slip),
-                        "s": num(self.s_slip), "sliding_steps": self.sliding_steps},
+                        "s": num(self.s_slip), "sliding_steps": self.sliding_steps,
+                        "coulomb_residual_max": num(self.coulomb_residual)},
             "steps": self.steps,
             "cut_steps": self.cut_steps,
             "pivots": self.pivots,

@@ -71,7 +71,9 @@ CHUNK_STEPS = 4096          # steps between two returns of the compiled loop (pr
 CHUNK_ROWS = 512            # history rows and impacts buffered per return
 MU_RANGE = (1e-3, 1e3)      # admitted friction coefficients
 KKT_TOL = 1e-8              # KKT residual of a step's contact problem, relative to its scales
-_SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite"}
+COULOMB_TOL = 1e-5          # residual of Coulomb's law at a step with sliding (same scales)
+_SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite",
+                  4: "with friction did not converge (Tresca fixed point and non-smooth Gauss-Seidel)"}
 
 
 class Simulator:
@@ -226,7 +228,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
             gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
             fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, SLIDE_OUT, mu,
             bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
-            hist, pos, imp, CHUNK_STEPS, KKT_TOL)
+            hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL)
         h_rows.append(hist[:nh].copy())
         p_rows.extend(pos[:nh].copy())
         impacts.extend(map(tuple, imp[:ni].tolist()))
@@ -263,6 +265,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                friction_at=None if jr < 0 else ("impact" if ist[K.I_ATRATIO] else "motion"),
                max_slip=float(fs[K.F_SLIP]), t_slip=opt(fs[K.F_TSLIP]),
                s_slip=None if js < 0 else float(bodies.joint_s[js]), sliding_steps=int(ist[K.I_SLIDING]),
+               friction_work=float(fs[K.F_FRICTION]), coulomb_residual=float(fs[K.F_COULOMB]),
                time=time.perf_counter() - clock,
                timings={"load": t_load, "run": t_run, "total": time.perf_counter() - clock})
     return res
