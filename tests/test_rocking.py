@@ -338,6 +338,26 @@ def test_barrier_and_settles_agree_with_the_overturning_event():
             assert eq.potential(theta) == pytest.approx(rk.level, rel=1e-9)
 
 
+def test_a_linkage_that_locks_before_the_level_overturns():
+    """With a level the mechanisms cannot reach before their four-bar locks (1e6 times the
+    member's weight times its thickness below rest), overturning is the lock: the rotation stops
+    just short of the lock angle and the reason is ``linkage_locked``."""
+    from fembeam.dynamics.rocking import overturning
+
+    rk = Rocker(PAPER, voussoirs=7, qp=False)
+    eq = rk.equations[rk.index(rk.start[1])]
+    top, event, barrier = overturning(eq, -1e6 * rk.mass * GRAVITY * PAPER.thickness)
+    assert event == "locked" and top == eq.theta_lock * (1 - 1e-9) and math.isfinite(top)
+    assert barrier == pytest.approx(eq.potential(eq.sign * eq.theta_unstable), rel=1e-12)
+    locked = Rocker(PAPER, voussoirs=7, qp=False)
+    locked.level = -1e6 * locked.mass * GRAVITY * PAPER.thickness      # before any mechanism is set up
+    res = locked.run(GroundMotion.rectangular(2.0, 1.0), thrust_check=False)
+    k = int(res.history["mechanism"][-1])
+    assert res.outcome == "overturned" and res.overturn_reason == "linkage_locked"
+    assert locked.equations[k].sign * res.history["theta"][-1] == pytest.approx(locked.equations[k].theta_lock,
+                                                                                rel=1e-8)
+
+
 def _housner_overturns_at_alpha(A, alpha, p, t1, t_end):
     """The former rule by an independent route: Housner's equation about the corner,
     ``phi'' = p^2 (A cos(alpha - phi) - sin(alpha - phi))`` (``A`` in g during the pulse, 0 after),
