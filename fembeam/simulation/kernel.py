@@ -1,11 +1,49 @@
-"""The compiled (numba) loop of the Moreau-Jean time stepping of :mod:`.stepper`.
+"""The compiled (numba) time stepping of :mod:`.stepper`, in three layers, as in a non-smooth
+contact dynamics code (the mechanical model, the one-step problem, its solvers):
 
-:func:`advance` runs the steps of :mod:`.stepper`'s docstring from the state it is given until the
-end of the run, an overturning (when asked to stop there), or a budget of steps or output rows is
-used (the caller then reports progress, checks for interrupts and calls again).  The state lives
-in arrays owned by the caller: positions ``q`` and velocities ``v`` ``(n + 1, 3)``, the joint
-geometry of the last configuration, the warm starts of the contact solvers, the scalars ``fs``
-(floats, indices ``F_*``) and ``ist`` (integers, indices ``I_*``).
+1. **Operators**: the joint geometry and the rows of ``H`` (:mod:`.contacts`, as loops over the
+   joints), ``H v``, ``H^T P``, the Delassus operator ``W = H M^-1 H^T`` in LAPACK's upper band
+   storage (``W[i, k]`` at ``ab[BAND + i - k, k]``, ``i <= k``) and a banded Cholesky
+   factorisation of ``W`` restricted to a set of rows (the others identity rows) plus a diagonal.
+   Joint ``j`` has the reference side ``A[j]`` and the other side ``B[j]`` (body ``n``: the
+   ground); rows ``3 j``, ``3 j + 1`` are the opening rates of its intrados and extrados corners
+   and ``3 j + 2`` the sliding rate at its ``contact`` corner.
+
+2. **One step's contact problem.**  Without friction (sticking joints) it is the MLCP of
+   :mod:`.projection`, ``w = W P + c``, ``w_T = 0`` (sliding rows), ``0 <= P_N _|_ w_N >= 0``,
+   solved as there (:func:`solve_mlcp`: block principal pivots warm-started from the previous
+   working set, Mehrotra's interior point, a primal active-set method; KKT residuals checked).
+   With Coulomb friction ``mu`` a joint with a closed corner has normal percussions
+   ``P_n0, P_n1 >= 0`` and one tangential percussion ``P_t`` along its face::
+
+       |P_t| <= mu N  (N = P_n0 + P_n1);   |P_t| < mu N => w_t = 0;   w_t != 0 => P_t = -mu N sign(w_t)
+
+   (sliding without dilatancy).  In order, until one satisfies Coulomb's law to the tolerance
+   (:func:`coulomb_residual`):
+
+   a. the sticking solution, if ``|P_t| <= mu N`` at every joint;
+   b. the same velocities with a self-stress of the redundant closed joints added
+      (:func:`self_stress`, :func:`redistribute`): between two abutments the percussions are
+      determined up to three self-stress states, and one of them may lie in the cone;
+   c. the Tresca fixed point (:func:`solve_friction`; Siconos' ``TFP``): with the bounds
+      ``mu N^k`` frozen, the convex QP ``min 1/2 P^T W P + c^T P``, ``P_N >= 0``,
+      ``|P_t| <= mu N^k`` by block principal pivoting on the box (projected Gauss-Seidel as
+      fallback), then ``N^{k+1}`` from its solution (relaxed after some iterations);
+   d. the semi-smooth Newton method on Alart and Curnier's equations (:func:`semismooth_newton`,
+      damped on their squared residual);
+   e. non-smooth Gauss-Seidel with an exact solver per joint (:func:`nsgs`; LMGC90's and
+      Siconos' solver), from the sticking solution, then from the best iterate of (c).
+
+3. **The loop** (:func:`advance`) runs the steps of :mod:`.stepper` from the state it is given
+   until the end of the run, an overturning (when asked to stop there), or a budget of steps or
+   output rows is used (the caller then reports progress and calls again).  The state lives in
+   arrays owned by the caller: positions ``q`` and velocities ``v`` ``(n + 1, 3)``, the joint
+   geometry of the last configuration, the warm starts of the solvers, the scalars ``fs``
+   (floats, indices ``F_*``) and ``ist`` (integers, indices ``I_*``).
+
+Solver status codes: 0 solved, 1 did not converge, 2 KKT check failed, 3 not positive definite,
+4 the frictional problem unsolved.  One module, so that numba's on-disk cache (keyed on this
+file) is never stale for a part of it.
 """
 from __future__ import annotations
 
@@ -14,23 +52,946 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernel_linalg import BAND, apply_h, apply_ht, delassus, factor, geometry, solve
-from .kernel_solve import REG, nsgs, solve_friction, solve_mlcp
+# ================================================================================================= operators
+BAND = 5                # half-bandwidth of W (three rows per joint, consecutive joints share a body)
 
+
+@njit(cache=True, error_model="numpy")
+def geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact):
+    """Gaps and slips ``(J, 2)`` (m), the rows of ``H`` ``(J, 3, 2, 3)`` and the contact corners at
+    positions ``q`` ``(n + 1, 3)``; ``ra``, ``rb`` ``(J, 2, 2)`` the corners relative to the
+    centroids of the two sides at rest, ``nu0``, ``tau0`` ``(J, 2)`` the reference face's normal and
+    tangent at rest."""
+    for j in range(A.size):
+        a, b = A[j], B[j]
+        ca, sa = math.cos(q[a, 2]), math.sin(q[a, 2])
+        cb, sb = math.cos(q[b, 2]), math.sin(q[b, 2])
+        nux, nuy = ca * nu0[j, 0] - sa * nu0[j, 1], sa * nu0[j, 0] + ca * nu0[j, 1]
+        tx, ty = ca * tau0[j, 0] - sa * tau0[j, 1], sa * tau0[j, 0] + ca * tau0[j, 1]
+        px0 = q[b, 0] + cb * rb[j, 0, 0] - sb * rb[j, 0, 1]
+        py0 = q[b, 1] + sb * rb[j, 0, 0] + cb * rb[j, 0, 1]
+        px1 = q[b, 0] + cb * rb[j, 1, 0] - sb * rb[j, 1, 1]
+        py1 = q[b, 1] + sb * rb[j, 1, 0] + cb * rb[j, 1, 1]
+        for c in range(2):
+            px, py = (px0, py0) if c == 0 else (px1, py1)
+            dx = px - (q[a, 0] + ca * ra[j, c, 0] - sa * ra[j, c, 1])
+            dy = py - (q[a, 1] + sa * ra[j, c, 0] + ca * ra[j, c, 1])
+            gap[j, c] = dx * nux + dy * nuy
+            slip[j, c] = dx * tx + dy * ty
+        k = 1 if gap[j, 1] < gap[j, 0] else 0
+        contact[j] = k
+        for r in range(3):
+            dx, dy = (nux, nuy) if r < 2 else (tx, ty)
+            c = r if r < 2 else k
+            x, y = (px0, py0) if c == 0 else (px1, py1)
+            rows[j, r, 1, 0] = dx
+            rows[j, r, 1, 1] = dy
+            rows[j, r, 1, 2] = (x - q[b, 0]) * dy - (y - q[b, 1]) * dx
+            rows[j, r, 0, 0] = -dx
+            rows[j, r, 0, 1] = -dy
+            rows[j, r, 0, 2] = -((x - q[a, 0]) * dy - (y - q[a, 1]) * dx)
+
+
+@njit(cache=True, error_model="numpy")
+def apply_h(rows, sides, v, out):
+    """``out = H v`` ``(3 J,)`` for body velocities ``v`` ``(n + 1, 3)``."""
+    for j in range(sides.shape[0]):
+        for r in range(3):
+            acc = 0.0
+            for s in range(2):
+                i = sides[j, s]
+                acc += rows[j, r, s, 0] * v[i, 0] + rows[j, r, s, 1] * v[i, 1] + rows[j, r, s, 2] * v[i, 2]
+            out[3 * j + r] = acc
+
+
+@njit(cache=True, error_model="numpy")
+def apply_ht(rows, sides, P, out):
+    """``out = H^T P`` ``(n + 1, 3)`` (impulses on the bodies; the ground's row zero)."""
+    out[:] = 0.0
+    for j in range(sides.shape[0]):
+        for s in range(2):
+            i = sides[j, s]
+            for d in range(3):
+                out[i, d] += rows[j, 0, s, d] * P[3 * j] + rows[j, 1, s, d] * P[3 * j + 1] \
+                    + rows[j, 2, s, d] * P[3 * j + 2]
+    out[out.shape[0] - 1, :] = 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def delassus(rows, sides, minv, ab):
+    """``ab`` = ``W = H M^-1 H^T`` in upper band storage ``(BAND + 1, 3 J)``: the blocks of a joint
+    with itself and with the next joint (through the body they share)."""
+    ab[:] = 0.0
+    J = sides.shape[0]
+    for j in range(J):
+        for j2 in range(j, min(j + 2, J)):
+            for s in range(2):
+                body = sides[j, s]
+                for s2 in range(2):
+                    if sides[j2, s2] != body:
+                        continue
+                    for r in range(3):
+                        for r2 in range(3):
+                            i, k = 3 * j + r, 3 * j2 + r2
+                            if i > k:
+                                continue
+                            ab[BAND + i - k, k] += rows[j, r, s, 0] * minv[body, 0] * rows[j2, r2, s2, 0] \
+                                + rows[j, r, s, 1] * minv[body, 1] * rows[j2, r2, s2, 1] \
+                                + rows[j, r, s, 2] * minv[body, 2] * rows[j2, r2, s2, 2]
+
+
+@njit(cache=True, error_model="numpy")
+def matvec(ab, x, out):
+    """``out = W x`` from the upper band storage."""
+    m = x.size
+    for i in range(m):
+        out[i] = ab[BAND, i] * x[i]
+    for d in range(1, BAND + 1):
+        for k in range(d, m):
+            a = ab[BAND - d, k]          # W[k - d, k]
+            out[k - d] += a * x[k]
+            out[k] += a * x[k - d]
+
+
+@njit(cache=True, error_model="numpy")
+def factor(ab, keep, reg, extra, U) -> bool:
+    """Cholesky ``U^T U`` of ``W`` restricted to the rows ``keep`` (the others identity rows) plus
+    ``reg + extra`` on the kept diagonal; ``U[j, d]`` = ``U[j, j + d]`` for ``d > 0`` and ``U[j, 0]``
+    the inverse of the diagonal entry ``1 / U[j, j]``.  False if not positive definite."""
+    m = keep.size
+    for j in range(m):
+        if not keep[j]:                  # an identity row: U's row and column j are e_j
+            U[j, 0] = 1.0
+            for d in range(1, BAND + 1):
+                U[j, d] = 0.0
+            continue
+        a = ab[BAND, j] + reg + extra[j]
+        for i in range(max(0, j - BAND), j):
+            u = U[i, j - i]
+            a -= u * u
+        if not a > 0.0:
+            return False
+        inv = 1.0 / math.sqrt(a)
+        U[j, 0] = inv
+        for d in range(1, BAND + 1):
+            k = j + d
+            if k >= m or not keep[k]:
+                U[j, d] = 0.0
+                continue
+            a = ab[BAND - d, k]
+            for i in range(max(0, k - BAND), j):     # rows i < j of U[i, j] U[i, k]
+                a -= U[i, j - i] * U[i, k - i]
+            U[j, d] = a * inv
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def solve(U, b, x):
+    """``x`` with ``U^T U x = b`` (``U`` from :func:`factor`)."""
+    m = b.size
+    for j in range(m):                   # U^T y = b
+        acc = b[j]
+        for i in range(max(0, j - BAND), j):
+            acc -= U[i, j - i] * x[i]
+        x[j] = acc * U[j, 0]
+    for j in range(m - 1, -1, -1):       # U x = y
+        acc = x[j]
+        for d in range(1, min(BAND, m - 1 - j) + 1):
+            acc -= U[j, d] * x[j + d]
+        x[j] = acc * U[j, 0]
+
+
+# =========================================================================================== contact solvers
+REG = 1e-12          # as projection.REG
+KKT_TOL = 1e-8       # as projection.KKT_TOL (the default of the kkt_tol arguments)
+MAX_PIVOTS = 1000
+IPM_ITERATIONS = 80
+BOX_PIVOTS = 100     # box pivots per Tresca problem
+PGS_SWEEPS = 2000   # projected Gauss-Seidel sweeps (fallback)
+FIXED_POINT = 60     # Tresca fixed-point iterations
+RELAX_FROM = 10      # fixed-point iterations before the update of N is relaxed
+COULOMB_TOL = 1e-5   # Coulomb residual admitted (relative to the scales of percussions and rates)
+REG_FRICTION = 1e-9  # regularisation of the Tresca problems (relative to the largest diagonal entry of W):
+                     # the self-stress states of redundant closed joints are otherwise decided by
+                     # round-off at a condition number of 1e12, and the pivots cycle on them
+SSN_ITERATIONS = 50   # semi-smooth Newton iterations
+NSGS_SWEEPS = 2000   # non-smooth Gauss-Seidel sweeps (the last resort of the frictional problem)
+PGS_TOL = 1e-9       # projected gradient that ends the projected Gauss-Seidel, relative to the rates
+
+
+@njit(cache=True, error_model="numpy")
+def _maxabs(x):
+    out = 0.0
+    for i in range(x.size):
+        a = abs(x[i])
+        if a > out:
+            out = a
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def kkt_residual(P, w, free, nonneg, vscale, dmax):
+    """Largest relative KKT residual of the sticking MLCP (as ``projection._checked``)."""
+    pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
+    res = 0.0
+    for i in range(P.size):
+        if free[i]:
+            res = max(res, abs(w[i]) / vscale)
+        if nonneg[i]:
+            res = max(res, max(0.0, -w[i]) / vscale, max(0.0, -P[i]) / pscale,
+                      abs(P[i] * w[i]) / (pscale * vscale))
+    return res
+
+
+@njit(cache=True, error_model="numpy")
+def _rates(ab, P, c, reg, w):
+    matvec(ab, P, w)
+    for i in range(P.size):
+        w[i] += reg * P[i] + c[i]
+
+
+@njit(cache=True, error_model="numpy")
+def _ipm(ab, c, free, nonneg, reg, vscale, U, out):
+    """Mehrotra's predictor-corrector on ``min 1/2 P^T (W + reg) P + c^T P, P_N >= 0`` (the port of
+    :func:`fembeam.analysis.banded_ipm.interior_point` as :mod:`.projection` calls it: separate
+    steps to the boundary for ``P`` and ``z``).  ``out`` the solution; returns the iterations, -1 on
+    failure."""
+    m = c.size
+    act = free | nonneg
+    I = np.flatnonzero(nonneg)
+    nI = max(I.size, 1)
+    ps = vscale / max(_maxabs(ab[BAND]), 1e-300)
+    tol = 1e-11
+    g = np.zeros(m)
+    for i in I:
+        g[i] = ps
+    z = np.full(I.size, vscale)
+    r = np.empty(m)
+    extra = np.zeros(m)
+    rhs = np.empty(m)
+    dg = np.empty(m)
+    dz = np.empty(I.size)
+    rc = np.empty(I.size)
+    for it in range(IPM_ITERATIONS):
+        _rates(ab, g, c, reg, r)
+        for i in range(m):
+            if not act[i]:
+                r[i] = 0.0
+        mu = 0.0
+        for k in range(I.size):
+            r[I[k]] -= z[k]
+            mu += g[I[k]] * z[k]
+        mu /= nI
+        pscale = max(_maxabs(g), ps)
+        if _maxabs(r) <= tol * vscale and mu <= 1e-2 * tol * vscale * pscale:
+            out[:] = g
+            return it + 1
+        extra[:] = 0.0
+        for k in range(I.size):
+            extra[I[k]] = z[k] / g[I[k]]
+        if not factor(ab, act, reg, extra, U):
+            return -1
+        # predictor: rc = g z
+        for i in range(m):
+            rhs[i] = -r[i]
+        for k in range(I.size):
+            rhs[I[k]] -= z[k]           # rc / g = z
+        solve(U, rhs, dg)
+        ag, az = 1.0, 1.0
+        for k in range(I.size):
+            i = I[k]
+            dz[k] = (-g[i] * z[k] - z[k] * dg[i]) / g[i]
+            if dg[i] < 0:
+                ag = min(ag, g[i] / -dg[i])
+            if dz[k] < 0:
+                az = min(az, z[k] / -dz[k])
+        mu_aff = 0.0
+        for k in range(I.size):
+            i = I[k]
+            mu_aff += (g[i] + ag * dg[i]) * (z[k] + az * dz[k])
+        mu_aff /= nI
+        sigma = (mu_aff / mu) ** 3 if mu > 0 else 0.0
+        for k in range(I.size):
+            i = I[k]
+            rc[k] = g[i] * z[k] + dg[i] * dz[k] - sigma * mu
+        for i in range(m):
+            rhs[i] = -r[i]
+        for k in range(I.size):
+            rhs[I[k]] -= rc[k] / g[I[k]]
+        solve(U, rhs, dg)
+        a = 1.0
+        for k in range(I.size):
+            i = I[k]
+            dz[k] = (-rc[k] - z[k] * dg[i]) / g[i]
+            if dg[i] < 0:
+                a = min(a, g[i] / -dg[i])
+            if dz[k] < 0:
+                a = min(a, z[k] / -dz[k])
+        a *= 0.995
+        finite = 0.0
+        for i in range(m):
+            g[i] += a * dg[i]
+            finite += 0.0 * g[i]
+        for k in range(I.size):
+            z[k] += a * dz[k]
+            finite += 0.0 * z[k]
+        if finite != 0.0:                # a NaN or an infinity
+            return -1
+    return -1
+
+
+@njit(cache=True, error_model="numpy")
+def solve_mlcp(ab, c, free, nonneg, F, warm, vscale, block_pivots, U, P, w, kkt_tol):
+    """The sticking MLCP (port of :func:`.projection.solve_mlcp`).  ``F`` (in: the previous working
+    set if ``warm``; out: the new one), ``P`` and ``w = W P + c`` the solution.  Returns
+    ``(status, pivots, kkt)``."""
+    m = c.size
+    dmax = 0.0
+    for i in range(m):
+        dmax = max(dmax, ab[BAND, i])
+    if not (free.any() or nonneg.any()):
+        P[:] = 0.0
+        w[:] = c
+        F[:] = False
+        return 0, 0, 0.0
+    reg = REG * dmax
+    for i in range(m):
+        F[i] = free[i] or (nonneg[i] and (F[i] if warm else True))
+    wtol = 1e-12 * vscale
+    pscale0 = vscale / max(dmax, 1e-300)
+    zero = np.zeros(m)
+    rhs = np.empty(m)
+    for k in range(block_pivots):
+        if not factor(ab, F, reg, zero, U):
+            return 3, k, 0.0
+        for i in range(m):
+            rhs[i] = -c[i] if F[i] else 0.0
+        solve(U, rhs, P)
+        _rates(ab, P, c, reg, w)
+        ztol = 1e-12 * max(_maxabs(P), pscale0)
+        nbad = 0
+        for i in range(m):
+            if nonneg[i] and ((F[i] and P[i] < -ztol) or (not F[i] and w[i] < -wtol)):
+                nbad += 1
+        if nbad == 0:
+            for i in range(m):
+                if nonneg[i] and P[i] < 0:
+                    P[i] = 0.0
+            matvec(ab, P, w)
+            w += c
+            res = kkt_residual(P, w, free, nonneg, vscale, dmax)
+            return (0 if res <= kkt_tol else 2), k + 1, res
+        for i in range(m):
+            if nonneg[i] and ((F[i] and P[i] < -ztol) or (not F[i] and w[i] < -wtol)):
+                F[i] = not F[i]
+    its = _ipm(ab, c, free, nonneg, reg, vscale, U, P)
+    if its >= 0:
+        matvec(ab, P, w)
+        w += c
+        pmax = max(_maxabs(P), pscale0)
+        Z = np.empty(m)
+        for i in range(m):
+            F[i] = free[i] or (nonneg[i] and P[i] * vscale > max(w[i], 0.0) * pmax)
+            Z[i] = P[i] if F[i] else 0.0
+        wz = np.empty(m)
+        matvec(ab, Z, wz)
+        wz += c
+        res = kkt_residual(Z, wz, free, nonneg, vscale, dmax)
+        if res <= kkt_tol:
+            P[:] = Z
+            w[:] = wz
+            return 0, block_pivots + its, res
+        res = kkt_residual(P, w, free, nonneg, vscale, dmax)
+        return (0 if res <= kkt_tol else 2), block_pivots + its, res
+    # last resort: Lawson-Hanson primal active set on the dual
+    for i in range(m):
+        F[i] = free[i] or (nonneg[i] and (F[i] if warm else True))
+    P[:] = 0.0
+    z = np.empty(m)
+    for pivots in range(block_pivots + 1, MAX_PIVOTS + 1):
+        if not factor(ab, F, reg, zero, U):
+            return 3, pivots, 0.0
+        for i in range(m):
+            rhs[i] = -c[i] if F[i] else 0.0
+        solve(U, rhs, z)
+        ztol = 1e-12 * max(_maxabs(z), vscale / max(dmax, 1e-300))
+        alpha = np.inf
+        for i in range(m):
+            if nonneg[i] and F[i] and z[i] < -ztol:
+                alpha = min(alpha, P[i] / (P[i] - z[i]))
+        if alpha < np.inf:
+            for i in range(m):
+                blocked = nonneg[i] and F[i] and z[i] < -ztol and P[i] / (P[i] - z[i]) <= alpha * (1 + 1e-12) + 1e-300
+                P[i] = P[i] + alpha * (z[i] - P[i])
+                if blocked:
+                    F[i] = False
+                if not F[i]:
+                    P[i] = 0.0
+            continue
+        for i in range(m):
+            P[i] = z[i] if F[i] else 0.0
+            if nonneg[i] and P[i] < 0:
+                P[i] = 0.0
+        matvec(ab, P, w)
+        w += c
+        nadd = 0
+        for i in range(m):
+            if nonneg[i] and not F[i] and w[i] < -wtol:
+                F[i] = True
+                nadd += 1
+        if nadd == 0:
+            res = kkt_residual(P, w, free, nonneg, vscale, dmax)
+            return (0 if res <= kkt_tol else 2), pivots, res
+    return 1, MAX_PIVOTS, 0.0
+
+
+# ------------------------------------------------------------------------------------- friction
+@njit(cache=True, error_model="numpy")
+def coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale):
+    """Largest relative residual of the frictional contact law: normal complementarity, the cone
+    ``|P_t| <= mu N``, sticking (``w_t = 0``) inside it and sliding against ``P_t`` on it."""
+    res = 0.0
+    for j in range(closed_joint.size):
+        for r in range(2):
+            i = 3 * j + r
+            if nonneg[i]:
+                res = max(res, max(0.0, -w[i]) / vscale, max(0.0, -P[i]) / pscale,
+                          abs(P[i] * w[i]) / (pscale * vscale))
+        if not closed_joint[j]:
+            continue
+        N = P[3 * j] + P[3 * j + 1]
+        Pt, wt = P[3 * j + 2], w[3 * j + 2]
+        excess = abs(Pt) - mu * N
+        res = max(res, max(0.0, excess) / pscale)
+        # inside the cone: no sliding; sliding: opposed to P_t with |P_t| = mu N
+        slack = max(0.0, -excess) / pscale
+        res = max(res, min(slack, abs(wt) / vscale))
+        res = max(res, max(0.0, Pt * wt) / (pscale * vscale))
+    return res
+
+
+@njit(cache=True, error_model="numpy")
+def _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w):
+    """``min 1/2 P^T (W + reg) P + c^T P`` with ``lo <= P <= hi`` (rows with ``lo = hi`` fixed) by block
+    principal pivoting: ``state`` 0 free, 1 at ``lo``, 2 at ``hi`` (in: a start; out: the optimum's).
+    True when converged."""
+    m = c.size
+    dmax = 0.0
+    for i in range(m):
+        dmax = max(dmax, ab[BAND, i])
+    wtol = 1e-12 * vscale
+    zero = np.zeros(m)
+    PB = np.empty(m)
+    rhs = np.empty(m)
+    F = np.empty(m, np.bool_)
+    for i in range(m):
+        if hi[i] <= lo[i]:
+            state[i] = 1
+    for k in range(BOX_PIVOTS):
+        for i in range(m):
+            F[i] = state[i] == 0
+            PB[i] = 0.0 if F[i] else (lo[i] if state[i] == 1 else hi[i])
+        matvec(ab, PB, rhs)
+        for i in range(m):
+            rhs[i] = -(rhs[i] + reg * PB[i] + c[i]) if F[i] else PB[i]
+        if not factor(ab, F, reg, zero, U):
+            return False
+        solve(U, rhs, P)
+        _rates(ab, P, c, reg, w)
+        ztol = 1e-12 * max(_maxabs(P), vscale / max(dmax, 1e-300))
+        changed = 0
+        for i in range(m):
+            if hi[i] <= lo[i]:
+                continue
+            s = state[i]
+            if s == 0 and P[i] < lo[i] - ztol:
+                state[i] = 1
+            elif s == 0 and P[i] > hi[i] + ztol:
+                state[i] = 2
+            elif s == 1 and w[i] < -wtol:
+                state[i] = 0
+            elif s == 2 and w[i] > wtol:
+                state[i] = 0
+            if state[i] != s:
+                changed += 1
+        if changed == 0:
+            for i in range(m):
+                P[i] = min(max(P[i], lo[i]), hi[i])
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def _pgs(ab, c, lo, hi, reg, vscale, P, w):
+    """Projected Gauss-Seidel on the same box QP (exact minimisation along each row, then the
+    clamp): the fallback of :func:`_box_pivots`.  True when the projected gradient is below
+    ``1e-12 vscale``."""
+    m = c.size
+    for i in range(m):
+        P[i] = min(max(P[i], lo[i]), hi[i])
+    for sweep in range(PGS_SWEEPS):
+        matvec(ab, P, w)
+        for i in range(m):
+            w[i] += reg * P[i] + c[i]
+        worst = 0.0
+        for i in range(m):
+            if hi[i] <= lo[i]:
+                continue
+            g = w[i]
+            if (P[i] <= lo[i] and g > 0) or (P[i] >= hi[i] and g < 0):
+                continue
+            worst = max(worst, abs(g))
+        if worst <= PGS_TOL * vscale:
+            return True
+        for i in range(m):               # one sweep, rates updated row by row
+            if hi[i] <= lo[i]:
+                continue
+            d = ab[BAND, i] + reg
+            gi = reg * P[i] + c[i] + ab[BAND, i] * P[i]
+            for k in range(max(0, i - BAND), i):
+                gi += ab[BAND + k - i, i] * P[k]
+            for k in range(i + 1, min(m, i + BAND + 1)):
+                gi += ab[BAND + i - k, k] * P[k]
+            P[i] = min(max(P[i] - gi / d, lo[i]), hi[i])
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol):
+    """The frictional problem from the sticking solution ``P`` (in; out: the solution, or the
+    iterate of smallest residual) by the Tresca fixed point; ``state`` the box statuses (warm
+    start; out: the solution's).  The bounds follow ``N`` (relaxed by 1/2 from iteration
+    :data:`RELAX_FROM` on: a joint whose normal percussion vanishes when it slides and returns
+    when it sticks makes the plain iteration a 2-cycle).  Returns ``(status, solves, residual)``:
+    0 when :func:`coulomb_residual` is below ``tol``."""
+    m = c.size
+    J = closed_joint.size
+    dmax = 0.0
+    for i in range(m):
+        dmax = max(dmax, ab[BAND, i])
+    reg = REG_FRICTION * dmax
+    lo = np.zeros(m)
+    hi = np.zeros(m)
+    N = np.empty(J)
+    best = np.inf
+    Pbest = P.copy()
+    for j in range(J):
+        N[j] = max(P[3 * j], 0.0) + max(P[3 * j + 1], 0.0)
+    solves = 0
+    for it in range(FIXED_POINT):
+        for j in range(J):
+            for r in range(2):
+                i = 3 * j + r
+                hi[i] = np.inf if nonneg[i] else 0.0
+            i = 3 * j + 2
+            b = mu * N[j] if closed_joint[j] else 0.0
+            lo[i], hi[i] = -b, b
+        ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w)
+        solves += 1
+        if not ok:                       # the pivots from all rows free, then Gauss-Seidel
+            state[:] = 0
+            ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w)
+            solves += 1
+        if not ok:
+            ok = _pgs(ab, c, lo, hi, reg, vscale, P, w)
+            solves += 1
+            if not ok:
+                break
+        # Coulomb's law with the new normal percussions (the bounds used were the previous ones)
+        matvec(ab, P, w)
+        w += c
+        pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
+        res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
+        if res < best:
+            best = res
+            Pbest[:] = P
+        if res <= tol:
+            return 0, solves, res
+        omega = 0.5 if it >= RELAX_FROM else 1.0
+        for j in range(J):
+            N[j] += omega * (P[3 * j] + P[3 * j + 1] - N[j])
+    P[:] = Pbest
+    matvec(ab, P, w)
+    w += c
+    return 1, solves, best
+
+
+@njit(cache=True, error_model="numpy")
+def _local(Wl, q, mu, active0, active1, Pl):
+    """Exact solution of one joint's frictional problem ``w = Wl P + q`` (``P = (P_n0, P_n1, P_t)``,
+    ``active0/1``: the corner is closed) by enumeration of its cases: which corners carry a
+    percussion, and sticking or sliding either way.  ``Pl`` the solution; False if no case is
+    consistent (round-off), in which case ``Pl`` is the case with the smallest violation."""
+    best, bestP0, bestP1, bestPt = np.inf, 0.0, 0.0, 0.0
+    d = max(Wl[0, 0], Wl[1, 1], Wl[2, 2])          # percussions times d: rates (violations in m/s)
+    tol = 1e-10 * (abs(q[0]) + abs(q[1]) + abs(q[2]) + 1e-300)
+    for corners in range(4):                       # 0: none, 1: corner 0, 2: corner 1, 3: both
+        a0, a1 = corners & 1 == 1, corners & 2 == 2
+        if (a0 and not active0) or (a1 and not active1):
+            continue
+        for s in (0, 1, -1):                       # stick, P_t = +mu N, P_t = -mu N
+            if corners == 0 and s != 0:
+                continue
+            # unknowns x = (P_n0, P_n1, P_t) with the inactive ones zero; equations w_i = 0 on the
+            # active normal rows and, when sticking, on the tangential row; when sliding
+            # P_t = s mu (P_n0 + P_n1) is substituted.
+            A = np.zeros((3, 3))
+            b = np.zeros(3)
+            idx = np.zeros(3, np.int64)
+            k = 0
+            if a0:
+                idx[k] = 0
+                k += 1
+            if a1:
+                idx[k] = 1
+                k += 1
+            if s == 0 and corners != 0:
+                idx[k] = 2
+                k += 1
+            for r in range(k):
+                row = idx[r]
+                b[r] = -q[row]
+                for cc in range(k):
+                    col = idx[cc]
+                    A[r, cc] = Wl[row, col]
+                    if s != 0 and col < 2:
+                        A[r, cc] += Wl[row, 2] * s * mu
+            x = np.zeros(3)
+            if k > 0:
+                sol = np.linalg.solve(A[:k, :k] + 0.0, b[:k])
+                for r in range(k):
+                    x[idx[r]] = sol[r]
+            N = x[0] + x[1]
+            if s != 0:
+                x[2] = s * mu * N
+            w0 = Wl[0, 0] * x[0] + Wl[0, 1] * x[1] + Wl[0, 2] * x[2] + q[0]
+            w1 = Wl[1, 0] * x[0] + Wl[1, 1] * x[1] + Wl[1, 2] * x[2] + q[1]
+            wt = Wl[2, 0] * x[0] + Wl[2, 1] * x[1] + Wl[2, 2] * x[2] + q[2]
+            viol = max(0.0, -x[0] * d, -x[1] * d)
+            if active0 and not a0:
+                viol = max(viol, -w0)
+            if active1 and not a1:
+                viol = max(viol, -w1)
+            if s == 0:
+                viol = max(viol, (abs(x[2]) - mu * N) * d)
+            else:
+                viol = max(viol, s * wt)
+            if viol < best:
+                best, bestP0, bestP1, bestPt = viol, x[0], x[1], x[2]
+            if viol <= tol:
+                Pl[0], Pl[1], Pl[2] = x[0], x[1], x[2]
+                return True
+    Pl[0], Pl[1], Pl[2] = bestP0, bestP1, bestPt
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def nsgs(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
+    """Non-smooth Gauss-Seidel (Jean and Moreau; the solver of LMGC90 and Siconos): sweeps over
+    the joints, each solved exactly (:func:`_local`) with the others' percussions frozen, from
+    the ``P`` given, until :func:`coulomb_residual` is below ``tol``.  Returns
+    ``(converged, sweeps, residual)``."""
+    m = c.size
+    J = closed_joint.size
+    dmax = 0.0
+    for i in range(m):
+        dmax = max(dmax, ab[BAND, i])
+    Wl = np.zeros((3, 3))
+    ql = np.zeros(3)
+    Pl = np.zeros(3)
+    res = np.inf
+    for j in range(J):
+        if not closed_joint[j]:
+            P[3 * j] = P[3 * j + 1] = P[3 * j + 2] = 0.0
+    for sweep in range(NSGS_SWEEPS):
+        matvec(ab, P, w)
+        for i in range(m):
+            w[i] += c[i]
+        pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
+        res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
+        if res <= tol:
+            return True, sweep, res
+        for j in range(J):
+            if not closed_joint[j]:
+                continue
+            base = 3 * j
+            for r in range(3):               # the joint's block of W and its free rates
+                for cc in range(3):
+                    i, k = base + r, base + cc
+                    lo_, hi_ = min(i, k), max(i, k)
+                    Wl[r, cc] = ab[BAND + lo_ - hi_, hi_]
+                Wl[r, r] += reg
+            for r in range(3):
+                i = base + r
+                acc = c[i] + ab[BAND, i] * P[i]
+                for k in range(max(0, i - BAND), i):
+                    acc += ab[BAND + k - i, i] * P[k]
+                for k in range(i + 1, min(m, i + BAND + 1)):
+                    acc += ab[BAND + i - k, k] * P[k]
+                ql[r] = acc
+            for r in range(3):
+                for cc in range(3):
+                    ql[r] -= (Wl[r, cc] - (reg if r == cc else 0.0)) * P[base + cc]
+            _local(Wl, ql, mu, nonneg[base], nonneg[base + 1], Pl)
+            P[base], P[base + 1], P[base + 2] = Pl[0], Pl[1], Pl[2]
+    return False, NSGS_SWEEPS, res
+
+
+@njit(cache=True, error_model="numpy")
+def self_stress(ab, F, reg, U, Z):
+    """The self-stress states of the rows ``F``: an orthonormal basis of the null space of ``W``
+    restricted to them (its columns ``Z[:, :k]``; returns ``k``; at most ``Z.shape[1]``), by three
+    inverse iterations on ``W_FF + reg`` from fixed starting vectors and a Rayleigh-Ritz step
+    (kept: Ritz values below ``1e-7`` of ``W``'s largest diagonal entry).  The percussions of a
+    redundant set of closed joints are determined up to these states; the velocities are not
+    affected by them (``W Z = 0``)."""
+    m = F.size
+    q = Z.shape[1]
+    dmax = 0.0
+    for i in range(m):
+        dmax = max(dmax, ab[BAND, i])
+    zero = np.zeros(m)
+    if not factor(ab, F, reg, zero, U):
+        return 0
+    X = np.zeros((m, q))
+    for i in range(m):                   # deterministic, generic starting vectors on F
+        if F[i]:
+            for k in range(q):
+                X[i, k] = math.sin(1.0 + 0.7 * i + 1.3 * k * i + 0.5 * k)
+    col = np.empty(m)
+    out = np.empty(m)
+    for it in range(3):
+        for k in range(q):
+            col[:] = X[:, k]
+            solve(U, col, out)
+            for i in range(m):
+                X[i, k] = out[i] if F[i] else 0.0
+        for k in range(q):               # modified Gram-Schmidt
+            for l in range(k):
+                d = 0.0
+                for i in range(m):
+                    d += X[i, k] * X[i, l]
+                for i in range(m):
+                    X[i, k] -= d * X[i, l]
+            nrm = 0.0
+            for i in range(m):
+                nrm += X[i, k] * X[i, k]
+            nrm = math.sqrt(nrm)
+            if nrm > 0:
+                for i in range(m):
+                    X[i, k] /= nrm
+    WX = np.empty((m, q))
+    for k in range(q):
+        col[:] = X[:, k]
+        matvec(ab, col, out)
+        for i in range(m):
+            WX[i, k] = out[i] if F[i] else 0.0
+    R = X.T @ WX
+    R = 0.5 * (R + R.T)
+    lam, V = np.linalg.eigh(R)
+    Y = X @ V
+    k = 0
+    for l in range(q):
+        if lam[l] <= 1e-7 * dmax:
+            Z[:, k] = Y[:, l]
+            k += 1
+    return k
+
+
+@njit(cache=True, error_model="numpy")
+def redistribute(P, Z, k, nonneg, F, closed_joint, mu, margin):
+    """Percussions ``P + Z s`` in the cone (``P_n >= 0`` on the rows of ``F``,
+    ``|P_t| <= mu N - margin``, to ``margin / 2``) for some combination ``s`` of the self-stress states ``Z[:, :k]``:
+    the squared violations minimised by Newton's method on their piecewise-quadratic sum (a few
+    ``k x k`` solves).  ``P`` is replaced and True returned when the violations vanish."""
+    if k == 0:
+        return False
+    J = closed_joint.size
+    # the constraints a . s <= b, one per row: -P_n <= -margin; P_t - mu N <= -margin; -P_t - mu N <= -margin
+    nc = 0
+    A = np.zeros((4 * J, k))             # two corners and the two sides of the cone per joint
+    b = np.zeros(4 * J)
+    for j in range(J):
+        for r in range(2):
+            i = 3 * j + r
+            if nonneg[i] and F[i]:
+                for l in range(k):
+                    A[nc, l] = -Z[i, l]
+                b[nc] = P[i]
+                nc += 1
+        if closed_joint[j]:
+            for sgn in (1.0, -1.0):
+                for l in range(k):
+                    A[nc, l] = sgn * Z[3 * j + 2, l] - mu * (Z[3 * j, l] + Z[3 * j + 1, l])
+                b[nc] = -sgn * P[3 * j + 2] + mu * (P[3 * j] + P[3 * j + 1]) - margin
+                nc += 1
+    s = np.zeros(k)
+    for it in range(50):
+        H = np.zeros((k, k))
+        g = np.zeros(k)
+        worst = 0.0
+        for c in range(nc):
+            r = -b[c]
+            for l in range(k):
+                r += A[c, l] * s[l]
+            if r > 0:
+                worst = max(worst, r)
+                for l in range(k):
+                    g[l] += A[c, l] * r
+                    for l2 in range(k):
+                        H[l, l2] += A[c, l] * A[c, l2]
+        if worst <= 0.5 * margin:
+            for i in range(P.size):
+                for l in range(k):
+                    P[i] += Z[i, l] * s[l]
+            return True
+        for l in range(k):
+            H[l, l] += 1e-14 * (H[l, l] + 1e-300)
+        step = np.linalg.solve(H, g)
+        # backtracking on the sum of squared violations
+        f0 = 0.0
+        for c in range(nc):
+            r = -b[c]
+            for l in range(k):
+                r += A[c, l] * s[l]
+            if r > 0:
+                f0 += r * r
+        alpha = 1.0
+        for ls in range(30):
+            f1 = 0.0
+            for c in range(nc):
+                r = -b[c]
+                for l in range(k):
+                    r += A[c, l] * (s[l] - alpha * step[l])
+                if r > 0:
+                    f1 += r * r
+            if f1 < f0:
+                break
+            alpha *= 0.5
+        for l in range(k):
+            s[l] -= alpha * step[l]
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
+    """``|Phi(P)|^2`` of the Alart-Curnier equations (percussion units), ``w`` filled."""
+    m = c.size
+    matvec(ab, P, w)
+    for i in range(m):
+        w[i] += c[i]
+    out = 0.0
+    for j in range(closed_joint.size):
+        for r in range(2):
+            i = 3 * j + r
+            f = P[i] - max(0.0, P[i] - rho[i] * w[i]) if nonneg[i] else P[i]
+            out += f * f
+        i = 3 * j + 2
+        if closed_joint[j]:
+            b = mu * (max(P[3 * j], 0.0) + max(P[3 * j + 1], 0.0))
+            f = P[i] - min(max(P[i] - rho[i] * w[i], -b), b)
+        else:
+            f = P[i]
+        out += f * f
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
+    """Coulomb's law as the equations of Alart and Curnier, ``P_n = max(0, P_n - rho w_n)`` and
+    ``P_t = proj[-mu N, mu N](P_t - rho w_t)`` (``rho = 1 / W_ii``), solved by the semi-smooth
+    Newton method: the cases those projections pick (a corner pressed or free, a joint sticking
+    or sliding either way) fix a linear system in ``P`` (sliding: ``P_t = -+ mu N``, a
+    non-symmetric row), solved densely; the step damped by halving until ``|Phi|^2`` decreases.
+    From the ``P`` given; returns ``(converged, iterations, residual)``."""
+    m = c.size
+    J = closed_joint.size
+    dmax = 0.0
+    for i in range(m):
+        dmax = max(dmax, ab[BAND, i])
+    Wd = np.zeros((m, m))
+    for d in range(BAND + 1):
+        for k in range(d, m):
+            Wd[k - d, k] = ab[BAND - d, k]
+            Wd[k, k - d] = ab[BAND - d, k]
+    rho = np.empty(m)
+    for i in range(m):
+        rho[i] = 1.0 / max(Wd[i, i], 1e-300)
+    Pt = np.empty(m)
+    wt = np.empty(m)
+    case = np.full(m, -9, np.int64)
+    new = np.zeros(m, np.int64)
+    A = np.zeros((m, m))
+    rhs = np.zeros(m)
+    res = np.inf
+    for it in range(SSN_ITERATIONS):
+        matvec(ab, P, w)
+        w += c
+        pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
+        res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
+        if res <= tol:
+            return True, it, res
+        for j in range(J):
+            for r in range(2):
+                i = 3 * j + r
+                new[i] = 1 if nonneg[i] and P[i] - w[i] / Wd[i, i] > 0 else 0
+            i = 3 * j + 2
+            N = max(P[3 * j], 0.0) + max(P[3 * j + 1], 0.0)
+            y = P[i] - w[i] / Wd[i, i]
+            if not closed_joint[j]:
+                new[i] = 0
+            elif abs(y) <= mu * N:
+                new[i] = 1
+            else:
+                new[i] = 2 if y > 0 else 3
+        for i in range(m):
+            case[i] = new[i]
+        A[:, :] = 0.0
+        for i in range(m):
+            if case[i] == 1:                  # w_i = 0
+                for k in range(m):
+                    A[i, k] = Wd[i, k]
+                A[i, i] += reg
+                rhs[i] = -c[i]
+            elif case[i] == 0:                # P_i = 0
+                A[i, i] = 1.0
+                rhs[i] = 0.0
+            else:                             # P_t -+ mu (P_n0 + P_n1) = 0
+                s = 1.0 if case[i] == 2 else -1.0
+                A[i, i] = 1.0
+                A[i, i - 1] = -s * mu
+                A[i, i - 2] = -s * mu
+                rhs[i] = 0.0
+        d = np.linalg.solve(A, rhs) - P   # the Newton step, damped on the merit |Phi|^2
+        f0 = _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, wt)
+        alpha = 1.0
+        for ls in range(20):
+            for i in range(m):
+                Pt[i] = P[i] + alpha * d[i]
+            if _ac_merit(ab, c, nonneg, closed_joint, mu, rho, Pt, wt) < (1.0 - 1e-4 * alpha) * f0:
+                break
+            alpha *= 0.5
+        P[:] = Pt
+    return False, SSN_ITERATIONS, res
+
+
+# ==================================================================================================== the loop
 # float state
 F_T, F_W, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_TOVER, F_RATIO, F_TRATIO, \
-    F_SLIP, F_TSLIP, F_VMIN, F_KKT, F_FRICTION, F_COULOMB = range(19)
-N_FLOAT = 19
+    F_SLIP, F_TSLIP, F_VMIN, F_KKT, F_FRICTION, F_COULOMB, F_VSCALE = range(20)
+N_FLOAT = 20
 # integer state
 I_STEPS, I_CUTS, I_PIVOTS, I_OUTCOME, I_HASW, I_HASWI, I_STALE, I_JRATIO, I_ATRATIO, I_JSLIP, I_STATUS, \
-    I_SLIDING = range(12)
-N_INT = 12
+    I_SLIDING, I_REDIST, I_LOOSE = range(14)
+N_INT = 14
 # outcomes while running (0: none yet)
 OVERTURNED, SLID_OUT = 1, 2
 # statuses of advance()
 RUNNING, FINISHED, STOPPED = 0, 1, 2
 SOLVER_FAILED = 3       # the contact problem of a step failed (ist[I_STATUS] the solver's code)
 HISTORY_COLUMNS = 9
+LOOSE = 10.0            # a step's frictional problem accepted up to this many times the Coulomb tolerance
+                        # when every solver stalls above it (counted: SimulationResult.loose_steps)
 
 
 @njit(cache=True, error_model="numpy")
@@ -83,7 +1044,7 @@ def _roots(gap, vn, an):
 
 
 @njit(cache=True, error_model="numpy")
-def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_pivots, ab, U, P, w, c,
+def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_pivots, ab, U, P, w, c, Z, dump_ab, dump_c, dump_P, dump_closed,
              fs, ist, t, at_impact, kkt_tol, coulomb_tol):
     """The contact problem of ``v_free`` with the closed corners ``closed`` ``(J, 2)``: ``P``, ``w``,
     ``ab`` (W) filled, ``F`` the new working set.  Returns the solver's status (0: solved) and
@@ -116,29 +1077,54 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                 slide = True
                 break
         if slide:
-            # the stick solution violates the cone: the Tresca fixed point from it, then
-            # non-smooth Gauss-Seidel
+            # the stick solution violates the cone: the same velocities with other percussions
+            # (a self-stress of redundant joints added) if they can lie in the cone ...
+            pmax, dmax = 0.0, 0.0
+            for i in range(m):
+                pmax = max(pmax, abs(P[i]))
+                dmax = max(dmax, ab[BAND, i])
+            k = self_stress(ab, F, REG * dmax, U, Z)
+            if redistribute(P, Z, k, nonneg, F, cj, mu, 1e-9 * max(pmax, vscale / max(dmax, 1e-300))):
+                slide = False
+                ist[I_REDIST] += 1
+        if slide:
+            # ... else the Tresca fixed point from it, then non-smooth Gauss-Seidel
             for j in range(J):              # start: the stick solution's working set, the violated bounds
                 for r in range(2):
                     box[3 * j + r] = 0 if F[3 * j + r] else 1
                 N = P[3 * j] + P[3 * j + 1]
                 box[3 * j + 2] = 2 if P[3 * j + 2] > mu * N else (1 if P[3 * j + 2] < -mu * N else 0)
+            Pstick = P.copy()
             status, piv, res = solve_friction(ab, c, nonneg, cj, mu, vscale, box, U, P, w, coulomb_tol)
             ist[I_PIVOTS] += piv
-            if status != 0:                 # non-smooth Gauss-Seidel from the best iterate
-                dmax = 0.0
-                for i in range(m):
-                    dmax = max(dmax, ab[BAND, i])
-                ok, sweeps, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
-                ist[I_PIVOTS] += sweeps
+            if status != 0:                 # semi-smooth Newton from the stick solution, then
+                P0 = P.copy()                  # non-smooth Gauss-Seidel
+                P[:] = Pstick
+                ok, its, res = semismooth_newton(ab, c, nonneg, cj, mu, vscale, REG_FRICTION * dmax, coulomb_tol,
+                                                 P, w)
+                ist[I_PIVOTS] += its
+                for start in range(2):         # from the stick solution, then the best iterate
+                    if ok:
+                        break
+                    P[:] = Pstick if start == 0 else P0
+                    ok, sweeps, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
+                    ist[I_PIVOTS] += sweeps
+                    if not ok and res <= LOOSE * coulomb_tol:    # accepted, counted and reported
+                        ok = True
+                        ist[I_LOOSE] += 1
                 if not ok:
                     fs[F_KKT] = res
+                    dump_ab[:, :] = ab              # the failing problem, for the error report
+                    dump_c[:] = c
+                    dump_P[:] = Pstick
+                    dump_closed[:, :] = closed
+                    fs[F_VSCALE] = vscale
                     return 4
             fs[F_COULOMB] = max(fs[F_COULOMB], res)
             for i in range(m):
                 F[i] = free[i] or (nonneg[i] and P[i] > 0)
             ist[I_SLIDING] += 1
-    # friction demand: |P_t| / N at the joints whose normal percussion is at least 1e-3 of the
+    # friction demand: |P_t| / N at the joints whose normal percussion is at least 1e-2 of the
     # percussion scale of the step's tolerances (the largest, or the rates' scale over W's
     # diagonal): a lighter joint's ratio is not resolved by them
     pmax, dmax = 0.0, 0.0
@@ -148,7 +1134,7 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
     pscale = max(pmax, vscale / max(dmax, 1e-300))
     for j in range(J):
         N = P[3 * j] + P[3 * j + 1]
-        if cj[j] and N > 1e-3 * pscale:
+        if cj[j] and N > 1e-2 * pscale:
             ratio = abs(P[3 * j + 2]) / N
             if ratio > fs[F_RATIO]:
                 fs[F_RATIO] = ratio
@@ -163,7 +1149,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
             fs, ist, dt, t_end, t0, dt_out, g, h_min, gap_tol, V_over, slide_out, mu, stop,
             kind, amp, period, ts, av, impact_pivots, block_pivots,
-            hist, pos, imp, max_steps, kkt_tol, coulomb_tol):
+            hist, pos, imp, max_steps, kkt_tol, coulomb_tol, dump_ab, dump_c, dump_P, dump_closed):
     """Steps from the state given until the end, a stop, ``max_steps`` steps, or the buffers
     ``hist`` ``(rows, 9)`` / ``pos`` ``(rows, n, 3)`` / ``imp`` ``(rows, 3)`` are full.  Returns
     ``(status, history rows written, impacts written)``."""
@@ -177,6 +1163,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
         acc[i, 1] = -g
     ab = np.zeros((BAND + 1, M3))
     U = np.zeros((M3, BAND + 1))
+    Z = np.zeros((M3, 4))                 # self-stress states (at most 3 for a chain between two abutments)
     P = np.zeros(M3)
     w = np.zeros(M3)
     c = np.zeros(M3)
@@ -185,7 +1172,6 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
     imp_v = np.zeros((n + 1, 3))
     closed = np.zeros((J, 2), np.bool_)
     hit = np.zeros((J, 2), np.bool_)
-    s_land = np.zeros((J, 2))
     gm_gap = np.zeros((J, 2))
     gm_slip = np.zeros((J, 2))
     gm_rows = np.zeros((J, 3, 2, 3))
@@ -277,7 +1263,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
                     geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
                     ist[I_STALE] = 0
                 st = _project(rows, sides, minv, v, closed, working_imp, ist[I_HASWI] == 1, box_imp, mu, g * h,
-                              impact_pivots, ab, U, P, w, c, fs, ist, t, 1, kkt_tol, coulomb_tol)
+                              impact_pivots, ab, U, P, w, c, Z, dump_ab, dump_c, dump_P, dump_closed, fs, ist, t, 1, kkt_tol, coulomb_tol)
                 if st != 0:
                     ist[I_STATUS] = st
                     fs[F_T] = t
@@ -333,7 +1319,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             if mu < np.inf:
                 apply_h(gm_rows, sides, v, Hv)      # the rates at the start of the step
             st = _project(gm_rows, sides, minv, v_free, closed, working, ist[I_HASW] == 1, box, mu, g * h,
-                          block_pivots, ab, U, P, w, c, fs, ist, t, 0, kkt_tol, coulomb_tol)
+                          block_pivots, ab, U, P, w, c, Z, dump_ab, dump_c, dump_P, dump_closed, fs, ist, t, 0, kkt_tol, coulomb_tol)
             if st != 0:
                 ist[I_STATUS] = st
                 fs[F_T] = t

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import overturn_level
+from ..errors import InputError
 from .contacts import BAND, Contacts
 from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
 from .result import SimulationResult

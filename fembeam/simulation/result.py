@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..dynamics.ground import GroundMotion
-from ..dynamics.outcomes import OVERTURN_DROP, friction_demand
+from ..dynamics.outcomes import friction_demand
 from ..geometry import MidCurve
 from .bodies import Bodies
 
@@ -57,6 +57,8 @@ class SimulationResult:
     t_slip: float | None = None
     s_slip: float | None = None
     sliding_steps: int = 0
+    redistributed: int = 0
+    loose_steps: int = 0
     friction_work: float = 0.0
     coulomb_residual: float = 0.0
     V_min: float = 0.0
@@ -124,6 +126,7 @@ class SimulationResult:
                                                self.friction_at, self.friction),
             "sliding": {"mu": num(self.friction), "max_slip": num(self.max_slip), "t": num(self.t_slip),
                         "s": num(self.s_slip), "sliding_steps": self.sliding_steps,
+                        "self_stress_steps": self.redistributed, "loose_steps": self.loose_steps,
                         "coulomb_residual_max": num(self.coulomb_residual)},
             "steps": self.steps,
             "cut_steps": self.cut_steps,
