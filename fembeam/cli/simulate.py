@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import InputError
 from ..output.files import atomic, atomic_group
 from .args import arch_title
-from .rock import _progress, add_ground, add_member, ground_from, member_from, motion_outputs
+from .rock import _progress, add_ground, add_member, coulomb, friction_line, ground_from, member_from, motion_outputs
 
 HELP = "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"
 
@@ -37,6 +37,9 @@ def register(sub) -> None:
                    help="end of the simulation (s; default: end of the ground motion + 20 sqrt(L/g))")
     t.add_argument("--dt-out", type=float, default=None, metavar="S",
                    help="sampling step of the history (s; default max(dt, duration/4000))")
+    t.add_argument("--friction", type=coulomb, default=None, metavar="MU",
+                   help="Coulomb friction at the joints, MU in [1e-3, 1e3] (default: no sliding); the slip is "
+                        "reported, and a joint that slides by more than half its depth is a collapse by sliding")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
@@ -61,7 +64,11 @@ def summary(res) -> str:
              f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g); dt = {res.dt:g} s, "
              f"simulated to t = {res.t_end:.4g} s ({res.steps} steps, {res.cut_steps} cut at landings)"]
     if res.outcome == "overturned":
-        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s (centroid below its height at rest)")
+        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s (centroid a tenth of the thickness "
+                     f"below its height at rest)")
+    elif res.outcome == "collapsed_by_sliding":
+        lines.append(f"  outcome: COLLAPSED BY SLIDING at t = {res.t_overturn:.6g} s (a joint slid by more than half "
+                     f"its depth)")
     elif res.outcome == "rest":
         lines.append(f"  outcome: rest (at rest at t = {res.t_end:.4g} s)")
     else:
@@ -69,9 +76,17 @@ def summary(res) -> str:
     if res.t_peak is not None:
         lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s")
     lines.append(f"  impacts: {len(res.impacts)}; most hinges open at once: {res.max_hinges}")
+    fl = friction_line(res) if res.friction is None else friction_line(res).split(":", 1)[0] + ":" + \
+        friction_line(res).split(":", 1)[1].rsplit(": SLIDING RISK", 1)[0].rsplit(" (within mu", 1)[0]
+    if fl is not None:
+        lines.append(fl)
+    if res.friction is not None:
+        where = "" if res.s_slip is None else f" at s = {res.s_slip:.6g} m, t = {res.t_slip:.6g} s"
+        lines.append(f"  sliding (mu = {res.friction:g}): largest slip {res.max_slip:.4g} m{where}; "
+                     f"{res.sliding_steps} steps with sliding joints")
     lines.append(f"  energy: dissipated {res.dissipated:.6g} J/m, ground work {res.ground_work:.6g} J/m, "
                  f"balance error {res.energy_balance_error:.2e} (relative)")
-    lines.append(f"  wall time {res.time:.3g} s")
+    lines.append(f"  wall time {res.time:.3g} s (compiled loop {res.timings.get('run', res.time):.3g} s)")
     return "\n".join(lines)
 
 
@@ -208,7 +223,8 @@ def run(args) -> int:
     if not t_end > t0:
         raise InputError(f"--t-end must be after the start of the ground motion ({t0:g} s), got {t_end:g}")
     check_dt(args.dt, t0, t_end)
-    sim = Simulator(curve, voussoirs=voussoirs) if voussoirs is not None else Simulator(curve, elements=elements)
+    kw = {"voussoirs": voussoirs} if voussoirs is not None else {"elements": elements}
+    sim = Simulator(curve, friction=args.friction, **kw)
     update, bar = _progress(t_end)
     try:
         res = sim.run(ground, dt=args.dt, t_end=t_end, dt_out=args.dt_out, progress=update)

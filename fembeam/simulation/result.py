@@ -87,6 +87,15 @@ class SimulationResult:
         self.max_hinges = int(np.max(self.history["hinges"], initial=0))
 
     @property
+    def friction_demand(self) -> dict:
+        """The JSON block of :func:`fembeam.dynamics.outcomes.friction_demand`; with friction modelled,
+        ``sliding_risk`` says that some joint reached the cone (slid) during the motion."""
+        out = friction_demand(self.friction_ratio, self.t_friction, self.s_friction, self.friction_at, self.friction)
+        if self.friction is not None:
+            out["sliding_risk"] = self.sliding_steps > 0
+        return out
+
+    @property
     def n_bodies(self) -> int:
         return self.bodies.n
 
@@ -122,8 +131,7 @@ class SimulationResult:
             "energy_balance_error": num(self.energy_balance_error),
             "n_impacts": len(self.impacts),
             "impacts": [{"t": float(t), "r": float(b / a) if a > 0 else 0.0} for t, a, b in self.impacts],
-            "friction_demand": friction_demand(self.friction_ratio, self.t_friction, self.s_friction,
-                                               self.friction_at, self.friction),
+            "friction_demand": self.friction_demand,
             "sliding": {"mu": num(self.friction), "max_slip": num(self.max_slip), "t": num(self.t_slip),
                         "s": num(self.s_slip), "sliding_steps": self.sliding_steps,
                         "self_stress_steps": self.redistributed, "loose_steps": self.loose_steps,

@@ -71,7 +71,7 @@ CHUNK_STEPS = 4096          # steps between two returns of the compiled loop (pr
 CHUNK_ROWS = 512            # history rows and impacts buffered per return
 MU_RANGE = (1e-3, 1e3)      # admitted friction coefficients
 KKT_TOL = 1e-8              # KKT residual of a step's contact problem, relative to its scales
-COULOMB_TOL = 1e-4          # residual of Coulomb's law at a step with sliding (same scales)
+COULOMB_TOL = 1e-5          # residual of Coulomb's law at a step with sliding (same scales)
 _SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite",
                   4: "with friction did not converge (Tresca fixed point and non-smooth Gauss-Seidel)"}
 
