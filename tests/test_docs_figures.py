@@ -4,7 +4,9 @@ docs/regenerate.sh rewrites every committed table and figure of docs/ (and docs/
 commands that produce them.  This test re-runs a cheap subset of those commands (a few seconds)
 and fails when a committed number differs from the fresh run by more than its printed precision
 (half a unit of its last printed digit; numbers stored to full precision in CSV/JSON files must
-agree to 1e-9 relative, the solvers' reproducibility).  It also checks that the files derived
+agree to 1e-9 relative, the solvers' reproducibility).  The one exception is the ``p1+ref`` row of
+docs/data/elements.txt, whose hinges come from a quasi-Newton search known to ~2e-7 L only
+(``P1_REF_TOL``).  It also checks that the files derived
 from one run agree with each other (the tables pasted into the Markdown are the commands'
 outputs in docs/data/*.txt, whose numbers are the CSV's, and the prose quotes those tables).
 
@@ -47,13 +49,14 @@ def half_unit(printed: str) -> float:
     return 0.5 * 10.0 ** (-decimals) * 10.0 ** int(m.group(3) or 0)
 
 
-def agrees(printed: str, value: float) -> bool:
-    """``printed`` is ``value`` to the printed precision."""
-    return abs(float(printed) - value) <= half_unit(printed) * (1 + 1e-9) + 1e-15 * abs(value)
+def agrees(printed: str, value: float, tol: float = 0.0) -> bool:
+    """``printed`` is ``value`` to the printed precision (widened by ``tol``, absolute, for a
+    number that its solver determines less precisely than it is printed)."""
+    return abs(float(printed) - value) <= half_unit(printed) * (1 + 1e-9) + 1e-15 * abs(value) + tol
 
 
-def assert_printed(printed: str, value: float, what: str = ""):
-    assert agrees(printed, value), f"{what}: committed {printed}, fresh {value!r}"
+def assert_printed(printed: str, value: float, what: str = "", tol: float = 0.0):
+    assert agrees(printed, value, tol), f"{what}: committed {printed}, fresh {value!r}" + (f" (tolerance {tol:g})" if tol else "")
 
 
 def close(a: float, b: float) -> bool:
@@ -449,13 +452,26 @@ def test_elements_md_table_is_the_transcript():
     assert quoted("docs/elements.md", r"second order \(observed rates (\S+) and (\S+)\)") == tuple(rates)
 
 
+# p1+ref puts its nodes at the hinges found by L-BFGS-B on the load factor
+# (optimise_load_factor: finite-difference gradients with step 1e-9).  The load factor is
+# stationary there, so the search places the hinges to ~2e-7 L only (measured <= 1.8e-7 L from
+# the exact continuum hinges), and where within that depends on the last bits of the load
+# factor, which differ between BLAS kernels (OpenBLAS picks one for the CPU: an AVX2 and an
+# AVX-512 machine differ by ~1e-15 in it).  At N = 50 r moves by 0.79 and A_L by 0.012 per unit
+# of s/L summed over the hinges, so two machines agree to 2 x 2e-7 x 0.79 ~ 3e-7 in r and
+# 5e-9 in A_L (measured: 2.7e-8 and 4.7e-10).  A change of the P1 discretisation still shows
+# (the variants differ by 1e-4 and more).
+P1_REF_TOL = {"A_L": 5e-9, "r": 3e-7}
+
+
 @pytest.mark.parametrize("variant", ["rigid", "rigid+ref", "p1", "p1-cart", "p1+ref"])
 def test_elements_rows_are_fresh(variant):
     bench = load_benchmark("elements")
     printed = elements_table()[PAPER][variant][50]
     fresh = bench.RUNNERS[variant](CircularArch.from_ratio(*PAPER), 50)
-    assert_printed(printed[0], fresh["A_L"], f"elements.txt {variant} N = 50 A_L")
-    assert_printed(printed[1], fresh["r"], f"elements.txt {variant} N = 50 r")
+    tol = P1_REF_TOL if variant == "p1+ref" else {"A_L": 0.0, "r": 0.0}
+    assert_printed(printed[0], fresh["A_L"], f"elements.txt {variant} N = 50 A_L", tol["A_L"])
+    assert_printed(printed[1], fresh["r"], f"elements.txt {variant} N = 50 r", tol["r"])
 
 
 # --------------------------------------------------------------------------- docs/solvers.md, limit_scaling
