@@ -992,8 +992,8 @@ F_T, F_W, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_TOVER, 
 N_FLOAT = 20
 # integer state
 I_STEPS, I_CUTS, I_PIVOTS, I_OUTCOME, I_HASW, I_HASWI, I_STALE, I_JRATIO, I_ATRATIO, I_JSLIP, I_STATUS, \
-    I_SLIDING, I_REDIST, I_LOOSE = range(14)
-N_INT = 14
+    I_SLIDING, I_REDIST, I_LOOSE, I_BY_FP, I_BY_SSN, I_BY_NSGS = range(17)
+N_INT = 17
 # outcomes while running (0: none yet)
 OVERTURNED, SLID_OUT = 1, 2
 # statuses of advance()
@@ -1113,7 +1113,9 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
             Pstick = P.copy()
             status, piv, res = solve_friction(ab, c, nonneg, cj, mu, vscale, box, U, P, w, coulomb_tol)
             ist[I_PIVOTS] += piv
-            if status != 0:
+            if status == 0:
+                ist[I_BY_FP] += 1
+            else:
                 # (d) semi-smooth Newton from the stick solution, (e) non-smooth Gauss-Seidel from
                 # it, (f) Gauss-Seidel from the fixed point's best iterate; a stalled step accepted
                 # at the best of them up to LOOSE x the tolerance
@@ -1130,6 +1132,7 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                         ok, its, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
                     ist[I_PIVOTS] += its
                     if ok:
+                        ist[I_BY_SSN if stage == 0 else I_BY_NSGS] += 1
                         break
                     if res < best:
                         best = res

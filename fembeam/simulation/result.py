@@ -59,6 +59,7 @@ class SimulationResult:
     sliding_steps: int = 0
     redistributed: int = 0
     loose_steps: int = 0
+    solved_by: dict = field(default_factory=dict)
     friction_work: float = 0.0
     coulomb_residual: float = 0.0
     V_min: float = 0.0
@@ -135,6 +136,7 @@ class SimulationResult:
             "sliding": {"mu": num(self.friction), "max_slip": num(self.max_slip), "t": num(self.t_slip),
                         "s": num(self.s_slip), "sliding_steps": self.sliding_steps,
                         "self_stress_steps": self.redistributed, "loose_steps": self.loose_steps,
+                        "solved_by": self.solved_by,
                         "coulomb_residual_max": num(self.coulomb_residual)},
             "steps": self.steps,
             "cut_steps": self.cut_steps,

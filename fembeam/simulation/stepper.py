@@ -270,6 +270,8 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                friction_at=None if jr < 0 else ("impact" if ist[K.I_ATRATIO] else "motion"),
                max_slip=float(fs[K.F_SLIP]), t_slip=opt(fs[K.F_TSLIP]),
                s_slip=None if js < 0 else float(bodies.joint_s[js]), sliding_steps=int(ist[K.I_SLIDING]), redistributed=int(ist[K.I_REDIST]), loose_steps=int(ist[K.I_LOOSE]),
+               solved_by={"fixed_point": int(ist[K.I_BY_FP]), "newton": int(ist[K.I_BY_SSN]),
+                          "gauss_seidel": int(ist[K.I_BY_NSGS])},
                friction_work=float(fs[K.F_FRICTION]), coulomb_residual=float(fs[K.F_COULOMB]),
                time=time.perf_counter() - clock,
                timings={"load": t_load, "run": t_run, "total": time.perf_counter() - clock})
