@@ -1230,7 +1230,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             rot = max(rot, abs(q[i, 2]))
         if rot > fs[F_PEAK]:
             fs[F_PEAK], fs[F_TPEAK] = rot, t
-        done = t >= t_end - 1e-12 * dt
+        done = t >= t_end - h_min                # (a remainder shorter than a landing cut is not stepped)
         if ist[I_OUTCOME] == 0 and V < V_over:
             ist[I_OUTCOME] = OVERTURNED
             fs[F_TOVER] = t
@@ -1263,10 +1263,10 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             nh += 1
             fs[F_NEXT] = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
         if done:
-            return STOPPED if t < t_end - 1e-12 * dt else FINISHED, nh, ni
+            return STOPPED if t < t_end - h_min else FINISHED, nh, ni
         if count == max_steps or ni == imp.shape[0]:
             return RUNNING, nh, ni
-        h = min(dt, t_end - t)
+        h = t_end - t if t_end - t < dt + h_min else dt    # no sliver of a step left at the end
         for j in range(J):
             for k in range(2):
                 closed[j, k] = gap[j, k] <= gap_tol[j]

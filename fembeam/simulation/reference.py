@@ -107,7 +107,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
         rot = float(np.max(np.abs(q[:-1, 2])))
         if rot > peak:
             peak, t_peak = rot, t
-        done = t >= t_end - 1e-12 * dt
+        done = t >= t_end - h_min                # (a remainder shorter than a landing cut is not stepped)
         if V < V_over and outcome is None:
             outcome, t_over = "overturned", t
             done = done or stop_at_overturn
@@ -118,7 +118,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
                 progress(t)
         if done:
             break
-        h = min(dt, t_end - t)
+        h = t_end - t if t_end - t < dt + h_min else dt    # no sliver of a step left at the end
         # 1. impact: a corner closes at t (it landed at the end of the last step, or its predicted
         #    landing is within MIN_STEP of t): the projection of v alone, in this configuration
         #    (no force acts during an impact); then 2. the landings within the step, predicted
