@@ -11,7 +11,6 @@ import numpy as np
 
 from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import overturn_level
-from ..errors import InputError
 from .contacts import BAND, Contacts
 from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
 from .result import SimulationResult
@@ -34,31 +33,13 @@ def _roots(gap, vn, an):
 
 def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
     """The time history of :meth:`.stepper.Simulator.run` in NumPy (no friction)."""
-    from .stepper import check_dt
+    from .stepper import checked_run
     clock = time.perf_counter()
-    if not isinstance(ground, GroundMotion):
-        raise InputError(f"simulate needs a fembeam.dynamics.GroundMotion, got {type(ground).__name__}")
+    t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0)
     bodies, con, g = sim.bodies, sim.contacts, sim.g
     V_over = overturn_level(sim.curve, bodies.mass, g)
     L = sim.curve.length
-    t0 = float(ground.t[0])
-    if t_end is None:
-        t_end = float(ground.t[-1]) + 20.0 * math.sqrt(L / g)
-    t_end = float(t_end)
-    if not (math.isfinite(t_end) and t_end > t0):
-        raise InputError(f"t_end must be finite and after the start of the ground motion ({t0:g} s), got {t_end:g}")
-    dt = check_dt(dt, t0, t_end)
-    dt_out = max(dt, (t_end - t0) / 4000.0) if dt_out is None else float(dt_out)
-    if not (math.isfinite(dt_out) and dt_out > 0):
-        raise InputError(f"dt_out must be a positive number of seconds, got {dt_out!r}")
     n = bodies.n
-    q = bodies.rest_state() if q0 is None else np.array(q0, float)
-    v = np.zeros((n + 1, 3)) if v0 is None else np.array(v0, float)
-    if q.shape != (n + 1, 3) or v.shape != (n + 1, 3):
-        raise InputError(f"q0 and v0 must be ({n + 1}, 3) arrays (the last row the ground)")
-    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
-        raise InputError("q0 and v0 must be finite numbers")
-    q[-1] = v[-1] = 0.0
     minv = con.minv
     m = bodies.m
     mass = bodies.mass

@@ -176,17 +176,14 @@ def _ground_args(ground: GroundMotion):
     return kind, float(p.amplitude), float(p.period), np.zeros(1), np.zeros(1)
 
 
-def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
-    clock = time.perf_counter()
+def checked_run(sim: Simulator, ground, dt, t_end, dt_out, q0, v0):
+    """The arguments of :meth:`Simulator.run` checked (InputError otherwise) and completed:
+    ``(t0, t_end, dt, dt_out, q, v)`` with the initial positions and velocities ``(n + 1, 3)``."""
     if not isinstance(ground, GroundMotion):
         raise InputError(f"simulate needs a fembeam.dynamics.GroundMotion, got {type(ground).__name__}")
-    K = compiled_kernel()                # numba: compiled, or loaded from its cache, on first use
-    t_load = time.perf_counter() - clock
-    bodies, con, g = sim.bodies, sim.contacts, sim.g
-    L = sim.curve.length
     t0 = float(ground.t[0])
     if t_end is None:
-        t_end = float(ground.t[-1]) + 20.0 * math.sqrt(L / g)
+        t_end = float(ground.t[-1]) + 20.0 * math.sqrt(sim.curve.length / sim.g)
     t_end = float(t_end)
     if not (math.isfinite(t_end) and t_end > t0):
         raise InputError(f"t_end must be finite and after the start of the ground motion ({t0:g} s), got {t_end:g}")
@@ -194,14 +191,25 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     dt_out = max(dt, (t_end - t0) / 4000.0) if dt_out is None else float(dt_out)
     if not (math.isfinite(dt_out) and dt_out > 0):
         raise InputError(f"dt_out must be a positive number of seconds, got {dt_out!r}")
-    n, J = bodies.n, con.J
-    q = bodies.rest_state() if q0 is None else np.array(q0, float)
+    n = sim.bodies.n
+    q = sim.bodies.rest_state() if q0 is None else np.array(q0, float)
     v = np.zeros((n + 1, 3)) if v0 is None else np.array(v0, float)
     if q.shape != (n + 1, 3) or v.shape != (n + 1, 3):
         raise InputError(f"q0 and v0 must be ({n + 1}, 3) arrays (the last row the ground)")
     if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
         raise InputError("q0 and v0 must be finite numbers")
     q[-1] = v[-1] = 0.0
+    return t0, t_end, dt, dt_out, q, v
+
+
+def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
+    clock = time.perf_counter()
+    t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0)
+    K = compiled_kernel()                # numba: compiled, or loaded from its cache, on first use
+    t_load = time.perf_counter() - clock
+    bodies, con, g = sim.bodies, sim.contacts, sim.g
+    L = sim.curve.length
+    n, J = bodies.n, con.J
     m, minv = bodies.m, con.minv
     mv = np.zeros((n + 1, 3))
     mv[:-1, 0] = mv[:-1, 1] = m
