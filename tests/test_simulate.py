@@ -51,16 +51,19 @@ def first_amplitude_error(dt: float) -> float:
     return float(np.max(phi[after])) / housner_next(0.15) - 1.0
 
 
-def test_housner_free_rocking_first_order():
-    """The amplitude after the first impact converges to Housner's: 6.3e-5 at dt = 4e-4, 6.1e-6 at
-    dt = 1e-4 (observed order 1.68 between these two; about 1 over a wider range, with scatter from
-    where the landing falls in a step).  The impact itself is exact: the projection conserves the
-    angular momentum about the new corner."""
-    dts = [4e-4, 1e-4]
-    errs = [abs(first_amplitude_error(dt)) for dt in dts]
-    assert errs[-1] < 1e-4
-    order = math.log(errs[0] / errs[1]) / math.log(dts[0] / dts[1])
-    assert 1.0 < order < 2.2, (errs, order)
+def test_housner_free_rocking_converges():
+    """The amplitude after the first impact against Housner's: below 7.5e-5 (relative) at every dt
+    from 1e-3 to 2e-5 s (measured: 5.1e-5 at 1e-3, -2.6e-5 at 7e-4, 7.2e-5 at 5e-4, 4.1e-6 at
+    2e-5: not monotone, the landing falls anywhere in a step), and converging: the least-squares
+    slope of log|error| against log dt over the five steps 4e-4 ... 1e-4 s is 1.63 (asserted in
+    (1, 2.5)); below 1e-4 s the error stays at 4e-6 to 9e-6 (docs/simulate.md).  The impact itself
+    is exact: the projection conserves the angular momentum about the new corner."""
+    dts = [1e-3, 7e-4, 5e-4, 4e-4, 3e-4, 2e-4, 1.5e-4, 1e-4, 5e-5, 2e-5]
+    errs = np.array([abs(first_amplitude_error(dt)) for dt in dts])
+    assert np.all(errs < 7.5e-5), errs
+    fit = slice(3, 8)
+    slope = np.polyfit(np.log(dts[fit]), np.log(errs[fit]), 1)[0]
+    assert 1.0 < slope < 2.5, (errs, slope)
 
 
 def test_impact_of_a_block_is_housners():
@@ -219,9 +222,14 @@ def test_cli_json_and_errors():
                 "--t-end", "1", "--json")
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout, parse_constant=lambda c: pytest.fail(f"non-strict JSON: {c}"))
-    for k in ("outcome", "peak_rotation", "hinges_over_time", "energy", "energy_balance_error"):
+    for k in ("outcome", "peak_rotation", "hinges_over_time", "energy", "energy_balance_error", "friction_demand",
+              "timings_s", "n_impacts", "impacts"):
         assert k in out
-    assert out["outcome"] in ("rest", "survived", "overturned")
+    # a block follows Housner's equation in both models: rock's answer is the reference
+    rk = Rocker(BLOCK, voussoirs=1, qp=False).run(GroundMotion.rectangular(0.3, 0.3), t_end=1.0, thrust_check=False)
+    assert out["outcome"] == rk.outcome == "survived"
+    assert out["peak_rotation"] == pytest.approx(rk.peak_rotation, rel=1e-2)     # measured 1.6e-3
+    assert out["n_impacts"] == len(out["impacts"]) and out["timings_s"]["total"] >= out["timings_s"]["run"]
 
 
 @pytest.mark.parametrize("bad", [("--dt", "0"), ("--dt", "1"), ("--dt", "nan"), ("--dt", "abc"), ("--t-end", "-1"),
