@@ -20,9 +20,15 @@ the associative flow rule: a joint that slides at rate ``gamma`` opens by ``mu |
 at both fibres (dilatancy).  These jumps lie in the dual cone ``eps+- >= mu |gamma|``
 of the admissible forces, on which every admissible force does non-negative work, so
 the kinematic theorem holds and the static and kinematic load factors of the optimum
-must agree (the duality check of :mod:`~fembeam.analysis.limit`).  Real masonry does not
-dilate: with friction the load factor is an equilibrium (lower) bound, not a proof of
-collapse (docs/friction.md).
+must agree (the duality check of :mod:`~fembeam.analysis.limit`).
+
+Real masonry joints slide without dilatancy: the flow rule is non-associated, the static
+theorem does not hold for it, and the associative load factor with ``mu`` is an UPPER bound
+of the collapse load of such joints (every collapse state of theirs is an admissible state
+of the LP).  A LOWER bound follows from Radenkovic's second theorem: the associative analysis
+with a reduced law whose normals contain the real flow; for a cohesionless joint that slides
+without dilatancy the reduced coefficient is ``mu* = 0`` (frictionless joints, still
+no-tension), :data:`REDUCED_FRICTION` and :func:`lower_bound` (docs/friction.md, section 3).
 """
 from __future__ import annotations
 
@@ -37,10 +43,30 @@ from ..geometry import MidCurve
 from ..mechanisms.hinge import HINGE_REL_TOL, Hinge
 
 __all__ = ["check_friction", "friction_rows", "jumps", "mechanism", "hinges_and_slides", "required_friction",
-           "mass_on_midcurve"]
+           "mass_on_midcurve", "REDUCED_FRICTION", "UPPER_BOUND", "LOWER_BOUND", "EXACT_WITHOUT_FRICTION", "THICKNESS_BOUND", "bound_of",
+           "lower_bound", "bounds"]
 
 
 MAX_FRICTION = 1000.0   # beyond it the rows' round-off (times mu) exceeds the certificate's tolerance
+
+# Radenkovic's reduced coefficient of a cohesionless Coulomb joint that slides without
+# dilatancy, whatever its mu: the largest cone {|S| <= mu* N} whose normals contain every
+# non-dilatant flow (a joint may slide at any N >= 0, N = 0 included) is mu* = 0.
+REDUCED_FRICTION = 0.0
+UPPER_BOUND = "upper (associative flow; sliding without dilatancy can collapse below it)"
+LOWER_BOUND = ("lower (Radenkovic's second theorem: associative analysis with the reduced coefficient mu* = 0 "
+               "of a cohesionless joint that slides without dilatancy, i.e. frictionless no-tension joints)")
+EXACT_WITHOUT_FRICTION = ("exact (mu = 0: frictionless joints slide without dilatancy in the associative analysis "
+                          "too, so both bounds are this analysis and its load factor is the collapse load)")
+
+THICKNESS_BOUND = ("lower (associative flow: a thinner arch has no equilibrium state and collapses whatever the "
+                   "flow rule; joints that slide without dilatancy may need a thicker one)")
+
+
+def bound_of(mu: float | None) -> str | None:
+    """What ``A_L`` of a limit analysis with coefficient ``mu`` is for joints that slide
+    without dilatancy (None: joints that never slide)."""
+    return None if mu is None else (EXACT_WITHOUT_FRICTION if mu == REDUCED_FRICTION else UPPER_BOUND)
 
 
 def check_friction(mu) -> float | None:
@@ -191,3 +217,53 @@ def continuum_support(disc: Discretization, direction: int, mu: float, tol: floa
     s_all = np.concatenate([np.tile(disc.joint_s, R.shape[0] // J), cuts])
     w = np.abs(lp.y)
     return status, lam, np.unique(s_all[w > 1e-6 * max(np.max(w), 1e-300)])
+
+
+def lower_bound(disc: Discretization, direction: int, continuum: bool, verify: bool = True) -> tuple[str, float]:
+    """Safe load factor of ``disc`` whose joints slide without dilatancy, whatever their
+    coefficient: the associative limit analysis with :data:`REDUCED_FRICTION` (frictionless,
+    no-tension joints; Radenkovic's second theorem, docs/friction.md section 3).  Returns the
+    status (``"ok"``, ``"cannot_stand"``: no safe load follows, ``"no_mechanism"``: no
+    horizontal acceleration collapses it) and the load factor (g; NaN unless ``"ok"``, and
+    never below 0).  ``continuum``: the fibre rows are checked between the joints as well
+    (:func:`continuum_support`); the shear vanishes at the joints of ``disc`` only."""
+    if continuum:
+        status, lam, _ = continuum_support(disc, direction, REDUCED_FRICTION)
+    else:
+        from .limit import limit_analysis
+        lim = limit_analysis(disc, direction, verify=verify, friction=REDUCED_FRICTION)
+        status, lam = lim.status, lim.A_L
+    return status, (max(float(lam), 0.0) + 0.0 if status == "ok" else float("nan"))   # + 0.0: no -0.0
+
+
+def bounds(mu: float, upper: tuple[str, float], lower: tuple[str, float], determinate: bool) -> dict:
+    """The JSON ``friction_bounds``: the associative load factor with ``mu`` (``upper``) and
+    with :data:`REDUCED_FRICTION` (``lower``), each ``(status, A_L)``, and what is known of
+    the collapse load of joints that slide without dilatancy between them."""
+    def entry(what, coefficient, status, lam, bound):
+        d = {"A_L": float(lam) + 0.0 if status == "ok" else None, "outcome": status, "friction": coefficient,
+             "bound": bound}
+        if status == "cannot_stand":
+            d["reason"] = (f"with {what} the arch cannot stand: " + (
+                "no equilibrium state fits, so it collapses under its own weight whatever the flow rule"
+                if what == "this coefficient" else "no safe load factor follows from the theorem"))
+        elif status == "no_mechanism":
+            d["reason"] = (f"with {what} no horizontal acceleration turns the arch into a mechanism"
+                           + (": no collapse whatever the flow rule" if coefficient == REDUCED_FRICTION else
+                              " with dilatant sliding; joints that slide without dilatancy may still collapse"))
+        return d
+
+    out = {"upper": entry("this coefficient", mu, *upper, bound_of(mu)),
+           "lower": entry("frictionless joints", REDUCED_FRICTION, *lower, LOWER_BOUND),
+           "determinate": bool(determinate)}
+    if mu == REDUCED_FRICTION:
+        out["known"] = EXACT_WITHOUT_FRICTION
+    elif determinate:
+        out["known"] = ("statically determinate (no redundants): the joint forces follow from equilibrium alone, "
+                        "so the collapse load equals the upper value whatever the flow rule")
+    else:
+        out["known"] = ("the collapse load of joints that slide without dilatancy lies between lower and upper, "
+                        "and no theorem places it closer: it may reach upper or fall well below it; the smallest "
+                        "collapse load solves a non-convex problem (a mathematical programme with complementarity "
+                        "constraints, docs/friction.md section 3)")
+    return out

@@ -28,6 +28,8 @@ With a finite Coulomb coefficient ``friction = mu`` every joint also gets the ro
 ``mu (N+ + N-) -+ S >= 0`` (:mod:`~fembeam.analysis.friction`); the duals then give a
 mechanism that may slide, with the associative dilatancy ``mu |gamma|`` at both fibres,
 and the same certificates hold (the jumps lie in the dual cone of the admissible forces).
+Joints that slide without dilatancy may collapse below that ``A_L``: it is an upper bound
+for them, and ``friction=0`` gives the lower one (docs/friction.md, section 3).
 
 Forces are reported per unit g (multiply by g for newtons per unit depth).
 """

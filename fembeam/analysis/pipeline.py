@@ -18,10 +18,13 @@ gravity fits: the minimum thickness of the analysed arch is reported) and
 With a Coulomb coefficient ``friction`` the limit analysis keeps every joint force inside
 the friction cone (:mod:`~fembeam.analysis.friction`; on the continuous arch the fibre
 rows are checked between the joints, the friction rows at the joints of the mesh refined
-through the hinges and slides).  When its mechanism slides the outcome is ``"sliding"``
-and no impact follows (the impact model is of a rocking, frictionless arch).  Every
-result reports the friction coefficient the joints need, at the limit state and at the
-impact (:meth:`AnalysisResult.required_friction`).
+through the hinges and slides).  Its flow is associative (dilatant sliding), so ``A_L`` is
+then an UPPER bound of the collapse load of joints that slide without dilatancy; the same
+analysis with frictionless joints on the same mesh gives the safe LOWER bound
+(:func:`~fembeam.analysis.friction.lower_bound`), both in :attr:`AnalysisResult.friction_bounds`.
+When its mechanism slides the outcome is ``"sliding"`` and no impact follows (the impact
+model is of a rocking, frictionless arch).  Every result reports the friction coefficient
+the joints need, at the limit state and at the impact (:meth:`AnalysisResult.required_friction`).
 """
 from __future__ import annotations
 
@@ -35,7 +38,7 @@ from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms.hinge import merge_adjacent
 from .continuum import ContinuumLimit, continuum_limit
-from .friction import check_friction, continuum_support, required_friction
+from .friction import bound_of, bounds, check_friction, continuum_support, lower_bound, required_friction
 from .impact import ImpactResult, impact
 from .limit import LimitResult, _check_direction, limit_analysis
 from .thickness import MinimumThickness, thickness_on
@@ -68,6 +71,8 @@ class AnalysisResult:
     verification: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     friction: float | None = None   # Coulomb coefficient of the limit analysis (None: no sliding)
+    # with friction: (status, A_L) of the frictionless analysis on the same mesh (the safe lower bound)
+    friction_lower: tuple | None = None
 
     @property
     def t_min_over_R(self) -> float | None:
@@ -113,6 +118,17 @@ class AnalysisResult:
         return bool(self.outcome == "sliding" or any(rf[k].get("above") for k in rf))
 
     @property
+    def friction_bounds(self) -> dict | None:
+        """With :attr:`friction`: the associative load factor with ``mu`` (an upper bound of
+        the collapse load of joints that slide without dilatancy) and with frictionless joints
+        (a lower bound), and what is known between them
+        (:func:`~fembeam.analysis.friction.bounds`); None without friction."""
+        if self.friction is None or self.friction_lower is None:
+            return None
+        return bounds(self.friction, (self.limit.status, self.A_L), self.friction_lower,
+                      statics_determinate(self.limit.disc))
+
+    @property
     def hinges_after(self):
         if self.impact is None:
             return []
@@ -144,6 +160,8 @@ class AnalysisResult:
             "t_min_over_R": num(self.t_min_over_R),
             "minimum_thickness": self.thickness.to_dict() if self.thickness is not None else None,
             "friction": self.friction,
+            "bound": bound_of(self.friction),
+            "friction_bounds": self.friction_bounds,
             "required_friction": self.required_friction(),
             "sliding_risk": self.sliding_risk,
             "sliding_before": list(self.limit.slides) if self.limit is not None else [],
@@ -167,6 +185,12 @@ class AnalysisResult:
                                   "N": (lim.N[0] + lim.N[1]).tolist(),
                                   "eccentricity": [None if not np.isfinite(e) else float(e) for e in lim.eccentricity]}
         return out
+
+
+def statics_determinate(disc) -> bool:
+    """Whether the joint forces of ``disc`` follow from equilibrium alone (no redundants: a
+    member with a free end, e.g. a block or a stack of blocks on its base)."""
+    return 3 * disc.n_joints == disc.M.shape[0]    # k = 3 J - (DOFs) redundants (statics.py)
 
 
 def _count(n, name: str, lowest: int) -> int:
@@ -235,6 +259,12 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
         res.timings["continuum"] = time.perf_counter() - t0
     res.limit = lim
     res.A_L = float("nan") if lim.status != "ok" else (res.continuum.A_L if res.continuum else lim.A_L)
+    if mu is not None:   # the safe side: frictionless joints on the same mesh (Radenkovic's second theorem)
+        t0 = time.perf_counter()
+        # no admissible state with mu: none with frictionless joints either
+        res.friction_lower = (("cannot_stand", float("nan")) if lim.status == "cannot_stand" else
+                              lower_bound(disc, direction, continuum, verify))
+        res.timings["lower_bound"] = time.perf_counter() - t0
     res.verification["limit"] = lim.verification
     if verify:
         check(res.verification, "limit analysis of the continuum")

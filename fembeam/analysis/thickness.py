@@ -17,7 +17,10 @@ With a Coulomb coefficient ``friction`` the joint forces must also lie in the fr
 cone ``|S| <= mu (N+ + N-)`` (:mod:`~fembeam.analysis.friction`): checked at the joints of
 the mesh (the fibre forces of the continuous member still at every section), so that the
 continuous member's value is approached as the mesh is refined.  Friction can only make
-the minimum thickness larger, and below some ``mu`` no thickness stands (``inf``).
+the minimum thickness larger, and below some ``mu`` no thickness stands (``inf``).  The flow
+of these rows is associative (dilatant sliding): for joints that slide without dilatancy the
+thickness found is a lower bound (a thinner arch has no equilibrium state at all, a thicker
+one may still collapse; docs/friction.md, section 3).
 """
 from __future__ import annotations
 

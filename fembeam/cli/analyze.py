@@ -18,8 +18,10 @@ def register(sub) -> None:
                                    "QP (restitution coefficient r, post-impact hinges, impulse line).")
     add_arch(p)
     add_solver(p)
-    add_friction(p, "limit analysis with Coulomb friction MU >= 0 at the joints (associative: an equilibrium "
-                    "bound, docs/friction.md); joints needing more friction are flagged (default: no sliding)")
+    add_friction(p, "limit analysis with Coulomb friction MU >= 0 at the joints; its flow is associative (dilatant "
+                    "sliding), so A_L is an UPPER bound: joints that slide without dilatancy can collapse below it. "
+                    "The safe LOWER bound (frictionless joints, Radenkovic's second theorem) is printed beside it. "
+                    "Joints needing more friction are flagged (default: no sliding; docs/friction.md)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--fields", action="store_true", help="with --json: add the impulse and thrust lines")
     add_picture_options(p)
@@ -136,6 +138,34 @@ def friction_lines(rf: dict, mu: float | None, names: dict) -> list[str]:
     return lines
 
 
+def friction_bound_lines(fb: dict | None) -> list[str]:
+    """Text of :attr:`AnalysisResult.friction_bounds`: the associative load factor with mu (an
+    upper bound for joints that slide without dilatancy) and the frictionless one (a lower bound)."""
+    if fb is None:
+        return []
+    up, lo = fb["upper"], fb["lower"]
+    lines = ["  collapse load of joints that slide without dilatancy (docs/friction.md, section 3):"]
+    if up["friction"] == lo["friction"]:
+        what = f"{up['A_L']:.6f} g" if up["A_L"] is not None else up["outcome"].replace("_", " ")
+        return lines + [f"    exact: {what} (mu = 0: the associative flow has no dilatancy)"]
+    if up["A_L"] is not None:
+        lines.append(f"    upper bound  {up['A_L']:.6f} g   (associative flow with mu = {up['friction']:g}: "
+                     "sliding without dilatancy can collapse below it)")
+    elif up["outcome"] == "no_mechanism":
+        lines.append(f"    upper bound  none: no associative mechanism with mu = {up['friction']:g}")
+    if lo["A_L"] is not None:
+        lines.append(f"    lower bound  {lo['A_L']:.6f} g   (safe: frictionless joints, mu* = 0, "
+                     "Radenkovic's second theorem)")
+    elif lo["outcome"] == "cannot_stand":
+        lines.append("    lower bound  none: with frictionless joints (mu* = 0, Radenkovic's second theorem) the arch "
+                     "cannot stand, so no safe load factor follows")
+    else:
+        lines.append("    lower bound  infinite: with frictionless joints no horizontal acceleration makes a mechanism")
+    if fb["determinate"]:
+        lines.append("    statically determinate member: the collapse load equals the upper value")
+    return lines
+
+
 def summary(res: AnalysisResult) -> str:
     lines = [f"fembeam analyze: {arch_title(res.geometry)}",
              f"  mesh: {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
@@ -160,20 +190,29 @@ def summary(res: AnalysisResult) -> str:
                          "given one) lets it stand")
         return "\n".join(lines)
     if res.outcome == "no_mechanism":
-        lines.append("  outcome: NO MECHANISM: no horizontal acceleration can turn this arch into a mechanism")
+        if res.friction is None or res.friction == 0.0:
+            lines.append("  outcome: NO MECHANISM: no horizontal acceleration can turn this arch into a mechanism")
+        else:
+            lines.append("  outcome: NO MECHANISM with associative friction (dilatant sliding); joints that slide "
+                         "without dilatancy may still collapse")
+        lines += friction_bound_lines(res.friction_bounds)
         return "\n".join(lines)
     if res.outcome == "sliding":
         slides = ", ".join(f"{d['angle_deg']:.2f} deg" for d in res.limit.slides)
-        lines += [f"  A_L = {res.A_L:.6f} g   (uniform-mesh LP: {res.A_L_mesh:.6f} g; associative friction)",
-                  f"  outcome: SLIDING: the incipient mechanism slides at {slides} "
+        lines += [f"  A_L = {res.A_L:.6f} g   (uniform-mesh LP: {res.A_L_mesh:.6f} g; associative friction"
+                  f"{'' if res.friction == 0.0 else ': an UPPER bound'})",
+                  f"  outcome: SLIDING: the associative mechanism slides at {slides} "
                   f"(hinges: {_hinges(res.hinges_before)}); no rocking impact is computed"]
+        lines += friction_bound_lines(res.friction_bounds)
         lines += friction_lines(res.required_friction(), res.friction, {"limit": "|S|/N"})
         return "\n".join(lines)
     bounds = ""
     if res.continuum is not None and res.continuum.status == "ok":
         bounds = f", continuum bounds [{res.A_L_lower:.9f}, {res.A_L:.9f}]"
-    lines += [f"  A_L = {res.A_L:.6f} g   (uniform-mesh LP: {res.A_L_mesh:.6f} g{bounds})",
-              f"  hinges before impact: {_hinges(res.hinges_before)}"]
+    upper = "" if res.friction is None or res.friction == 0.0 else "; associative friction: an UPPER bound"
+    lines += [f"  A_L = {res.A_L:.6f} g   (uniform-mesh LP: {res.A_L_mesh:.6f} g{bounds}{upper})"]
+    lines += friction_bound_lines(res.friction_bounds)
+    lines += [f"  hinges before impact: {_hinges(res.hinges_before)}"]
     if res.outcome == "arrested":
         lines.append("  outcome: ARRESTED: no compatible motion does positive work after the impact, r = 0")
     else:

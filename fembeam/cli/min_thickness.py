@@ -13,6 +13,7 @@ import json
 import math
 
 from ..analysis import analyze, minimum_thickness
+from ..analysis.friction import EXACT_WITHOUT_FRICTION, REDUCED_FRICTION, THICKNESS_BOUND
 from ..errors import InputError
 from ..geometry import MidCurve
 from .analyze import friction_coefficient
@@ -34,7 +35,9 @@ def register(sub) -> None:
     g.add_argument("--tol", type=finite_float, default=1e-6, metavar="TOL",
                    help="relative bisection tolerance on the thickness factor, in [1e-12, 0.1] (default 1e-6)")
     g.add_argument("--friction", type=friction_coefficient, default=None, metavar="MU",
-                   help="Coulomb coefficient of the joints, in [0, 1000] (default: no sliding)")
+                   help="Coulomb coefficient of the joints, in [0, 1000], associative flow (dilatant sliding): the "
+                        "thickness found is then a LOWER bound, joints that slide without dilatancy may need more "
+                        "(default: no sliding; docs/friction.md)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.set_defaults(func=run)
 
@@ -55,7 +58,7 @@ def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int |
     desc = curve.describe() if hasattr(curve, "describe") else {}
     n = voussoirs if voussoirs is not None else (elements or 200)
     out = {"geometry": desc, "mode": "voussoirs" if voussoirs is not None else "continuous", "elements": n,
-           "friction": friction, **th.to_dict(), "thickness_min": None, "geometric_safety_factor": None,
+           "friction": friction, "bound": _bound(friction), **th.to_dict(), "thickness_min": None, "geometric_safety_factor": None,
            "hinges": [], "slides": [], "explanation": None}
     law = _law(desc)
     if th.outcome == "ok":
@@ -88,6 +91,13 @@ def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int |
     return out
 
 
+def _bound(friction: float | None) -> str | None:
+    """What the thickness found is for joints that slide without dilatancy (None: joints that never slide)."""
+    if friction is None:
+        return None
+    return EXACT_WITHOUT_FRICTION if friction == REDUCED_FRICTION else THICKNESS_BOUND
+
+
 def _law(desc: dict) -> dict:
     if isinstance(desc.get("thickness"), (int, float)):
         return {"thickness": float(desc["thickness"])}
@@ -118,7 +128,11 @@ def summary(out: dict) -> str:
             lines.append("    " + ", ".join(extra))
         lines.append(f"    bracket [{out['lower']:.8f}, {out['thickness_scale']:.8f}] of the factor, "
                      f"{out['solves']} margin LPs")
-        lines.append(f"  geometric factor of safety of the arch as given: {out['geometric_safety_factor']:.4f}")
+        if out.get("bound") == THICKNESS_BOUND:
+            lines.append(f"    with mu = {out['friction']:g} (associative flow) a LOWER bound: joints that slide without "
+                         "dilatancy may need more (docs/friction.md)")
+        lines.append(f"  geometric factor of safety of the arch as given: {out['geometric_safety_factor']:.4f}"
+                     + (" (an upper bound)" if out.get("bound") == THICKNESS_BOUND else ""))
         hs = ", ".join(f"{h['angle_deg']:.2f} deg {h['side']}" for h in out["hinges"]) or "none found"
         lines.append(f"  collapse mechanism just below it: {hs}")
         if out.get("slides"):
