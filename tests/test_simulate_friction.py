@@ -149,3 +149,21 @@ def test_no_sliver_of_a_step_at_the_end():
     sim = Simulator(CircularArch.from_ratio(157.5, 0.15), elements=200)
     r = sim.run(GroundMotion.sine(0.3, 0.4), dt=1e-3, t_end=4.0)
     assert r.outcome == "rest" and r.steps == 4000 and r.t_end == pytest.approx(4.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("rows", [1, 5, 512])
+def test_a_run_stops_at_its_outcome_across_returns(monkeypatch, rows):
+    """The compiled loop returns to Python whenever its history buffer is full; an overturning decided
+    in the step where it returned must still stop the run (it ran on to t_end, 3023 steps instead of
+    643, when the buffer filled at that step).  dt_out = dt: a history row every step."""
+    import fembeam.simulation.stepper as stepper
+    monkeypatch.setattr(stepper, "CHUNK_ROWS", rows)
+    sim = Simulator(SLENDER, voussoirs=1)
+    ref = sim.run(GroundMotion.rectangular(0.5, 0.5), dt=1e-3, t_end=3.0, dt_out=1e-3, engine="reference")
+    res = sim.run(GroundMotion.rectangular(0.5, 0.5), dt=1e-3, t_end=3.0, dt_out=1e-3)
+    assert res.outcome == ref.outcome == "overturned"
+    assert res.steps == ref.steps and res.t_end == pytest.approx(ref.t_overturn, abs=1e-12)
+    assert res.peak_rotation == pytest.approx(ref.peak_rotation, rel=1e-9)
+    slid = Simulator(SQUAT, voussoirs=1, friction=0.3).run(GroundMotion.rectangular(0.9, 3.0), dt=1e-3, t_end=1.0,
+                                                            dt_out=1e-3)
+    assert slid.outcome == "collapsed_by_sliding" and slid.t_end == pytest.approx(slid.t_overturn, abs=1e-12)

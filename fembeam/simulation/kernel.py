@@ -1145,7 +1145,7 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                     w += c
                     ist[I_LOOSE] += 1
                 if not ok:
-                    fs[F_KKT] = res
+                    fs[F_KKT] = best
                     dump_ab[:, :] = ab              # the failing problem, for the error report
                     dump_c[:] = c
                     dump_P[:] = Pstick
@@ -1230,7 +1230,9 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             rot = max(rot, abs(q[i, 2]))
         if rot > fs[F_PEAK]:
             fs[F_PEAK], fs[F_TPEAK] = rot, t
-        done = t >= t_end - h_min                # (a remainder shorter than a landing cut is not stepped)
+        # the end (a remainder shorter than a landing cut is not stepped), or an outcome already
+        # decided in an earlier call that returned for its buffers before it could stop
+        done = t >= t_end - h_min or (stop and ist[I_OUTCOME] != 0)
         if ist[I_OUTCOME] == 0 and V < V_over:
             ist[I_OUTCOME] = OVERTURNED
             fs[F_TOVER] = t

@@ -53,7 +53,7 @@ class SimulationResult:
     t_friction: float | None = None
     s_friction: float | None = None
     friction_at: str | None = None
-    max_slip: float = 0.0
+    max_slip: float | None = None
     t_slip: float | None = None
     s_slip: float | None = None
     sliding_steps: int = 0

@@ -33,7 +33,7 @@ projections, step 4, and the position projections, step 5), reported as ``energy
 them).
 
 With Coulomb friction ``mu`` the sliding rows of step 4 are no longer equalities: each joint with a
-closed corner obeys ``|P_t| <= mu N`` (:mod:`.kernel_solve`), the slip it accumulates is carried by
+closed corner obeys ``|P_t| <= mu N`` (:mod:`.kernel`), the slip it accumulates is carried by
 the joint (the position projection keeps it instead of removing it) and reported.
 
 The loop is compiled (:mod:`.kernel`, numba); :mod:`.reference` is the same algorithm in NumPy
@@ -70,10 +70,12 @@ BLOCK_PIVOTS = 8            # block pivots tried on a smooth step
 CHUNK_STEPS = 4096          # steps between two returns of the compiled loop (progress, interrupts)
 CHUNK_ROWS = 512            # history rows and impacts buffered per return
 MU_RANGE = (1e-3, 1e3)      # admitted friction coefficients
+PEAK_TOL = 1e-12            # rad: a smaller peak rotation is round-off (no time reported for it)
 KKT_TOL = 1e-8              # KKT residual of a step's contact problem, relative to its scales
 COULOMB_TOL = 1e-5          # residual of Coulomb's law at a step with sliding (same scales)
 _SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite",
-                  4: "with friction did not converge (Tresca fixed point and non-smooth Gauss-Seidel)"}
+                  4: "with friction was not solved (Tresca fixed point, semi-smooth Newton, non-smooth "
+                     "Gauss-Seidel; smallest Coulomb residual reached)"}
 
 
 class Simulator:
@@ -287,14 +289,14 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
 
     jr, js = int(ist[K.I_JRATIO]), int(ist[K.I_JSLIP])
     res.finish(outcome=outcome, t_end=float(fs[K.F_T]), t_overturn=opt(fs[K.F_TOVER]),
-               peak_rotation=float(fs[K.F_PEAK]), t_peak=opt(fs[K.F_TPEAK]),
+               peak_rotation=float(fs[K.F_PEAK]), t_peak=opt(fs[K.F_TPEAK]) if fs[K.F_PEAK] > PEAK_TOL else None,
                energy_balance_error=float(fs[K.F_BAL]), dissipated=float(fs[K.F_D]), ground_work=float(fs[K.F_W]),
                projection_drift=float(fs[K.F_DRIFT]), steps=int(ist[K.I_STEPS]), cut_steps=int(ist[K.I_CUTS]),
                pivots=int(ist[K.I_PIVOTS]), V_min=float(fs[K.F_VMIN]),
                friction_ratio=float(fs[K.F_RATIO]), t_friction=opt(fs[K.F_TRATIO]),
                s_friction=None if jr < 0 else float(bodies.joint_s[jr]),
                friction_at=None if jr < 0 else ("impact" if ist[K.I_ATRATIO] else "motion"),
-               max_slip=float(fs[K.F_SLIP]), t_slip=opt(fs[K.F_TSLIP]),
+               max_slip=None if sim.friction is None else float(fs[K.F_SLIP]), t_slip=opt(fs[K.F_TSLIP]),
                s_slip=None if js < 0 else float(bodies.joint_s[js]), sliding_steps=int(ist[K.I_SLIDING]), redistributed=int(ist[K.I_REDIST]), loose_steps=int(ist[K.I_LOOSE]),
                solved_by={"fixed_point": int(ist[K.I_BY_FP]), "newton": int(ist[K.I_BY_SSN]),
                           "gauss_seidel": int(ist[K.I_BY_NSGS])},
