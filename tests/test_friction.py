@@ -3,6 +3,7 @@
 and the minimum thickness of the semicircular arch against Cocchetti & Rizzi (2020)."""
 import json
 import math
+import re
 import subprocess
 import sys
 
@@ -154,9 +155,18 @@ def test_cli_analyze_friction_json(capsys):
 
 
 def test_cli_analyze_friction_text(capsys):
+    """Without friction the rocking limit state needs |S|/N = 0.4894 at the right springing (157.5
+    deg): with mu = 0.47 below it the text says the associative mechanism slides there, with 0.50
+    above it that the arch rocks."""
+    assert main(["analyze", "--json"]) == 0
+    need = json.loads(capsys.readouterr().out)["required_friction"]["limit"]
+    assert 0.47 < need["max"] < 0.50 and need["at_deg"] == pytest.approx(157.5)
     assert main(["analyze", "--friction", "0.47"]) == 0
     out = capsys.readouterr().out
-    assert "SLIDING RISK" in out or "SLIDING" in out
+    assert re.search(r"outcome: SLIDING: the associative mechanism slides at 157\.50 deg", out), out
+    assert main(["analyze", "--friction", "0.50"]) == 0
+    out = capsys.readouterr().out
+    assert "outcome: SLIDING" not in out and "r = K'/K" in out, out
 
 
 def test_cli_impact_friction_json(capsys):
