@@ -22,3 +22,10 @@ def test_python_blocks_run(path):
             assert ns["imp"].r == pytest.approx(0.606, abs=2e-3) and ns["lim"].status == "ok"
         if "res" in ns and hasattr(ns["res"], "r"):
             assert ns["res"].r == pytest.approx(0.606517, abs=1e-6)
+        if "rocker" in ns:   # the whole motion: energy conservation, and the largest piece rotation
+            d = ns["d"]
+            e = d["energy"]
+            barrier = max(abs(e["V_min"]), max(abs(x) for x in ns["res"].history["V"]))
+            assert e["K_end"] + e["V_end"] == pytest.approx(e["ground_work"] - e["dissipated"], abs=1e-6 * barrier)
+            assert d["peak_rotation"] >= abs(d["peak_theta"]) > 0
+            assert d["n_impacts"] == len(d["impacts"]) > 0 and d["friction_demand"]["mu"] == 0.6
