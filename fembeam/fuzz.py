@@ -8,18 +8,21 @@ drawn for the option's kind (flag, choice, integer, number, list, pair, file nam
 mostly plausible values (small meshes, short motions, files in a scratch directory) and
 some hostile ones (``nan``, ``inf``, ``-1``, ``1e308``, ``abc``, empty strings, reversed
 ranges, unwritable or existing-directory paths).  New options are covered without editing
-this module: only their kind matters.  The command runs in this process (imports once),
-with its stdout and stderr captured and an alarm after ``timeout`` seconds.
+this module: only their kind matters.  Each command runs in a child process forked from
+this one (imports once; a run leaves nothing behind for the next), with its stdout and
+stderr captured; a child still running after ``timeout`` seconds is killed with every
+process it started.  No alarm or signal is ever raised in this process: the outcome of a
+run that finishes is the same on any machine, however slow or loaded.
 
 A run **fails** when it breaks the promise of the command line:
 
-* an exception escapes (a traceback) or the exit code is not 0, 2 or 3 (``report`` may
-  exit 1: a failed check);
+* an exception escapes (a traceback), the process crashes, or the exit code is not 0, 2
+  or 3 (``report`` may exit 1: a failed check);
 * a warning or a traceback reaches stderr, or, on exit 2, stderr is not exactly one line;
   on exit 3 its last line is not fembeam's one-line message;
 * on exit 0 with ``--json``, stdout is not one JSON object free of NaN and Infinity.
 
-A run that reaches the alarm is counted as ``timeout`` (a long valid computation, not a
+A run killed at ``timeout`` is counted as ``timeout`` (a long valid computation, not a
 failure by itself; the sizes drawn keep them rare).  The summary prints the runs tried,
 the exit codes, the failures with their arguments, and exits 1 if any failed.
 """
@@ -31,8 +34,11 @@ import io
 import json
 import os
 import random
+import pickle
+import select
 import shutil
 import signal
+import struct
 import sys
 import tempfile
 import time
@@ -134,45 +140,138 @@ def draw(parser: argparse.ArgumentParser, rng: random.Random) -> list[str]:
     return argv
 
 
-class _Alarm(BaseException):
-    pass
+class ChildError(Exception):
+    """An exception raised by a command in its child process that could not be sent back as
+    itself (it does not pickle): its type's name and message."""
+
+    def __init__(self, type_name: str, message: str):
+        super().__init__(type_name, message)
+        self.type_name = type_name
+
+    def __str__(self) -> str:
+        return ": ".join(self.args)
 
 
-def _on_alarm(signum, frame):
-    raise _Alarm()
+def exception_name(code: BaseException) -> str:
+    return code.type_name if isinstance(code, ChildError) else type(code).__name__
 
 
-def run_one(argv: list[str], timeout: float) -> tuple[object, str, str]:
-    """``fembeam argv`` in this process: (exit code, or "timeout", or the exception), stdout, stderr."""
-    from .cli.main import main
-
+def _in_child(argv: list[str], command) -> bytes:
+    """Run ``command(argv)`` with stdout and stderr captured: the pickled (code, out, err)."""
     out, err = io.StringIO(), io.StringIO()
-    old = signal.signal(signal.SIGALRM, _on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, timeout)
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             try:
-                code: object = main(argv)
+                code: object = command(argv)
             except SystemExit as e:
                 code = e.code if isinstance(e.code, int) else 2
-    except _Alarm:
-        code = "timeout"
-    except Exception as e:   # a traceback: what the fuzzing is for
+    except BaseException as e:   # a traceback: what the fuzzing is for
         import traceback
         code = e
         err.write(traceback.format_exc())
+    try:
+        payload = pickle.dumps((code, out.getvalue(), err.getvalue()))
+        pickle.loads(payload)
+        return payload
+    except Exception:   # noqa: BLE001  an exception that does not pickle, or not back
+        code = ChildError(type(code).__name__, str(code)) if isinstance(code, BaseException) else repr(code)
+        return pickle.dumps((code, out.getvalue(), err.getvalue()))
+
+
+def _kill_group(pgid: int) -> None:
+    try:
+        os.killpg(pgid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+def _received(data: bytearray):
+    """The child's (code, out, err) once ``data`` holds all of it, else None."""
+    if len(data) < 8 or len(data) < 8 + struct.unpack("<Q", bytes(data[:8]))[0]:
+        return None
+    return pickle.loads(bytes(data[8:]))
+
+
+def _died(status: int) -> str:
+    code = os.waitstatus_to_exitcode(status)
+    return f"killed by signal {-code}" if code < 0 else f"died with exit status {code} and no result"
+
+
+def run_one(argv: list[str], timeout: float | None, command=None) -> tuple[object, str, str]:
+    """``fembeam argv`` in a child process forked from this one: (exit code, or "timeout", or
+    the exception), stdout, stderr.
+
+    The child has this process's imports and runs ``command(argv)`` (default: fembeam's
+    ``main``) with its stdout and stderr captured, in a process group of its own; the result
+    comes back through a pipe.  A child still running after ``timeout`` seconds (None: no
+    limit) is killed with every process it started, and the run is "timeout".  No signal
+    is sent to this process and nothing is raised in it, whatever the child was doing; a
+    child that dies without a result (a crash) is "killed by signal N" or "died with
+    exit status N"."""
+    if command is None:
+        from .cli.main import main as command
+    sys.stdout.flush()
+    sys.stderr.flush()
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:                                   # the child: never returns
+        status = 70
+        try:
+            os.close(r)
+            os.setpgid(0, 0)
+            payload = _in_child(argv, command)
+            view = memoryview(struct.pack("<Q", len(payload)) + payload)
+            while view:
+                view = view[os.write(w, view):]
+            status = 0
+        finally:
+            os._exit(status)
+    os.close(w)
+    try:
+        os.setpgid(pid, pid)                       # either of us may get there first
+    except OSError:
+        pass
+    deadline = None if timeout is None else time.monotonic() + timeout
+    data, result, reaped = bytearray(), None, False
+    try:
+        while result is None:
+            left = None if deadline is None else deadline - time.monotonic()
+            if left is not None and left <= 0:
+                result = "timeout", "", ""
+                break
+            # short waits: a child that died without a result is noticed even when a process
+            # it started holds the pipe open
+            if select.select([r], [], [], 0.2 if left is None else min(left, 0.2))[0]:
+                chunk = os.read(r, 1 << 20)
+                if chunk:
+                    data += chunk
+                    result = _received(data)
+                    continue
+                _, status = os.waitpid(pid, 0)          # end of the pipe: the child has exited
+            else:
+                done, status = os.waitpid(pid, os.WNOHANG)
+                if not done:
+                    continue
+            reaped = True
+            while select.select([r], [], [], 0)[0] and (chunk := os.read(r, 1 << 20)):
+                data += chunk
+            result = _received(data) or (_died(status), "", "")
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
-    return code, out.getvalue(), err.getvalue()
+        os.close(r)
+        _kill_group(pid)                               # a child still running, and what it started
+        if not reaped:
+            os.waitpid(pid, 0)
+    return result
 
 
 def check(command: str, argv: list[str], code, out: str, err: str) -> str | None:
     """Why the run breaks the command line's promise, or None."""
     if isinstance(code, BaseException):
-        return f"exception {type(code).__name__}"
+        return f"exception {exception_name(code)}"
     if code == "timeout":
         return None
+    if isinstance(code, str):             # the child crashed
+        return code
     allowed = {0, 2, 3} | ({1} if command == "report" else set())
     if code not in allowed:
         return f"exit code {code}"
@@ -204,7 +303,7 @@ def _scratch() -> str:
     return d
 
 
-def fuzz(runs: int = 300, seed: int = 0, timeout: float = 20.0, commands: list[str] | None = None,
+def fuzz(runs: int = 300, seed: int = 0, timeout: float | None = 20.0, commands: list[str] | None = None,
          progress: bool = False) -> FuzzReport:
     """Run ``runs`` random command lines (reproducible from ``seed``) in a scratch directory."""
     import numpy as np
@@ -250,7 +349,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m fembeam.fuzz", description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=300, help="command lines to try (default 300)")
     ap.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    ap.add_argument("--timeout", type=float, default=20.0, help="seconds per run before the alarm (default 20)")
+    ap.add_argument("--timeout", type=float, default=20.0, help="seconds after which a run is killed and counted as a timeout (default 20)")
     ap.add_argument("--command", action="append", default=None, help="only this sub-command (repeatable)")
     args = ap.parse_args(argv)
     rep = fuzz(args.runs, args.seed, args.timeout, args.command, progress=True)

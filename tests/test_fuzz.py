@@ -3,12 +3,21 @@ every command finds none (the long runs: ``python -m fembeam.fuzz --runs 1000``)
 from __future__ import annotations
 
 import argparse
+import os
 import random
+import signal
+import sys
+import threading
 
 import pytest
 
 from fembeam.cli.main import build_parser
-from fembeam.fuzz import _commands, check, draw, fuzz
+from fembeam.fuzz import _commands, check, draw, fuzz, run_one
+
+# A hang guard, not a time limit: every run of the bounded sample takes under 1 s on an idle
+# 2-core machine (the slowest, ``report --quick``, 0.6 s), so a run still going after this
+# long is stuck, whatever the load.
+HANG_GUARD_S = 300.0
 
 
 @pytest.mark.parametrize("code, out, err, argv, why", [
@@ -32,6 +41,81 @@ def test_the_judge_accepts_kept_promises():
     assert check("report", [], 1, "table", "") is None and check("analyze", [], "timeout", "", "") is None
 
 
+# ---------------------------------------------------------------- one run, in a child process
+def _hangs(argv):
+    threading.Event().wait()                   # never returns: the outcome cannot depend on speed
+
+
+def _starts_a_process_then_hangs(argv):
+    pid = os.fork()
+    if pid == 0:
+        signal.pause()
+        os._exit(0)
+    with open(argv[0], "w") as f:
+        f.write(str(pid))
+    _hangs(argv)
+
+
+class _Unpicklable(Exception):
+    def __init__(self, a, b):                  # pickles, but cannot be built back from its args
+        super().__init__(f"{a} {b}")
+
+
+def _raises(argv):
+    raise {"value": ValueError("bad value"), "odd": _Unpicklable(1, 2)}[argv[0]]
+
+
+def _dies(argv):
+    if argv[0] == "signal":
+        os.kill(os.getpid(), signal.SIGKILL)
+    os._exit(5)
+
+
+def _prints(argv):
+    print("x" * 3_000_000)                     # more than a pipe holds
+    print("on stderr", file=sys.stderr)
+    return 0
+
+
+def test_a_run_past_its_timeout_is_killed_and_nothing_is_raised_here():
+    """No alarm and no signal handler in this process: a run that does not finish is killed
+    and counted, nothing can fire later (the old alarm raised in a finaliser escaped as
+    "Exception ignored")."""
+    before = signal.getsignal(signal.SIGALRM), signal.getitimer(signal.ITIMER_REAL), sys.unraisablehook
+    assert run_one(["x"], timeout=0.5, command=_hangs) == ("timeout", "", "")
+    assert (signal.getsignal(signal.SIGALRM), signal.getitimer(signal.ITIMER_REAL), sys.unraisablehook) == before
+
+
+def test_a_timed_out_run_takes_the_processes_it_started_with_it(tmp_path):
+    path = str(tmp_path / "pid")
+    assert run_one([path], timeout=0.5, command=_starts_a_process_then_hangs)[0] == "timeout"
+    pid = int(open(path).read())
+    # SIGKILL was sent to its group; wait (a hang guard, not a time limit) for it to be gone
+    stat = f"/proc/{pid}/stat"
+    for _ in range(int(HANG_GUARD_S / 0.05)):
+        try:
+            with open(stat) as f:
+                if f.read().rsplit(")", 1)[1].split()[0] in "ZX":
+                    break
+        except FileNotFoundError:
+            break
+        threading.Event().wait(0.05)
+    else:
+        pytest.fail(f"process {pid} started by a timed-out run still runs after {HANG_GUARD_S:.0f} s")
+
+
+def test_a_run_reports_what_happened_in_its_child():
+    code, out, err = run_one(["value"], timeout=None, command=_raises)
+    assert isinstance(code, ValueError) and "Traceback" in err and "bad value" in err
+    assert check("analyze", [], code, out, err) == "exception ValueError"
+    code, out, err = run_one(["odd"], timeout=None, command=_raises)
+    assert check("analyze", [], code, out, err) == "exception _Unpicklable"
+    assert run_one(["signal"], timeout=None, command=_dies)[0] == "killed by signal 9"
+    assert run_one(["exit"], timeout=None, command=_dies)[0] == "died with exit status 5 and no result"
+    assert check("analyze", [], "killed by signal 9", "", "") == "killed by signal 9"
+    assert run_one([], timeout=None, command=_prints) == (0, "x" * 3_000_000 + "\n", "on stderr\n")
+
+
 def test_options_are_drawn_from_the_parsers():
     """Every option of every command is drawn, with a value of its kind, without the
     fuzzer naming it: a new option is covered as soon as it exists."""
@@ -47,7 +131,9 @@ def test_options_are_drawn_from_the_parsers():
 
 
 def test_a_bounded_fuzz_run_finds_nothing():
-    rep = fuzz(runs=30, seed=7, timeout=10.0)
+    rep = fuzz(runs=30, seed=7, timeout=HANG_GUARD_S)
+    assert not rep.timeouts, (f"a run was still going after {HANG_GUARD_S:.0f} s (each takes under 1 s on an idle "
+                              f"machine): it hangs\n{rep.summary()}")
     assert rep.runs == 30 and not rep.failures, rep.summary()
     assert rep.codes.get(2, 0) > 0 and rep.codes.get(0, 0) > 0     # it reached both kinds of run
 
