@@ -77,24 +77,57 @@ def test_journal_keeps_and_resumes(tmp_path, workers):
     assert not j.path.exists()
 
 
+# A hang guard, not a time limit: what it waits for takes a few seconds on an idle machine.
+HANG_GUARD_S = 600.0
+
+
+def wait_until(condition, what: str) -> None:
+    """Poll ``condition`` until it holds; fail saying ``what`` did not happen if it has not
+    after :data:`HANG_GUARD_S` (stuck, whatever the load)."""
+    end = time.monotonic() + HANG_GUARD_S
+    while not condition():
+        if time.monotonic() > end:
+            pytest.fail(f"{what}: not after {HANG_GUARD_S:.0f} s")
+        time.sleep(0.05)
+
+
 def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
-    """SIGINT and SIGTERM end the sweep within a second with 130 / 143, one stderr line, no
-    worker left; the cases finished are in the journal and a re-run completes from them
-    to the result of an uninterrupted run."""
+    """SIGINT and SIGTERM end the sweep at once with 130 / 143, one stderr line, no worker
+    left: at most one case per worker is finished after the signal, the queue is dropped.
+    The cases finished are in the journal and a re-run completes from them to the result
+    of an uninterrupted run."""
     cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.002",
            "--elements", "24", "--tmin-elements", "24", "--workers", "2", "--quiet"]
     journal = tmp_path / "a" / ".fembeam-sweep-journal.jsonl"
+
+    def lines() -> int:
+        return journal.read_text().count("\n") if journal.exists() else 0
+
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
-        n0 = journal.read_text().count("\n") if journal.exists() else 0
+        n0 = lines()
         p = subprocess.Popen(cmd + ["--out-dir", str(tmp_path / "a")], stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, text=True, start_new_session=True)
-        deadline = time.time() + 60       # a case finished by this run: it computes, its handlers are set
-        while not (journal.exists() and journal.read_text().count("\n") > n0) and time.time() < deadline:
-            time.sleep(0.05)
-        t0 = time.time()
-        p.send_signal(sig)
-        _, err = p.communicate(timeout=30)
-        assert p.returncode == code and time.time() - t0 < 5
+        try:
+            # a case finished by this run: it computes, its handlers are set
+            wait_until(lambda: lines() > n0 or p.poll() is not None, "a case of the sweep finished")
+            assert p.poll() is None, "the sweep ended before it could be interrupted"
+            # the sweep and its workers stopped while the journal is counted and the signal sent:
+            # what is finished after the count is finished after the signal, on any machine
+            os.killpg(p.pid, signal.SIGSTOP)
+            os.waitpid(p.pid, os.WUNTRACED)
+            n1 = lines()
+            p.send_signal(sig)
+            os.killpg(p.pid, signal.SIGCONT)
+            try:
+                _, err = p.communicate(timeout=HANG_GUARD_S)
+            except subprocess.TimeoutExpired:
+                pytest.fail(f"the sweep still runs {HANG_GUARD_S:.0f} s after {sig.name}")
+        finally:
+            if p.poll() is None:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait()
+        assert p.returncode == code, err
+        assert lines() - n1 <= 2, f"{lines() - n1} cases finished after {sig.name} with 2 workers"
         assert len(err.strip().splitlines()) == 1 and "fembeam:" in err
         assert subprocess.run(["pgrep", "-s", str(p.pid)], capture_output=True).stdout == b""   # no orphans
     subprocess.run(cmd + ["--out-dir", str(tmp_path / "a")], check=True, capture_output=True)
@@ -270,10 +303,11 @@ def test_a_shared_pool_serves_every_phase(tmp_path):
         assert out == [i * i for i in range(8)]
         second = pids() | pids()
         assert second.isdisjoint(first) and second <= workers()       # replaced, and shared again
-        lost = workers()
+        lost, pool = workers(), parallel._shared_pools()[2]
         for p in lost:
             os.kill(p, signal.SIGKILL)                                 # workers lost while idle
-        time.sleep(0.5)
+        # the pool has seen it (its manager thread marks it broken): the next call replaces it
+        wait_until(lambda: pool._broken, "the pool whose workers were killed marked broken")
         third = pids() | pids()
         assert third.isdisjoint(lost) and third <= workers()
         other = []
