@@ -162,7 +162,7 @@ def test_sweep_envelope_is_an_independent_minimum_thickness(local_sweep):
     assert all(c["r"] < env["r"] for c in local_sweep.cases if c["embrace_deg"] == 180.0 and c["r"] is not None)
 
 
-def test_sweep_dask_identical(local_sweep):
+def test_sweep_dask_identical(local_sweep, patient_dask):
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cl:
         res = sweep(BETAS, THICK, elements=60, tmin_elements=60, tmin_tol=1e-4, scheduler=cl.scheduler_address,

@@ -75,7 +75,7 @@ def test_outcomes_are_the_simulators(small):
     assert small.model == "simulate" and small.settings["dt"] == DT and small.settings["friction"] is None
 
 
-def test_workers_and_dask_give_the_same_rows(small):
+def test_workers_and_dask_give_the_same_rows(small, patient_dask):
     two = spectrum(BLOCK, "rect", [0.3, 0.5], workers=2, model="simulate", dt=DT, **SMALL)
     assert strip(two.rows) == strip(small.rows)
     distributed = pytest.importorskip("distributed")

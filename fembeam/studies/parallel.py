@@ -322,15 +322,21 @@ def _run_isolated(tasks: list[Task], workers: int):
         raise
 
 
+CONNECT_TIMEOUT_S = 10.0
+"""Seconds :func:`connect` tries to reach a Dask scheduler (a refused port is retried until
+then) before it reports that it cannot."""
+
+
 def connect(scheduler: str):
     """A ``distributed.Client`` of the scheduler at the address ``scheduler``, or an
     :class:`InputError` saying it cannot be reached (any failure to build the client: a
-    refused or unknown address, a timeout, or distributed's own IO loop not starting,
-    which it reports as an AssertionError on a loaded machine)."""
+    refused or unknown address, no answer within :data:`CONNECT_TIMEOUT_S`, or
+    distributed's own IO loop not starting, which it reports as an AssertionError on a
+    loaded machine)."""
     from distributed import Client
 
     try:
-        return Client(scheduler, timeout="10s")
+        return Client(scheduler, timeout=CONNECT_TIMEOUT_S)
     except Exception as e:     # noqa: BLE001  third-party client: every failure is "cannot connect"
         why = str(e) or type(e).__name__
         raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {why}") from None
