@@ -16,8 +16,8 @@ def test_ex06_shapes(tmp_path, monkeypatch, capsys):
     semi = analyze(CircularArch.from_ratio(180.0, 0.16, radius=5.0), elements=60)
     assert float(rows[0][1]) == pytest.approx(semi.A_L, abs=5e-5) and float(rows[0][2]) == pytest.approx(semi.r, abs=5e-5)
     assert float(rows[0][3]) == pytest.approx(0.107478 * 5.0, abs=5e-5)
-    # the equilateral arch: t_min = 0.4412284 m (independent radial-section thrust line, tests/test_shapes.py)
-    assert float(rows[3][3]) == pytest.approx(0.4412284, abs=5e-5)
+    # the equilateral arch: t_min = 0.3997609 m (independent radial-section thrust line, tests/test_shapes.py)
+    assert float(rows[3][3]) == pytest.approx(0.3997609, abs=5e-5)
     survey = re.findall(r"(ideal parabola|surveyed \(5 cm sag\)): A_L = (\S+) g, r = (\S+), t_min = (\S+) m", out)
     assert [s[0] for s in survey] == ["ideal parabola", "surveyed (5 cm sag)"]
     assert float(survey[0][1]) == pytest.approx(0.609750, abs=5e-5)        # docs/shapes.md, any mesh

@@ -41,33 +41,36 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
     """
     nodes = st.disc.nodes_s
     L = nodes[-1] - nodes[0]
-    h_all = np.diff(nodes)
-    # on fine meshes, screening by the values at the nodes: inside an element a fibre force
+    curve = st.disc.curve
+    start, stop, points = _search_intervals(curve, nodes)
+    h_all = stop - start
+    # on fine meshes, screening by the values at the ends: inside an element a fibre force
     # dips below the chord of its end values by at most f'' h^2 / 8 (f'' grows with the load
     # factor); elements next to a kink (whose end value is that of the bisector cut) or
     # across a break of the densities are kept
     cand = np.ones(h_all.size, bool)
-    if h_all.size > SCREEN_ELEMENTS:
-        fn = _fibres(st, nodes, z)
-        ends = np.minimum(fn[:, :-1], fn[:, 1:]).min(0)
+    if nodes.size - 1 > SCREEN_ELEMENTS:
+        u, inv = np.unique(np.concatenate([start, stop]), return_inverse=True)
+        ends = np.minimum(*np.split(_fibres(st, u, z)[:, inv], 2, axis=1)).min(0)
         load = 1.0 + abs(float(z[st.k]))
         cand = ends < level + load * np.minimum(NEAR, 200.0 * (h_all / L) ** 2)
-        cand |= _irregular(st.disc.curve, nodes)
+        cand |= _irregular(curve, start, stop)
     cand = np.flatnonzero(cand)
+    out_s, out_f, out_v = _at_points(st, points, z, level)
     if cand.size == 0:
-        return np.empty(0), np.empty(0, int), np.empty(0)
+        return out_s, out_f, out_v
     q = (np.arange(1, SAMPLES + 1) / (SAMPLES + 1))
-    s = (nodes[cand, None] + h_all[cand, None] * q[None, :]).ravel()
+    s = (start[cand, None] + h_all[cand, None] * q[None, :]).ravel()
     f = _fibres(st, s, z).reshape(2, cand.size, SAMPLES)
     fmin = f.min(2)
     fib, i = np.nonzero(fmin < level + np.minimum(NEAR, 50.0 * (h_all[cand] / L) ** 2))
     if i.size == 0:
-        return np.empty(0), np.empty(0, int), np.empty(0)
+        return out_s, out_f, out_v
     el = cand[i]
     k = np.argmin(f[fib, i], 1)
     h = h_all[el]
-    a = nodes[el] + h * np.where(k == 0, 0.0, q[np.maximum(k - 1, 0)])
-    b = nodes[el] + h * np.where(k == SAMPLES - 1, 1.0, q[np.minimum(k + 1, SAMPLES - 1)])
+    a = start[el] + h * np.where(k == 0, 0.0, q[np.maximum(k - 1, 0)])
+    b = np.where(k == SAMPLES - 1, stop[el], start[el] + h * q[np.minimum(k + 1, SAMPLES - 1)])
     # the interpolation points of the first (parabolic) step: the two samples nearest the
     # smallest one (both neighbours inside, else the next two towards the inside)
     jw = np.where(k == 0, 1, k - 1)
@@ -79,8 +82,8 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
         return _fibres(st, x, z)[fib[sel], np.arange(x.size)]
 
     width = 1e-7 * (nodes[-1] - nodes[0])   # f(s* +- ds) - f(s*) ~ f'' ds^2: 1e-14 of the weight
-    x, fx = nodes[el] + h * q[k], fs[rows, k]
-    w, fw, v, fv = nodes[el] + h * q[jw], fs[rows, jw], nodes[el] + h * q[jv], fs[rows, jv]
+    x, fx = start[el] + h * q[k], fs[rows, k]
+    w, fw, v, fv = start[el] + h * q[jw], fs[rows, jw], start[el] + h * q[jv], fs[rows, jv]
     # smallest sample next to a node: the minimum is often the node itself, where a search
     # of the bracket would creep up to it by golden steps; two probes at 1/4 and 3/4 of
     # ``width`` from the node settle it (for a unimodal f, f(u1) <= f(u2) puts the minimum
@@ -108,10 +111,45 @@ def weakest_sections(st: Statics, z: np.ndarray, level: float = 0.0) -> tuple[np
     if todo.size:
         sm[todo], vm[todo] = brent_minimise(lambda s, sel: val(s, todo[sel]), a[todo], b[todo], x[todo], fx[todo],
                                             w[todo], fw[todo], v[todo], fv[todo], width)
-    kinks = np.asarray(getattr(st.disc.curve, "kinks", ()), float)
+    kinks = np.asarray(getattr(curve, "kinks", ()), float)
     if kinks.size:
-        sm, vm = _one_sided(kinks, nodes, el, sm, vm, val, 2.0 * width)
-    return sm, fib, vm
+        sm, vm = _one_sided(kinks, start, el, sm, vm, val, 2.0 * width)
+    sm = np.clip(sm, start[el], stop[el])            # never past an end (a wedge's edge)
+    return np.concatenate([sm, out_s]), np.concatenate([fib, out_f]), np.concatenate([vm, out_v])
+
+
+def _search_intervals(curve, nodes: np.ndarray):
+    """Where sections are searched: each element ``[nodes[e], nodes[e + 1]]`` less the
+    curve's :attr:`~fembeam.geometry.MidCurve.solid_spans` (no section inside them).
+    Returns ``(start, stop, points)``: the stretches of positive length, and the sections
+    checked on their own: the ends of the stretches that are not nodes (the edges of the
+    wedges, e.g. the last radial section of a pointed arch's arc: a search inside its
+    stretch stops ``width`` short of an end) and the isolated sections (e.g. a crown joint
+    inside an element whose ends lie beyond the wedges)."""
+    lo, hi = nodes[:-1].copy(), nodes[1:].copy()
+    for a, b in getattr(curve, "solid_spans", ()):
+        over = (lo < b) & (hi > a)
+        if not over.any():
+            continue
+        left, right = over & (lo <= a), over & (hi >= b)
+        lo = np.concatenate([lo[~over], lo[left], np.full(int(right.sum()), b)])
+        hi = np.concatenate([hi[~over], np.full(int(left.sum()), a), hi[right]])
+    order = np.argsort(lo, kind="stable")
+    lo, hi = lo[order], hi[order]
+    point = hi <= lo
+    ends = np.concatenate([lo, hi])
+    points = np.unique(ends[~np.isin(ends, nodes)])
+    return lo[~point], hi[~point], points
+
+
+def _at_points(st: Statics, points: np.ndarray, z: np.ndarray, level: float):
+    """:func:`weakest_sections` at isolated sections: both fibres of each, those within
+    ``NEAR`` of ``level``."""
+    if points.size == 0:
+        return np.empty(0), np.empty(0, int), np.empty(0)
+    f = _fibres(st, points, z)
+    fib, i = np.nonzero(f < level + NEAR)
+    return points[i], fib, f[fib, i]
 
 
 def brent_minimise(f, a, b, x, fx, w, fw, v, fv, width: float, max_steps: int = SEARCH_STEPS):
@@ -187,18 +225,18 @@ def brent_minimise(f, a, b, x, fx, w, fw, v, fv, width: float, max_steps: int = 
     return x, fx
 
 
-def _irregular(curve, nodes: np.ndarray) -> np.ndarray:
-    """Elements with a kink at an end or a break of the densities inside or at an end."""
-    out = np.zeros(nodes.size - 1, bool)
+def _irregular(curve, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Stretches ``[lo, hi]`` with a kink at an end or a break of the densities inside or at an end."""
+    out = np.zeros(lo.size, bool)
     pts = np.unique(np.concatenate([np.asarray(getattr(curve, "kinks", ()), float),
                                     np.asarray(getattr(curve, "breaks", ()), float)]))
     if pts.size:
-        tol = 1e-13 * (nodes[-1] - nodes[0])
-        out |= np.any((pts[None, :] >= nodes[:-1, None] - tol) & (pts[None, :] <= nodes[1:, None] + tol), 1)
+        tol = 1e-13 * float(curve.length)
+        out |= np.any((pts[None, :] >= lo[:, None] - tol) & (pts[None, :] <= hi[:, None] + tol), 1)
     return out
 
 
-def _one_sided(kinks, nodes, el, sm, vm, val, near):
+def _one_sided(kinks, start, el, sm, vm, val, near):
     """At a kink (a node) the fibre force of the element's own normal cuts tends to a limit
     that differs from its value on the kink's cut (the bisector): a minimum there lies at
     the end of the element, where the search stops ``near`` short of it, a first-
@@ -210,7 +248,7 @@ def _one_sided(kinks, nodes, el, sm, vm, val, near):
     at = np.abs(sm - k) <= near
     if not at.any():
         return sm, vm
-    inside = np.where(nodes[el] < k, np.nextafter(k, -np.inf), np.nextafter(k, np.inf))
+    inside = np.where(start[el] < k, np.nextafter(k, -np.inf), np.nextafter(k, np.inf))
     s_alt = np.where(at, inside, sm)
     v_alt = val(s_alt)
     better = at & (v_alt < vm)
@@ -378,6 +416,7 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
     mechanism is not degenerate (``k + 1`` hinges).  Returns ``(x, lambda, s)`` or None."""
     k = st.k
     L = st.disc.nodes_s[-1]
+    curve = st.disc.curve
     # k + 1 distinct hinges (the LP's clusters are known to ~sqrt(tol) only, so the spacing
     # test that decides degeneracy is made on the solved positions below)
     if s0.size != k + 1 or np.min(np.diff(s0), initial=np.inf) <= 0:
@@ -424,7 +463,7 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
         # ill-conditioned system, degenerate hinges, could spoil them; the slopes are judged
         # below with the rest)
         x, lam, s = unpack(p_sol)
-        if not np.all(np.isfinite(p_sol)) or s[0] < 0 or s[-1] > L:
+        if not np.all(np.isfinite(p_sol)) or s[0] < 0 or s[-1] > L or not np.all(curve.admissible(s)):
             return None
         C = section_force_rows(st, s)[1 + fib, np.arange(s.size)]
         C[:, k] *= direction
@@ -451,7 +490,8 @@ def _polish(st: Statics, direction: int, s0, fib, fixed, x0, lam0):
         return x, float(lam), s, scale
 
     p0 = np.r_[x0, lam0, s0[free] / L]
-    out = judged(_newton(FJ, p0, lambda p: np.all(p[k + 1:] >= 0) and np.all(p[k + 1:] <= 1)))
+    out = judged(_newton(FJ, p0, lambda p: (np.all(p[k + 1:] >= 0) and np.all(p[k + 1:] <= 1)
+                                            and np.all(curve.admissible(p[k + 1:] * L)))))
     if out is None:      # Newton did not converge from the LP's hinges: MINPACK's trust region
         from scipy.optimize import root
 

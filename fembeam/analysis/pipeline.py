@@ -229,7 +229,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
     if continuum and lim.status != "no_mechanism" and mu is not None:
         t0 = time.perf_counter()
         status, lam, support = continuum_support(disc, direction, mu)
-        disc = discretize(curve, nodes_through(nodes, support, keep=curve.kinks), like=disc)
+        disc = discretize(curve, nodes_through(nodes, support, keep=curve.fixed_nodes), like=disc)
         lim = limit_analysis(disc, direction, verify=verify, friction=mu)
         if lim.status != status:
             raise SolverError(f"limit analysis with friction: the continuum says {status}, the mesh through its "
@@ -247,7 +247,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
             res.A_L_lower = cont.A_L_lower
         if cont.status == "cannot_stand" or cont.exact_hinges:
             # the mechanism (or the collapse certificate) on a mesh with nodes at its hinges
-            disc = discretize(curve, nodes_through(nodes, cont.hinge_s, keep=curve.kinks), like=disc)
+            disc = discretize(curve, nodes_through(nodes, cont.hinge_s, keep=curve.fixed_nodes), like=disc)
             lim = limit_analysis(disc, direction, verify=verify)
             if lim.status != cont.status:
                 raise SolverError(f"limit analysis: the continuum says {cont.status}, the mesh through its "

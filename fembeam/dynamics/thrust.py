@@ -230,7 +230,8 @@ def section_forces(eq: EquationOfMotion, theta: float, rate: float, accel: float
 def uniform_sections(mech, sections: int = 200, inset: float = 1e-6) -> np.ndarray:
     """``sections`` uniform sections strictly inside every moving piece of ``mech`` plus the
     sections ``inset * L`` inside each of its hinges (at a hinge itself ``|e| = t/2`` by
-    construction), sorted."""
+    construction), sorted; none inside a crown wedge (no section there), the crown joint
+    one of them when a moving piece holds it."""
     br = mech.breaks
     moving = np.flatnonzero(mech.moving)
     u = np.arange(1, sections + 1) / (sections + 1)
@@ -238,7 +239,12 @@ def uniform_sections(mech, sections: int = 200, inset: float = 1e-6) -> np.ndarr
     hinge = lambda b: 1 <= b <= mech.n_hinges  # noqa: E731  (breaks index b is a hinge)
     s = [np.concatenate([br[p] + (br[p + 1] - br[p]) * u, [br[p] + d] if hinge(p) else [],
                          [br[p + 1] - d] if hinge(p + 1) else []]) for p in moving]
-    return np.sort(np.concatenate(s))
+    s = np.sort(np.concatenate(s))
+    curve = mech.curve
+    if curve.solid_spans:
+        inner = [x for x in curve.fixed_nodes if any(br[p] < x < br[p + 1] for p in moving)]
+        s = np.union1d(s[curve.admissible(s)], inner)
+    return s
 
 
 def thrust_line_margin(eq: EquationOfMotion, theta: float, rate: float, accel: float, a_g: float,

@@ -77,7 +77,7 @@ class ImpactModel:
             disc = discretize(self.curve, uniform_nodes(self.curve, self.voussoirs))
         else:
             disc = discretize(self.curve, nodes_through(uniform_nodes(self.curve, self.elements), pre.s,
-                                                        keep=self.curve.kinks))
+                                                        keep=self.curve.fixed_nodes))
         res = impact(disc, pre.dofs(disc), backend=self.backend)
         hinges = res.hinges if self.voussoirs is not None else merge_adjacent(disc, res.hinges)
         return float(res.r), hinges

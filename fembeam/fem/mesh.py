@@ -29,27 +29,39 @@ def check_nodes(curve: MidCurve, nodes_s) -> np.ndarray:
             or abs(nodes[0]) > 1e-9 * L or abs(nodes[-1] - L) > 1e-9 * L):
         raise InputError(f"mesh nodes must be finite arc lengths, strictly increasing from 0 to the member's "
                          f"length {L:.17g} m (at least 2 nodes)")
+    bad = np.flatnonzero(~curve.admissible(nodes))
+    if bad.size:
+        s = float(nodes[bad[0]])
+        a, b = next((a, b) for a, b in curve.solid_spans if a < s < b)
+        raise InputError(f"a mesh node at s = {s:.10g} m lies inside a part of the member that has no section "
+                         f"(s in ({a:.10g}, {b:.10g}) m: a crown wedge, where a joint would cross the crown joint); "
+                         f"see MidCurve.solid_spans")
     return nodes
 
 
 def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
     """Arc-length coordinates of ``n_elements + 1`` equally spaced nodes.
 
-    A curve with kinks (:attr:`MidCurve.kinks`, e.g. the crown of a pointed arch) gets a
-    node at every kink: each smooth piece between kinks is meshed uniformly, the elements
-    shared out in proportion to the lengths (largest remainders, ties to the left, at
-    least one per piece; so the count is kept unless it is below the number of pieces).
-    Without kinks: ``numpy.linspace(0, length, n_elements + 1)``."""
+    A curve with fixed nodes (:attr:`MidCurve.fixed_nodes`: its kinks, the crown joint of a
+    pointed arch) gets a node at each: each piece between them is meshed uniformly, the
+    elements shared out in proportion to the lengths (largest remainders, ties to the
+    left, at least one per piece; so the count is kept unless it is below the number of
+    pieces).  Nodes that fall inside one of the curve's :attr:`MidCurve.solid_spans` (the
+    crown wedges of a pointed arch, where a joint would cross the crown joint) are left
+    out: their two elements are one, and the mesh has that many elements fewer.
+    Without either: ``numpy.linspace(0, length, n_elements + 1)``."""
     _check_curve(curve)
     if isinstance(n_elements, bool) or not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
         raise InputError(f"the number of elements must be a positive integer, got {n_elements!r}")
-    kinks = np.asarray(getattr(curve, "kinks", ()), float)
-    if kinks.size == 0:
-        return np.linspace(0.0, curve.length, int(n_elements) + 1)
-    edges = np.concatenate([[0.0], kinks, [curve.length]])
-    counts = _share(int(n_elements), np.diff(edges))
-    return np.concatenate([np.linspace(a, b, k + 1)[:-1] for a, b, k in zip(edges[:-1], edges[1:], counts)]
-                          + [edges[-1:]])
+    fixed = np.asarray(curve.fixed_nodes, float)
+    if fixed.size == 0:
+        nodes = np.linspace(0.0, curve.length, int(n_elements) + 1)
+    else:
+        edges = np.concatenate([[0.0], fixed, [curve.length]])
+        counts = _share(int(n_elements), np.diff(edges))
+        nodes = np.concatenate([np.linspace(a, b, k + 1)[:-1] for a, b, k in zip(edges[:-1], edges[1:], counts)]
+                               + [edges[-1:]])
+    return nodes[curve.admissible(nodes)] if curve.solid_spans else nodes
 
 
 def _share(n: int, lengths: np.ndarray) -> np.ndarray:
@@ -69,8 +81,9 @@ def nodes_through(nodes_s: np.ndarray, points_s, keep=()) -> np.ndarray:
     """Copy of ``nodes_s`` with a node on each of ``points_s``: the nearest node is moved
     there when it is an interior node not yet used (the element count stays), else a node
     is inserted.  Points within 1e-10 of the length of a node are already there.  Nodes at
-    the arc lengths ``keep`` (e.g. the curve's kinks) are never moved; a point next to one
-    of them but not on it (a kink's one-sided cut, one ulp off) gets a node of its own."""
+    the arc lengths ``keep`` (e.g. the curve's :attr:`~fembeam.geometry.MidCurve.fixed_nodes`)
+    are never moved; a point next to one of them but not on it (a kink's one-sided cut, one
+    ulp off) gets a node of its own."""
     out = np.array(nodes_s, float)
     if out.ndim != 1 or out.size < 2 or not np.all(np.isfinite(out)) or np.any(np.diff(out) <= 0):
         raise InputError("mesh nodes must be finite arc lengths, strictly increasing (at least 2 nodes)")

@@ -124,12 +124,16 @@ def _element_frames(curve: MidCurve, a: np.ndarray, b: np.ndarray) -> dict:
 def _break_elements(curve: MidCurve, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Elements ``[a, b]`` containing one of ``curve.breaks`` (a kink, a crown of a thickness
     law, a spline knot) inside them: the densities are not smooth there and a Gauss rule
-    over the element would span it."""
+    over the element would span it; and elements holding part of a solid span (a pointed
+    arch's crown wedge: :meth:`MidCurve.segment_inertia` integrates it on its own rule)."""
     br = np.asarray(getattr(curve, "breaks", ()), float)
-    if br.size == 0:
-        return np.zeros(0, int)
-    tol = 1e-13 * curve.length
-    return np.flatnonzero(np.any((br[None, :] > a[:, None] + tol) & (br[None, :] < b[:, None] - tol), 1))
+    out = np.zeros(a.size, bool)
+    if br.size:
+        tol = 1e-13 * curve.length
+        out |= np.any((br[None, :] > a[:, None] + tol) & (br[None, :] < b[:, None] - tol), 1)
+    for lo, hi in getattr(curve, "solid_spans", ()):
+        out |= (a < hi) & (b > lo)
+    return np.flatnonzero(out)
 
 
 def _mass_blocks(m: np.ndarray, S0: np.ndarray, J0: np.ndarray, fr: dict) -> np.ndarray:
@@ -170,7 +174,10 @@ def _default_order(curve: MidCurve, nodes_s: np.ndarray) -> int:
     """Gauss order of the mass form for the largest turning of an element (sampled)."""
     q = np.linspace(0.0, 1.0, 5)
     s = nodes_s[:-1, None] + np.diff(nodes_s)[:, None] * q[None, :]
-    kh = float(np.max(np.abs(curve.curvature(s.ravel())).reshape(s.shape).max(1) * np.diff(nodes_s)))
+    # inside a solid span (a crown wedge) the turning is that of a fan of cuts, not of the
+    # mid-curve: those elements are integrated by segment_inertia
+    kap = np.where(curve.admissible(s), np.abs(curve.curvature(s.ravel())).reshape(s.shape), 0.0)
+    kh = float(np.max(kap.max(1) * np.diff(nodes_s)))
     if kh <= 0.03:      # fine meshes: 3 or 4 points reach round-off (measured on flat ellipses too)
         return 5 if kh <= 0.005 else 7
     return 12 if kh <= 2.0 else (24 if kh <= 4.0 else 40)
@@ -379,16 +386,26 @@ class ThicknessFamily:
     ``B_open(k) = [B_mid + k B_half; B_mid - k B_half]``, ``B_slide`` does not change; the
     densities are ``rho t`` and ``rho t^3 / 12`` terms, so ``M(k) = k M_1 + k^3 M_3``.
     ``B_mid`` and ``B_half`` come from the assembly at ``k = 1``, ``M_1`` and ``M_3`` from
-    the terms in ``t`` and ``t^3`` of the densities (each to round-off: no differences)."""
+    the terms in ``t`` and ``t^3`` of the densities (each to round-off: no differences).
+
+    A curve whose sections move with its thickness
+    (:attr:`~fembeam.geometry.MidCurve.polynomial_in_thickness` False: the crown joint and
+    wedges of a pointed arch) is assembled at every ``k`` instead, on the nodes of
+    ``nodes_s`` that are sections of the scaled curve (a node a thicker crown wedge
+    swallows is left out)."""
 
     base: Discretization
-    M1: np.ndarray          # entries of M_1 and M_3 in the pattern of base.M
-    M3: np.ndarray
-    B_mid: sp.csr_matrix
-    B_half: sp.csr_matrix
+    M1: np.ndarray | None   # entries of M_1 and M_3 in the pattern of base.M (None: assembled at every k)
+    M3: np.ndarray | None
+    B_mid: sp.csr_matrix | None
+    B_half: sp.csr_matrix | None
+    nodes: np.ndarray | None = None     # the mesh of every k (assembled at every k only)
 
     @classmethod
     def of(cls, curve: MidCurve, nodes_s: np.ndarray) -> "ThicknessFamily":
+        if not curve.polynomial_in_thickness:
+            nodes = np.asarray(nodes_s, float)
+            return cls(discretize(curve, nodes), None, None, None, None, nodes)
         one = discretize(curve, nodes_s)
         a, b = one.nodes_s[:-1], one.nodes_s[1:]
         M1, M3 = (_block_diagonal(_mass(curve, one.mesh, a, b, one.frames, one.intorder, p)) for p in (1, 3))
@@ -406,6 +423,9 @@ class ThicknessFamily:
     def at(self, k: float) -> Discretization:
         """The discretisation of ``base.curve.with_thickness_scaled(k)`` on the same mesh."""
         b = self.base
+        if self.M1 is None:
+            curve = b.curve.with_thickness_scaled(k)
+            return discretize(curve, self.nodes[curve.admissible(self.nodes)])
         B_open = sp.vstack([self.B_mid + k * self.B_half, self.B_mid - k * self.B_half]).tocsr()
         B_open.eliminate_zeros()
         M = sp.csr_matrix((k * self.M1 + k**3 * self.M3, b.M.indices, b.M.indptr), shape=b.M.shape)

@@ -80,11 +80,58 @@ class MidCurve:
 
     @property
     def kinks(self) -> tuple[float, ...]:
-        """Arc lengths (m, increasing, interior) where the tangent jumps (e.g. the crown of
-        a pointed arch).  There the tangent and normal are those of the bisector, so the
-        section (joint) at a kink is the cut along the bisector of the two normals.
+        """Arc lengths (m, increasing, interior) where the tangent of the sections jumps
+        (none of the built-in shapes: a pointed arch's crown is a joint between wedges,
+        :attr:`solid_spans`).  There the tangent and normal are those of the bisector, so
+        the section (joint) at a kink is the cut along the bisector of the two normals.
         Meshes put a node at every kink (:func:`~fembeam.fem.uniform_nodes`)."""
         return ()
+
+    @property
+    def fixed_nodes(self) -> tuple[float, ...]:
+        """Arc lengths (m, increasing, interior) that are nodes of every mesh
+        (:func:`~fembeam.fem.uniform_nodes`; :func:`~fembeam.fem.nodes_through` keeps them):
+        the kinks, and the joints the member is built with, e.g. the vertical crown joint of
+        a pointed arch."""
+        return self.kinks
+
+    @property
+    def solid_spans(self) -> tuple[tuple[float, float], ...]:
+        """Open intervals ``(a, b)`` of the arc length (m) inside which the member has no
+        section: rigid pieces no joint may cut, e.g. the crown wedges of a pointed arch
+        (between the last radial section of each arc and the vertical crown joint, where a
+        radial cut would cross the crown joint).  No mesh node, hinge or checked section
+        lies strictly inside one.  :meth:`position`, :meth:`normal`, :meth:`thickness_at`
+        there still describe straight cuts through the material (e.g. a fan), so that
+        :meth:`segment_inertia` of any piece is the exact material between its end cuts."""
+        return ()
+
+    def admissible(self, s) -> np.ndarray:
+        """Whether each section ``s`` (m) is a section of the member: not strictly inside
+        one of :attr:`solid_spans`."""
+        s = np.asarray(s, float)
+        ok = np.ones(s.shape, bool)
+        for a, b in self.solid_spans:
+            ok &= ~((s > a) & (s < b))
+        return ok
+
+    def nearest_section(self, s) -> np.ndarray:
+        """``s`` (m) with every value strictly inside a solid span moved to the nearer of
+        its ends (sections of the member)."""
+        out = np.array(s, float)
+        for a, b in self.solid_spans:
+            inside = (out > a) & (out < b)
+            out = np.where(inside, np.where(out - a <= b - out, a, b), out)
+        return out
+
+    @property
+    def polynomial_in_thickness(self) -> bool:
+        """Whether scaling the thickness by ``k`` keeps the sections (``X``, ``n``, the
+        fibres at ``X +- k t/2 n``) and makes the densities ``k`` times their terms in ``t``
+        plus ``k^3`` times those in ``t^3``
+        (:class:`~fembeam.fem.rigid.ThicknessFamily` relies on it).  False when the
+        thickness moves the sections themselves (the crown joint of a pointed arch)."""
+        return True
 
     @property
     def breaks(self) -> tuple[float, ...]:

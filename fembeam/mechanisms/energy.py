@@ -113,7 +113,7 @@ def optimise_load_factor(start: Mechanism, direction: int = 1) -> tuple[Mechanis
     L = start.curve.length
 
     def f(x):
-        s = np.sort(np.clip(x, 0.0, 1.0)) * L
+        s = start.curve.nearest_section(np.sort(np.clip(x, 0.0, 1.0)) * L)    # no hinge inside a crown wedge
         lam = load_factor(Mechanism(start.curve, tuple(s), start.sides), direction)
         return lam if np.isfinite(lam) else 1e6  # incompatible: out of the feasible set
 
@@ -126,4 +126,5 @@ def optimise_load_factor(start: Mechanism, direction: int = 1) -> tuple[Mechanis
     res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * start.n_hinges,
                    options={"ftol": 1e-15, "gtol": 1e-11, "eps": 1e-9, "maxiter": 500})
     best = res.x if res.fun <= f0 else x0
-    return Mechanism(start.curve, tuple(np.sort(best) * L), start.sides), float(min(res.fun, f0))
+    s = start.curve.nearest_section(np.sort(np.clip(best, 0.0, 1.0)) * L)
+    return Mechanism(start.curve, tuple(s), start.sides), float(min(res.fun, f0))

@@ -154,7 +154,7 @@ class FourHingeImpact:
             raise InputError(f"nothing to draw: outcome {self.outcome or self.analysis.outcome}")
         curve, before, after = self.curve, self.before, self.after
         nodes = nodes_through(uniform_nodes(curve, self.picture_elements), np.concatenate([before.s, after.s]),
-                              keep=curve.kinks)
+                              keep=curve.fixed_nodes)
         disc = discretize(curve, nodes)
         line = self.line_at(disc.joint_s)
         idx = np.abs(line.s[None, :] - disc.joint_s[:, None]).argmin(1)
@@ -231,6 +231,8 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
             SIZE_LIMITS["grid"].check(grid)
     L = curve.length
     sec = uniform_nodes(curve, voussoirs) if discrete else np.linspace(0.0, L, sections + 1)
+    if not discrete and curve.solid_spans:      # no section inside a crown wedge; the crown joint is one
+        sec = np.union1d(sec[curve.admissible(sec)], curve.fixed_nodes)
     joints = sec if discrete else None
     if before is not None:
         before = _hinges(curve, before, joints, "hinges before the impact")

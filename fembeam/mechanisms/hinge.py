@@ -114,13 +114,14 @@ def find_hinges(disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_
 def merge_adjacent(disc: Discretization, hinges: list[Hinge]) -> list[Hinge]:
     """Merge runs of hinges at consecutive joints with the same side into one hinge at
     the rotation-weighted mean position: on a fine mesh of a continuous arch a hinge
-    lying between two nodes shows up as two neighbouring partial hinges."""
+    lying between two nodes shows up as two neighbouring partial hinges.  A mean inside
+    a crown wedge (no section there) is moved to the nearer of its ends."""
     out: list[Hinge] = []
     for h in hinges:
         last = out[-1] if out else None
         if last is not None and h.side == last.side and h.joints[0] == last.joints[-1] + 1:
             wl, wh = abs(last.rotation), abs(h.rotation)
-            s = (wl * last.s + wh * h.s) / (wl + wh)
+            s = float(disc.curve.nearest_section((wl * last.s + wh * h.s) / (wl + wh)))
             out[-1] = Hinge(s, float(disc.curve.angle_deg(s)), h.side, last.rotation + h.rotation,
                             last.joints + h.joints)
         else:

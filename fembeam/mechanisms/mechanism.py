@@ -142,6 +142,14 @@ class Mechanism:
         if not np.all(np.isfinite(s)) or np.any(s < 0) or np.any(s > L):
             raise InputError(f"{what}: hinges must lie on the member, s in [0, {L:g}] m, got {s.tolist()}")
         deg = np.asarray(curve.angle_deg(s), float)
+        inside = np.flatnonzero(~curve.admissible(s))
+        if inside.size:
+            i = int(inside[0])
+            a, b = next((a, b) for a, b in curve.solid_spans if a < s[i] < b)
+            lo, hi = (float(x) for x in curve.angle_deg(np.array([a, b])))
+            raise InputError(f"{what}: {deg[i]:g} deg lies inside a crown wedge, between the last radial section "
+                             f"({min(lo, hi):.10g} deg) and the crown joint ({max(lo, hi):.10g} deg): the member has "
+                             f"no section there")
         if joints is not None:
             js = np.asarray(joints, float)
             k = np.abs(js[None, :] - s[:, None]).argmin(1)

@@ -20,6 +20,7 @@ from math import comb
 import numpy as np
 
 from ..errors import InputError
+from ..fem import uniform_nodes
 from ..geometry import MidCurve
 from .energy import post_impact
 from .hinge import ROCKING_SIDES, opening_signs, pivot_fractions
@@ -144,7 +145,7 @@ def refine_four_hinge(before: Mechanism, start: Mechanism) -> tuple[float, Mecha
     curve, L, sides = before.curve, before.curve.length, start.sides
 
     def f(x):
-        s = np.sort(np.clip(x, 0.0, 1.0)) * L
+        s = curve.nearest_section(np.sort(np.clip(x, 0.0, 1.0)) * L)    # no hinge inside a crown wedge
         return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
 
     x0 = np.asarray(start.s) / L
@@ -153,16 +154,17 @@ def refine_four_hinge(before: Mechanism, start: Mechanism) -> tuple[float, Mecha
     res = minimize(f, x0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * 4,
                    options={"ftol": 1e-15, "gtol": 1e-12, "eps": 1e-9, "maxiter": 1000})
     x = res.x if res.fun <= f(x0) else x0
-    return -f(x), Mechanism(curve, tuple(np.sort(np.clip(x, 0, 1)) * L), sides)
+    return -f(x), Mechanism(curve, tuple(curve.nearest_section(np.sort(np.clip(x, 0, 1)) * L)), sides)
 
 
 def best_four_hinge_continuous(before: Mechanism, grid: int = 31,
                                starts: list[Mechanism] | None = None) -> RestrictedResult:
     """Restricted problem on a continuous arch: exhaustive search on ``grid`` uniform
-    voussoirs for the sides and a start, then maximise the exact ``r`` over the four
-    hinge positions (L-BFGS-B, sides fixed) from it and from ``starts``."""
+    voussoirs (:func:`~fembeam.fem.uniform_nodes`) for the sides and a start, then maximise
+    the exact ``r`` over the four hinge positions (L-BFGS-B, sides fixed; none inside a
+    crown wedge) from it and from ``starts``."""
     curve = before.curve
-    coarse = best_four_hinge_discrete(np.linspace(0.0, curve.length, grid + 1), before, keep=2)
+    coarse = best_four_hinge_discrete(uniform_nodes(curve, grid), before, keep=2)
     cands = [m for m in [coarse.after] + [h for _, h in coarse.ranking] + list(starts or []) if m is not None]
     results = sorted((refine_four_hinge(before, start) for start in cands), key=lambda z: -z[0])
     if not results:
