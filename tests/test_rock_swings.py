@@ -278,3 +278,84 @@ def test_results_unchanged_where_no_swing_hides(name):
         assert res.t_overturn is None
     else:
         assert res.t_overturn == pytest.approx(t_over, abs=1e-9)
+
+
+# --------------------------------------------------------------------------- the bounds, and random steps
+def _basis():
+    """The terms of the interpolant (``_poly``'s form), ``x^a (1 - x)^b``, as power series."""
+    from numpy.polynomial import polynomial as P
+    return [P.polymul(P.polypow([0, 1], a), P.polypow([1, -1], b))
+            for a, b in [(1, 0), (1, 1), (2, 1), (2, 2), (3, 2), (3, 3), (4, 3)]]
+
+
+def test_the_bounds_of_the_interpolant_terms():
+    """The constants of the bounds on the interpolant: the largest ``|term|`` of each term beyond
+    the chord, and the largest ``|d/dx|``, ``|d^2/dx^2|`` of the terms from ``x^2 (1 - x)^2`` on,
+    over [0, 1] (a grid of 10^6 + 1 points): bounds, tight to 1e-6."""
+    from numpy.polynomial import polynomial as P
+
+    from fembeam.dynamics.rocking import _BOUNDS, _CURVES, _SLOPES
+    x = np.linspace(0.0, 1.0, 1_000_001)
+    terms = _basis()
+    for c, bound in zip(terms[1:], _BOUNDS):
+        assert bound * (1 - 1e-6) <= np.abs(P.polyval(x, c)).max() <= bound * (1 + 1e-12)
+    for c, slope, curve in zip(terms[3:], _SLOPES, _CURVES):
+        for d, bound in ((1, slope), (2, curve)):
+            assert bound * (1 - 1e-6) <= np.abs(P.polyval(x, P.polyder(c, d))).max() <= bound
+
+
+def test_random_steps_against_a_fine_sampling():
+    """1000 random interpolants of degree 7 (the rate's: the derivative of theta's over the step),
+    shifted so that ``sg theta`` comes near 0 or near ``top``: ``_step_events`` finds the first
+    fall of ``sg theta`` to 0 (impact) and the first rise to ``top`` (overturning) where a
+    sampling of 5 * 10^4 points does (refined by ``brentq`` on the sampled bracket; to 1e-12 of
+    the step), and every sign change of the rate (cases within 1e-6 of grazing, or starting past
+    a level, left out); among them crossings that the step's ends do not show."""
+    from numpy.polynomial import polynomial as P
+    from scipy.optimize import brentq
+
+    rng = np.random.default_rng(20240611)
+    M = np.zeros((8, 7))
+    for j, c in enumerate(_basis()):
+        M[:c.size, j] = c
+    x = np.linspace(0.0, 1.0, 50_001)
+    h, ta, top = 0.02, 1.0, 1.0
+    checked = crossings = hidden = 0
+    for case in range(1000):
+        Ft = rng.normal(size=7) * np.array([1.0, 1.0, 0.5, 0.3, 0.2, 0.1, 0.05])
+        pt = M @ Ft                                   # theta - theta(0), power series
+        dt = P.polyder(pt) / h                        # the rate, exactly: w0 + _poly(Fw, x)
+        w0 = dt[0]
+        Fw = np.linalg.solve(M[1:], np.concatenate([dt[1:], [0.0]]))
+        sg = rng.choice([-1.0, 1.0])
+        th = P.polyval(x, pt)
+        if case % 3 == 2:     # sg theta's largest value near top
+            ya0 = sg * (top - (sg * th).max() + rng.uniform(-0.2, 0.2))
+        else:                 # its smallest near 0
+            ya0 = sg * (-(sg * th).min() + rng.uniform(-0.2, 0.2))
+        g = sg * (ya0 + th)
+        if np.abs(g).min() < 1e-6 or np.abs(g - top).min() < 1e-6 or not 0 < g[0] < top:
+            continue
+        expected = {}
+        for name, level, past in (("impact", 0.0, g <= 0), ("overturn", top, g >= top)):
+            if past.any():
+                i = int(np.argmax(past))
+                xc = brentq(lambda s: sg * (ya0 + P.polyval(s, pt)) - level, x[i - 1], x[i], xtol=1e-15)
+                expected[name] = ta + xc * h
+        rate = P.polyval(x, dt)
+        ga = (sg * ya0, sg * ya0 - top, w0)
+        gb = (g[-1], g[-1] - top, rate[-1])
+        events = _step_events((ya0, w0), (tuple(Ft), tuple(Fw)), ta, ta + h, ga, gb, sg, top, "overturn")
+        found = {name: t for t, name in events if name is not None}
+        assert sorted(found) == sorted(expected), case
+        for name, t in expected.items():
+            assert found[name] == pytest.approx(t, abs=1e-12 * h), (case, name)
+        turns = np.flatnonzero(np.diff(np.sign(rate)) != 0)
+        tw = sorted(t for t, name in events if name is None)
+        assert len(tw) == turns.size, case
+        for t, j in zip(tw, turns):
+            assert x[j] - 1e-9 <= (t - ta) / h <= x[j + 1] + 1e-9, case
+        checked += 1
+        crossings += bool(expected)
+        hidden += ("impact" in expected and g[-1] > 0) + ("overturn" in expected and g[-1] < top)
+    assert checked > 500 and crossings > 200 and hidden > 30

@@ -980,7 +980,12 @@ def _step_events(ya: tuple, F: tuple, ta: float, tb: float, ga: tuple, gb: tuple
         return ya[1] + _poly(Fw, (x - ta) / h)
 
     def root(fun, t0, t1, g0, g1):
-        return t1 if g1 == 0 else t0 if g0 == 0 else _brentq()(fun, t0, t1, xtol=4 * EPS * abs(tb))
+        if g1 == 0 or g0 == 0:
+            return t1 if g1 == 0 else t0
+        f0, f1 = fun(t0), fun(t1)
+        if f0 * f1 > 0.0:       # the interpolant differs from the step's end values in the last bits
+            return t1 if abs(f1) < abs(f0) else t0
+        return _brentq()(fun, t0, t1, xtol=4 * EPS * abs(tb))
 
     out, ext, turns = [], None, []
     if turn:
