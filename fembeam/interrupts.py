@@ -7,7 +7,9 @@ and the program goes on as if nothing had happened.  So the handlers installed b
 :func:`handled` also remember the signal, :func:`check` raises it again at the next safe
 point (a finished task of a study, the end of a command), and the interpreter's report of
 the ignored exception is suppressed.  Outside :func:`handled` (a library call, another
-thread) nothing is remembered and :func:`check` does nothing.
+thread) nothing is remembered and :func:`check` does nothing.  Inside :func:`deferred` (a
+step that must not be cut in the middle, such as a pool forking its worker processes) a
+signal is only remembered, and raised when the block ends.
 """
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ import sys
 import threading
 from contextlib import contextmanager
 
-__all__ = ["Terminated", "handled", "check", "reset"]
+__all__ = ["Terminated", "handled", "check", "reset", "deferred"]
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -27,6 +29,7 @@ class Terminated(BaseException):
 
 _pending: type[BaseException] | None = None
 _active = False
+_deferred = 0
 
 
 def _exception(signum: int) -> type[BaseException]:
@@ -36,7 +39,8 @@ def _exception(signum: int) -> type[BaseException]:
 def _handler(signum, frame):
     global _pending
     _pending = _exception(signum)
-    raise _pending()
+    if not _deferred:
+        raise _pending()
 
 
 def _unraisable(info) -> None:
@@ -77,6 +81,25 @@ def handled():
                 signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         if late is not None:
             raise late()
+
+
+@contextmanager
+def deferred():
+    """Inside :func:`handled`, on the main thread: a signal arriving in the block is raised
+    when it ends (normally), not in the middle of it.  For a step that would leave a mess if
+    cut, e.g. a process pool forking its workers: raised between a fork and the pool's
+    record of the new process, the exception would leave a worker that nobody stops."""
+    global _deferred
+    if threading.current_thread() is not threading.main_thread():   # signals never run there
+        yield
+        return
+    _deferred += 1
+    try:
+        yield
+    finally:
+        _deferred -= 1
+    if not _deferred:
+        check()
 
 
 def check() -> None:

@@ -121,11 +121,16 @@ def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
             try:
                 _, err = p.communicate(timeout=HANG_GUARD_S)
             except subprocess.TimeoutExpired:
-                pytest.fail(f"the sweep still runs {HANG_GUARD_S:.0f} s after {sig.name}")
+                left = subprocess.run(["pgrep", "-a", "-s", str(p.pid)], capture_output=True, text=True).stdout
+                pytest.fail(f"{HANG_GUARD_S:.0f} s after {sig.name} the sweep (exit {p.poll()}) or processes it "
+                            f"started still hold its output:\n{left}")
         finally:
-            if p.poll() is None:
-                os.killpg(p.pid, signal.SIGKILL)
-                p.wait()
+            try:
+                if p.poll() is None or p.stdout and not p.stdout.closed:      # only on a failure
+                    os.killpg(p.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            p.wait()
         assert p.returncode == code, err
         assert lines() - n1 <= 2, f"{lines() - n1} cases finished after {sig.name} with 2 workers"
         assert len(err.strip().splitlines()) == 1 and "fembeam:" in err
@@ -278,6 +283,32 @@ def test_a_signal_arriving_while_the_handlers_are_restored_is_raised_after():
 
 def pid(i: int) -> int:
     return os.getpid()
+
+
+def test_a_signal_while_the_workers_start_leaves_none_behind(monkeypatch):
+    """SIGTERM landing between the fork of a worker and the pool's record of it (made certain
+    here by raising it right after each fork) stops the study with every worker killed: none
+    is left waiting for work for ever, holding the caller's stdout and stderr open."""
+    import multiprocessing
+    from multiprocessing.process import BaseProcess
+
+    from fembeam import interrupts
+
+    real_start = BaseProcess.start
+
+    def start(self):
+        real_start(self)
+        interrupts._handler(signal.SIGTERM, None)          # the signal arrives here
+
+    before = set(multiprocessing.active_children())
+    monkeypatch.setattr(BaseProcess, "start", start)
+    with interrupts.handled():
+        with pytest.raises(interrupts.Terminated):
+            run_tasks([(square, {"i": i}) for i in range(6)], workers=2, progress=False)
+    monkeypatch.undo()
+    started = set(multiprocessing.active_children()) - before
+    for proc in started:
+        wait_until(lambda: not proc.is_alive(), f"worker {proc.pid}, started as the signal came, killed")
 
 
 def test_a_shared_pool_serves_every_phase(tmp_path):

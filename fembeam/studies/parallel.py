@@ -228,13 +228,15 @@ def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
     pool = shared.get(workers) or _new_pool(workers)
     broken = []
     try:
-        try:
-            futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
-        except BrokenProcessPool:                                # a shared pool's worker died while idle
-            if shared.get(workers) is not pool:
-                raise
-            shared[workers] = pool = _replace(pool, workers)
-            futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
+        # the first submit forks the workers: a signal then is raised once the pool knows them all
+        with interrupts.deferred():
+            try:
+                futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
+            except BrokenProcessPool:                            # a shared pool's worker died while idle
+                if shared.get(workers) is not pool:
+                    raise
+                shared[workers] = pool = _replace(pool, workers)
+                futs = {pool.submit(_quiet_call, f, kw): j for j, (f, kw) in enumerate(tasks)}
         for fut in as_completed(futs):
             try:
                 res = fut.result()
@@ -305,8 +307,9 @@ def _run_isolated(tasks: list[Task], workers: int):
         while pending or running:
             while pending and len(running) < workers:
                 j = pending.pop(0)
-                pool = _new_pool(1)
-                running[pool.submit(_quiet_call, *tasks[j])] = (j, pool)
+                with interrupts.deferred():                     # the worker forked and recorded
+                    pool = _new_pool(1)
+                    running[pool.submit(_quiet_call, *tasks[j])] = (j, pool)
             finished, _ = wait(list(running), return_when=FIRST_COMPLETED)
             for fut in finished:
                 j, pool = running.pop(fut)
