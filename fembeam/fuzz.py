@@ -42,6 +42,7 @@ import struct
 import sys
 import tempfile
 import time
+import warnings
 from dataclasses import dataclass, field
 
 __all__ = ["FuzzReport", "fuzz", "main"]
@@ -213,7 +214,9 @@ def run_one(argv: list[str], timeout: float | None, command=None) -> tuple[objec
     sys.stdout.flush()
     sys.stderr.flush()
     r, w = os.pipe()
-    pid = os.fork()
+    with warnings.catch_warnings():      # Python >= 3.12 warns of fork() with threads running: the
+        warnings.simplefilter("ignore", DeprecationWarning)   # child only runs the command and exits
+        pid = os.fork()
     if pid == 0:                                   # the child: never returns
         status = 70
         try:
