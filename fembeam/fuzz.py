@@ -33,8 +33,8 @@ import contextlib
 import io
 import json
 import os
-import random
 import pickle
+import random
 import select
 import shutil
 import signal
