@@ -20,7 +20,7 @@ from fembeam import CircularArch, StraightMember, discretize, nodes_through, uni
 from fembeam.cli.main import main
 from fembeam.dynamics import GroundMotion, Rocker
 from fembeam.dynamics.equation import GRAVITY
-from fembeam.dynamics.rocking import motion_sections
+from fembeam.dynamics.admissibility import motion_sections
 from fembeam.dynamics.thrust import friction_ratio, impact_impulses
 from fembeam.errors import InputError
 

@@ -1,4 +1,4 @@
-"""A small swing inside one integration step of ``rock`` (fembeam/dynamics/rocking.py).
+"""A small swing inside one integration step of ``rock`` (fembeam/dynamics/episode.py, events.py).
 
 When a swing fits inside one step of the integrator, ``theta`` may cross 0 and come back (two
 turning points between), so that neither ``theta`` nor the rate changes sign from one end of the
@@ -18,7 +18,10 @@ from scipy.integrate import solve_ivp
 
 from fembeam import CircularArch, StraightMember
 from fembeam.dynamics import GroundMotion, Rocker
-from fembeam.dynamics.rocking import _episode, _poly, _Signal, _step_events, _Track
+from fembeam.dynamics.dop853 import poly as _poly
+from fembeam.dynamics.episode import Signal as _Signal, episode as _episode
+from fembeam.dynamics.events import step_events as _step_events
+from fembeam.dynamics.result import Track as _Track
 
 G = 9.81
 
@@ -259,7 +262,8 @@ CASES = {
 def test_results_unchanged_where_no_swing_hides(name):
     """Runs where no swing hides inside a step: the same outcome, impacts, turning points,
     overturning time and peak rotation as the check of the step's ends alone gave (impact times
-    to 1e-9 s)."""
+    to 1e-8 s: the hinges are now placed at their canonical positions, rounded to 1e-12 of the
+    length, which moves the impacts of a long motion by about 1e-9 s)."""
     member, voussoirs, (gname, how, amount, *period), t_end, expected = CASES[name]
     outcome, n_impacts, n_peaks, t_over, peak, times = expected
     curve = CircularArch.from_ratio(157.5, 0.15, radius=5.0) if member == "arch" else \
@@ -272,7 +276,7 @@ def test_results_unchanged_where_no_swing_hides(name):
     res = Rocker(curve, voussoirs=voussoirs, qp=False).run(ground, t_end=t_end, thrust_check=False, history=False)
     ts = [e.t for e in res.impacts]
     assert (res.outcome, len(ts), len(res.peaks)) == (outcome, n_impacts, n_peaks)
-    assert [ts[0], ts[len(ts) // 2], ts[-1]] == pytest.approx(list(times), abs=1e-9)
+    assert [ts[0], ts[len(ts) // 2], ts[-1]] == pytest.approx(list(times), abs=1e-8)
     assert res.peak_rotation == pytest.approx(peak, rel=1e-9)
     if t_over is None:
         assert res.t_overturn is None
@@ -294,7 +298,7 @@ def test_the_bounds_of_the_interpolant_terms():
     over [0, 1] (a grid of 10^6 + 1 points): bounds, tight to 1e-6."""
     from numpy.polynomial import polynomial as P
 
-    from fembeam.dynamics.rocking import _BOUNDS, _CURVES, _SLOPES
+    from fembeam.dynamics.events import BOUNDS as _BOUNDS, CURVES as _CURVES, SLOPES as _SLOPES
     x = np.linspace(0.0, 1.0, 1_000_001)
     terms = _basis()
     for c, bound in zip(terms[1:], _BOUNDS):

@@ -94,38 +94,49 @@ class EquationOfMotion:
         self.theta_unstable = self._unstable_angle()
 
     # ------------------------------------------------------------------ kinematics
-    def _scalars(self, theta: float):
-        """The four-bar at ``theta`` in plain floats (this runs at every step of the
-        integrator): ``B, D`` (tuples), ``psi3, psi2, w3, w2, dw3, dw2``; None when the
-        loop cannot close."""
+    def _closure(self, c: float, s: float):
+        """The loop closure of the four-bar at ``theta`` (``c, s``: its cosine and sine), in plain
+        floats (this runs at every stage of the integrator): ``(ax, ay, ux, uy, wx, wy, w2, w3,
+        dw2, dw3)`` with ``a = B - C1``, ``u = D - B``, ``w = D - C2`` (m) and the rates
+        ``w3 = dpsi3/dtheta``, ``w2 = dpsi2/dtheta`` and their derivatives; None when the loop
+        cannot close (``D``: the circle of radius ``l2`` about C2 met by that of radius ``l3``
+        about ``B``, on the branch of rest)."""
         c1x, c1y, c2x, c2y = self._c
         rx, ry = self._r
-        c, s = math.cos(theta), math.sin(theta)
+        l2s, l3s = self._l2s, self._l3s
         ax, ay = c * rx - s * ry, s * rx + c * ry                   # B - C1
-        bx, by = c1x + ax, c1y + ay
-        dx, dy = bx - c2x, by - c2y
-        d = math.hypot(dx, dy)
-        l2, l3 = self.l2, self.l3
-        a = (l2 * l2 - l3 * l3 + d * d) / (2 * d)
-        h2 = l2 * l2 - a * a
+        dx, dy = c1x + ax - c2x, c1y + ay - c2y                     # B - C2
+        d2 = dx * dx + dy * dy
+        d = math.sqrt(d2)
+        a = (l2s - l3s + d2) / (2 * d)
+        h2 = l2s - a * a
         if h2 < 0.0:
             return None
-        ex, ey = dx / d, dy / d
         h = self.branch * math.sqrt(h2)
-        Dx, Dy = c2x + a * ex - h * ey, c2y + a * ey + h * ex
-        ux, uy, wx, wy = Dx - bx, Dy - by, Dx - c2x, Dy - c2y
+        ex, ey = dx / d, dy / d
+        wx, wy = a * ex - h * ey, a * ey + h * ex                   # D - C2
+        ux, uy = wx - dx, wy - dy                                   # D - B
         det = ux * wy - uy * wx                                     # cross(u, w); 0 at the lock
         if abs(det) <= 1e-14 * (ux * ux + uy * uy + wx * wx + wy * wy):
             return None
-        # w2 k x w - w3 k x u = rhs (Cramer's rule); first rhs = B' = k x (B - C1)
-        px, py = -ay, ax
-        w2, w3 = (-px * ux - uy * py) / det, (-wy * py - px * wx) / det
+        # w2 k x w - w3 k x u = B' = k x (B - C1) (Cramer's rule), and its derivative
+        w2, w3 = (ay * ux - uy * ax) / det, (-wy * ax + ay * wx) / det
         qx, qy = -ax - w3 * w3 * ux + w2 * w2 * wx, -ay - w3 * w3 * uy + w2 * w2 * wy
         dw2, dw3 = (-qx * ux - uy * qy) / det, (-wy * qy - qx * wx) / det
+        return ax, ay, ux, uy, wx, wy, w2, w3, dw2, dw3
+
+    def _scalars(self, theta: float):
+        """The four-bar at ``theta`` (:meth:`_closure`): ``B, D`` (tuples, m), ``psi3, psi2``
+        (rad), ``w3, w2, dw3, dw2``; None when the loop cannot close."""
+        k = self._closure(math.cos(theta), math.sin(theta))
+        if k is None:
+            return None
+        ax, ay, ux, uy, wx, wy, w2, w3, dw2, dw3 = k
+        c1x, c1y, c2x, c2y = self._c
         k3x, k3y, k2x, k2y = self._k
         psi3 = math.atan2(k3x * uy - k3y * ux, k3x * ux + k3y * uy)
         psi2 = math.atan2(k2x * wy - k2y * wx, k2x * wx + k2y * wy)
-        return (bx, by), (Dx, Dy), psi3, psi2, w3, w2, dw3, dw2
+        return (c1x + ax, c1y + ay), (c2x + wx, c2y + wy), psi3, psi2, w3, w2, dw3, dw2
 
     def _linkage(self, theta: float):
         """Positions, rates and rate derivatives of the four-bar at ``theta``:
@@ -142,34 +153,18 @@ class EquationOfMotion:
     def coefficients(self, theta: float) -> tuple[float, float, float, float]:
         """``(Lambda, Lambda', V', Q)`` at ``theta`` (SI units per unit depth);
         SolverError when the linkage cannot reach ``theta``.  The integrator's right-hand
-        side: the four-bar of :meth:`_scalars` inlined, the rotations of coupler and rocker as
+        side: the loop closure of :meth:`_closure`, the rotations of coupler and rocker as
         cosines and sines (their sides keep their lengths ``l3``, ``l2``)."""
         g = self.g
         c, s = math.cos(theta), math.sin(theta)
         if self._one:
             J, m, (x0, y0) = self._block
             return J, 0.0, g * m * (c * x0 - s * y0), -g * m * (s * x0 + c * y0)
-        c1x, c1y, c2x, c2y = self._c
-        rx, ry = self._r
+        k = self._closure(c, s)
+        if k is None:
+            raise SolverError(f"the four-bar linkage cannot reach theta = {theta:g} rad (locked)")
+        ax, ay, ux, uy, wx, wy, w2, w3, dw2, dw3 = k
         l2s, l3s = self._l2s, self._l3s
-        ax, ay = c * rx - s * ry, s * rx + c * ry                   # B - C1
-        dx, dy = c1x + ax - c2x, c1y + ay - c2y                     # B - C2
-        d2 = dx * dx + dy * dy
-        d = math.sqrt(d2)
-        a = (l2s - l3s + d2) / (2 * d)
-        h2 = l2s - a * a
-        if h2 < 0.0:
-            raise SolverError(f"the four-bar linkage cannot reach theta = {theta:g} rad (locked)")
-        h = self.branch * math.sqrt(h2)
-        ex, ey = dx / d, dy / d
-        wx, wy = a * ex - h * ey, a * ey + h * ex                   # D - C2
-        ux, uy = wx - dx, wy - dy                                   # D - B
-        det = ux * wy - uy * wx
-        if abs(det) <= 1e-14 * (ux * ux + uy * uy + wx * wx + wy * wy):
-            raise SolverError(f"the four-bar linkage cannot reach theta = {theta:g} rad (locked)")
-        w2, w3 = (ay * ux - uy * ax) / det, (-wy * ax + ay * wx) / det
-        qx, qy = -ax - w3 * w3 * ux + w2 * w2 * wx, -ay - w3 * w3 * uy + w2 * w2 * wy
-        dw2, dw3 = (-qx * ux - uy * qy) / det, (-wy * qy - qx * wx) / det
         k3x, k3y, k2x, k2y = self._k
         c3, s3 = (k3x * ux + k3y * uy) / l3s, (k3x * uy - k3y * ux) / l3s
         c2, s2 = (k2x * wx + k2y * wy) / l2s, (k2x * wy - k2y * wx) / l2s

@@ -11,6 +11,8 @@
   any rocking mechanism ``V`` rises from rest to the unstable equilibrium and falls below rest
   only beyond it, so a member past that level is falling.  The level is far above the errors of a
   contact model: a corner overlapping its face by ``1e-5 t`` changes ``V`` by about ``1e-5 m g t``.
+* **Where a mechanism overturns** (:func:`overturning`): the rotation at which ``V`` falls to that
+  level along the mechanism, and the energy barrier on the way (the one-mechanism model).
 * **Friction demand** (:func:`friction_demand`): the largest ratio of tangential to normal force
   (or percussion at an impact) over the joints or sections of the motion, with its time and
   place; ``sliding_risk`` when a friction coefficient is given and the ratio exceeds it.
@@ -21,7 +23,11 @@ import math
 
 import numpy as np
 
-__all__ = ["OUTCOMES", "OVERTURN_DROP", "SLIDE_OUT", "overturn_level", "mean_thickness", "friction_demand"]
+from ..errors import SolverError
+from .events import brentq
+
+__all__ = ["OUTCOMES", "OVERTURN_DROP", "SLIDE_OUT", "overturn_level", "mean_thickness", "friction_demand",
+           "overturning"]
 
 OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding", "cannot_stand")
 OVERTURN_DROP = 0.1     # overturned: centroid this fraction of the mean thickness below rest
@@ -51,3 +57,55 @@ def friction_demand(ratio: float, t: float | None, s: float | None, at: str | No
 
     return {"max_ratio": num(ratio) if ratio is not None else 0.0, "t": num(t), "s": num(s), "at": at,
             "mu": num(mu), "sliding_risk": None if mu is None else bool(ratio is not None and ratio > mu)}
+
+
+OVERTURN_GRID = 256     # steps from the unstable equilibrium to the lock (or pi) scanning for the level
+
+
+def overturning(eq: "EquationOfMotion", level: float) -> tuple[float, str, float]:
+    """Where mechanism ``eq`` has overturned under the rule above ( ``V`` below
+    ``level`` < 0): ``(top, event, barrier)`` with ``top`` the smallest ``sign * theta`` at which
+    ``V = level`` (``event`` ``"overturn"``), or just before the four-bar locks if it locks
+    first (``"locked"``); ``barrier`` the largest ``V`` on ``[0, top]``.
+
+    ``V`` rises from 0 to the unstable equilibrium ``theta_unstable`` (the first ``V' = 0``), so the
+    level is looked for beyond it: on ``OVERTURN_GRID`` steps up to the lock (or pi), the first
+    step that ends below it is bisected (``brentq``).  ``V`` past the unstable equilibrium is
+    scanned on the same steps for a higher hump; one found is maximised (bounded Brent)."""
+    sg = eq.sign
+    lock = eq.theta_lock * (1 - 1e-9)
+
+    def V(x):
+        return eq.potential(sg * x)
+
+    xu = eq.theta_unstable
+    if not math.isfinite(xu):                       # V rises all the way to the lock
+        if not math.isfinite(lock):
+            raise SolverError("gravity restores the mechanism at every rotation: it cannot overturn")
+        return lock, "locked", V(lock)
+    barrier, hump = V(xu), None
+    hi = min(lock, math.pi)
+    prev, v_prev = xu, barrier
+    for i in range(1, OVERTURN_GRID + 1):
+        x = xu + (hi - xu) * i / OVERTURN_GRID
+        v = V(x)
+        if v <= level:
+            top = brentq(lambda y: V(y) - level, prev, x, xtol=1e-15, rtol=1e-14)
+            break
+        if v > barrier and (hump is None or v > hump[1]):
+            hump = (x, v)
+        prev, v_prev = x, v
+    else:
+        if hi < lock:
+            raise SolverError(f"the mechanism neither falls to the overturning level nor locks up to a rotation "
+                              f"of pi (V = {v_prev:g} J/m at pi, level {level:g} J/m)")
+        top = lock
+    if hump is not None:                            # a higher hump past the unstable equilibrium
+        from scipy.optimize import minimize_scalar
+
+        step = (hi - xu) / OVERTURN_GRID
+        r = minimize_scalar(lambda y: -V(y), bounds=(max(xu, hump[0] - step), min(top, hump[0] + step)),
+                            method="bounded", options={"xatol": 1e-12})
+        barrier = max(hump[1], -float(r.fun))
+    return float(top), ("overturn" if top < lock else "locked"), float(barrier)
+

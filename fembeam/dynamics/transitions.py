@@ -20,12 +20,11 @@ from ..errors import InputError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms import ROCKING_SIDES, Mechanism, merge_adjacent, post_impact
-from ..mechanisms.restricted import best_four_hinge_continuous, best_four_hinge_discrete, refine_four_hinge
+from ..mechanisms.restricted import best_four_hinge_continuous, best_four_hinge_discrete
 
-__all__ = ["Transition", "ImpactModel", "HINGE_GRID", "WARM_RADIUS"]
+__all__ = ["Transition", "ImpactModel", "HINGE_GRID"]
 
 HINGE_GRID = 100_000  # continuous member: hinge positions after an impact on L / HINGE_GRID
-WARM_RADIUS = 0.05    # a solved mechanism this close (fraction of L) starts the local search
 
 
 @dataclass(frozen=True)
@@ -42,11 +41,6 @@ class Transition:
     hinges_qp: list = field(default_factory=list)
 
 
-def _key(m: Mechanism) -> tuple:
-    L = m.curve.length
-    return tuple(round(s / L, 12) for s in m.s), m.sides
-
-
 class ImpactModel:
     """Impact transitions of ``curve`` discretised as in ``fembeam analyze``:
     ``voussoirs`` rigid voussoirs (hinges only at their joints), or a continuous member
@@ -60,9 +54,9 @@ class ImpactModel:
         self._cache: dict[tuple, Transition] = {}
 
     def __call__(self, before: Mechanism) -> Transition:
-        key = _key(before)
+        key = before.key
         if key not in self._cache:
-            self._cache[key] = self._solve(before.with_alpha(1.0))
+            self._cache[key] = self._solve(before.canonical())
         return self._cache[key]
 
     @property
@@ -82,27 +76,21 @@ class ImpactModel:
         hinges = res.hinges if self.voussoirs is not None else merge_adjacent(disc, res.hinges)
         return float(res.r), hinges
 
-    def _continuous(self, before: Mechanism, pre: Mechanism, hinges_qp) -> list[Mechanism]:
+    def _continuous(self, pre: Mechanism, hinges_qp) -> list[Mechanism]:
         """Continuous member: the restricted optimum, snapped to ``HINGE_GRID`` positions.
 
-        A neighbour (a mechanism already solved, same sides, every hinge within
-        ``WARM_RADIUS`` of the length) gives the start of a local search; otherwise the
-        exhaustive start of :func:`best_four_hinge_continuous`.  Snapping makes the set of
-        mechanisms finite, so that a long motion reuses its transitions; ``r`` is stationary
-        at the optimum, so the snap changes it by O((L / HINGE_GRID)^2)."""
+        The search (:func:`best_four_hinge_continuous`: exhaustive on a grid, then local from
+        its best candidates and from the general QP's hinges) depends on ``before`` alone, never
+        on the mechanisms solved earlier: a transition is a function of the mechanism's key
+        (:attr:`~fembeam.mechanisms.Mechanism.key`), whatever the order in which a motion meets
+        them.  Snapping makes the set of mechanisms finite, so that a long motion reuses its
+        transitions; ``r`` is stationary at the optimum, so the snap changes it by
+        O((L / HINGE_GRID)^2)."""
         curve, L = self.curve, self.curve.length
-        near = [tr for tr in self._cache.values() if tr.after is not None and tr.before.sides == before.sides
-                and np.max(np.abs(np.subtract(tr.before.s, before.s))) < WARM_RADIUS * L]
-        found = []
-        if near:
-            near.sort(key=lambda tr: np.max(np.abs(np.subtract(tr.before.s, before.s))))
-            r, after = refine_four_hinge(pre, near[0].after)
-            found = [after] if r > 0 and post_impact(pre, after).compatible else []
-        if not found:          # no neighbour, or its start led nowhere: the full search
-            starts = [Mechanism.from_hinges(curve, hinges_qp)] if len(hinges_qp) == 4 and all(
-                h.side in ROCKING_SIDES for h in hinges_qp) else []
-            rr = best_four_hinge_continuous(pre, starts=starts)
-            found = [rr.after] if rr.after is not None else []
+        starts = [Mechanism.from_hinges(curve, hinges_qp)] if len(hinges_qp) == 4 and all(
+            h.side in ROCKING_SIDES for h in hinges_qp) else []
+        rr = best_four_hinge_continuous(pre, starts=starts)
+        found = [rr.after] if rr.after is not None else []
         return [Mechanism(curve, tuple(np.round(np.asarray(m.s) / L * HINGE_GRID) * L / HINGE_GRID), m.sides)
                 for m in found]
 
@@ -119,7 +107,7 @@ class ImpactModel:
             rr = best_four_hinge_discrete(uniform_nodes(curve, self.voussoirs), pre)
             cands = [rr.after] if rr.after is not None else []
         else:
-            cands = self._continuous(before, pre, hinges_qp)
+            cands = self._continuous(pre, hinges_qp)
         best = None
         for c in cands:
             fig = post_impact(pre, c)

@@ -233,6 +233,21 @@ class Mechanism:
         L = self.curve.length
         return replace(self, s=tuple(L - np.asarray(self.s[::-1], float)), sides=self.sides[::-1])
 
+    @property
+    def key(self) -> tuple:
+        """The canonical key of the mechanism's hinges (its rate aside): the positions as fractions
+        of the length rounded to 12 digits, and the sides.  Two mechanisms with one key are one
+        mechanism: the impact model's cache and the whole motion's numbering use this key only."""
+        L = self.curve.length
+        return tuple(round(float(s) / L, 12) for s in self.s), self.sides
+
+    def canonical(self) -> "Mechanism":
+        """The mechanism of :attr:`key` (hinges at the key's positions, rate 1): what is computed
+        for every mechanism of that key, so that a result does not depend on which of them was
+        met first."""
+        fr, sides = self.key
+        return replace(self, s=tuple(f * self.curve.length for f in fr), sides=sides, alpha=1.0)
+
     # ------------------------------------------------------------------ geometry
     @property
     def n_hinges(self) -> int:

@@ -27,7 +27,7 @@ from ..mechanisms.mechanism import Configuration, Mechanism
 from .files import atomic, check_output
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..dynamics.rocking import RockingResult
+    from ..dynamics.result import RockingResult
 
 __all__ = ["history_figure", "plot_history", "outline", "section_layout", "frame_rows", "frame_mesh",
            "write_pvd", "write_gif"]

@@ -1,0 +1,173 @@
+"""The result of a one-mechanism motion (:func:`~fembeam.dynamics.rocking.rock`): its outcome,
+impacts, onsets, peaks, energies and history, and the JSON of ``fembeam rock``."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..geometry import MidCurve
+from ..mechanisms import Mechanism
+from .equation import EquationOfMotion
+from .ground import GroundMotion
+from .outcomes import friction_demand
+
+__all__ = ["ImpactEvent", "RockingResult", "Track"]
+
+
+@dataclass(frozen=True)
+class ImpactEvent:
+    """An impact at time ``t`` (s): incoming rate ``rate_in`` (rad/s) on mechanism ``before``
+    (index into :attr:`RockingResult.mechanisms`), outgoing ``rate_out`` on ``after`` (None:
+    arrested), ``r = K'/K`` of the impact model and ``r_qp`` of the general QP."""
+
+    t: float
+    before: int
+    after: int | None
+    rate_in: float
+    rate_out: float
+    r: float
+    r_qp: float | None
+    at_rest: bool          # the episode ended at rest (arrested, or accumulation)
+
+
+@dataclass
+class RockingResult:
+    """Outcome and history of :func:`rock`.  ``history`` columns: ``t`` (s), ``mechanism``
+    (index, -1 at rest), ``theta`` (rad), ``rate`` (rad/s), ``K``, ``V`` (J per unit depth),
+    ``a_g`` (g)."""
+
+    curve: MidCurve
+    ground: GroundMotion
+    outcome: str
+    t_end: float
+    A_L: dict                               # {+1: A_L(+1), -1: A_L(-1)} (g; inf: no mechanism)
+    mechanisms: list[Mechanism] = field(default_factory=list)
+    impacts: list[ImpactEvent] = field(default_factory=list)
+    onsets: list[tuple[float, int]] = field(default_factory=list)   # (t, mechanism index)
+    peak_rotation: float = 0.0                  # largest |rotation| of any piece (rad; mirror invariant)
+    t_peak: float | None = None                 # its time (s)
+    peak_theta: float = 0.0                     # largest |theta| (the rotation of the first moving piece)
+    t_peak_theta: float | None = None
+    peaks: list = field(default_factory=list)   # (t, mechanism index, theta): every turning point
+    t_overturn: float | None = None
+    settled_at: float | None = None         # Rocker.run(settle=True): the free motion ends at rest
+    overturn_reason: str | None = None      # "below_rest" or "linkage_locked"
+    thrust_line_exits_at: float | None = None
+    energy_balance_error: float = 0.0
+    K_end: float = 0.0                      # J per unit depth, at the end (t_end or t_overturn)
+    V_end: float = 0.0
+    V_min: float = 0.0                      # the smallest V of the motion
+    ground_work: float = 0.0                # the ground's work on the member
+    dissipated: float = 0.0                 # sum over the impacts of K_in - K_out
+    thrust_checked: bool = False            # the thrust line and the friction demand were checked
+    friction: float | None = None           # Coulomb coefficient given (None: unlimited)
+    friction_motion: tuple | None = None    # (largest |S|/N, t, s) over the motion
+    friction_impact: tuple | None = None    # (largest |P_t|/P_n, t, s) over the impacts
+    history: dict = field(default_factory=dict)
+    unstable_rotation: list[float] = field(default_factory=list)   # per mechanism: V' = 0 (rad, signed)
+    overturn_rotation: list[float] = field(default_factory=list)   # per mechanism: overturned there (rad, signed)
+    mode: str = "continuous"
+    elements: int = 0
+    timings: dict = field(default_factory=dict)
+
+    def to_dict(self, history: bool = False) -> dict:
+        """The JSON of ``fembeam rock`` (no NaN or infinity: null where undefined)."""
+        def num(x):
+            return None if x is None or not math.isfinite(x) else float(x)
+
+        desc = self.curve.describe() if hasattr(self.curve, "describe") else {}
+        out = {
+            "command": "rock",
+            "outcome": self.outcome,
+            "geometry": desc,
+            "mode": self.mode,
+            "elements": self.elements,
+            "ground_motion": {"name": self.ground.name, "duration_s": self.ground.duration,
+                              "pga_g": self.ground.pga},
+            "t_end": self.t_end,
+            "A_L": {"+1": num(self.A_L.get(1)), "-1": num(self.A_L.get(-1))},
+            "peak_rotation": float(self.peak_rotation),
+            "t_peak": num(self.t_peak),
+            "peak_theta": float(self.peak_theta),
+            "t_peak_theta": num(self.t_peak_theta),
+            "turning_points": [{"t": t, "mechanism": k, "theta": th} for t, k, th in self.peaks],
+            "t_overturn": num(self.t_overturn),
+            "overturn_reason": self.overturn_reason,
+            "thrust_line_exits_at": num(self.thrust_line_exits_at),
+            "friction_demand": self.friction_demand,
+            "onsets": [{"t": t, "mechanism": k} for t, k in self.onsets],
+            "n_impacts": len(self.impacts),
+            "impacts": [{"t": e.t, "r": e.r, "r_qp": num(e.r_qp), "rate_in": e.rate_in, "rate_out": e.rate_out,
+                         "hinges_before": self.mechanisms[e.before].to_list(),
+                         "hinges_after": self.mechanisms[e.after].to_list() if e.after is not None else [],
+                         "mechanism_before": e.before, "mechanism_after": e.after, "at_rest": e.at_rest}
+                        for e in self.impacts],
+            "mechanisms": [{"index": i, "hinges": m.to_list(), "unstable_rotation": num(u), "overturn_rotation": num(o)}
+                           for i, (m, u, o) in enumerate(zip(self.mechanisms, self.unstable_rotation,
+                                                             self.overturn_rotation))],
+            "energy": {"K_end": float(self.K_end), "V_end": float(self.V_end), "V_min": float(self.V_min),
+                       "ground_work": float(self.ground_work), "dissipated": float(self.dissipated)},
+            "energy_balance_error": float(self.energy_balance_error),
+            "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
+        }
+        if history:
+            out["history"] = {k: [float(x) for x in v] for k, v in self.history.items()}
+        return out
+
+    @property
+    def friction_demand(self) -> dict | None:
+        """The block ``friction_demand`` (:func:`.outcomes.friction_demand`): the larger of the
+        motion's ``|S|/N`` and the impacts' ``|P_t|/P_n`` (``at``: ``"motion"`` or ``"impact"``),
+        ``sliding_risk`` against :attr:`friction`; None when the thrust line was not checked."""
+        if not self.thrust_checked:
+            return None
+        ratio, t, s = self.friction_motion or (0.0, None, None)
+        at = None if t is None else "motion"
+        if self.friction_impact is not None and self.friction_impact[0] > ratio:
+            (ratio, t, s), at = self.friction_impact, "impact"
+        return friction_demand(ratio, t, s, at, self.friction)
+
+    def csv_rows(self) -> list[dict]:
+        h = self.history
+        return [dict(zip(h, row)) for row in zip(*(h[k] for k in h))]
+
+
+
+
+@dataclass
+class Track:
+    """The history under construction and the running figures."""
+
+    grid: np.ndarray
+    keep: bool = True            # keep the dense output of the motion (for the thrust-line check)
+    rows: dict = field(default_factory=lambda: {k: [] for k in ("t", "mechanism", "theta", "rate", "K", "V", "a_g")})
+    peak: float = 0.0            # largest |rotation| of any piece, and its time
+    t_peak: float | None = None
+    peak_theta: float = 0.0      # largest |theta|, and its time
+    t_peak_theta: float | None = None
+    V_min: float = 0.0           # smallest V at the turning points and ends of the episodes
+    pieces: list = field(default_factory=list)   # (ta, tb, mechanism, dense solution) of the motion
+    peaks: list = field(default_factory=list)    # (t, mechanism, theta) where the rate vanishes
+
+    def __post_init__(self):
+        self.grid_list = self.grid.tolist()
+
+    def add(self, t, k, theta, rate, K, V, a):
+        for key, v in zip(self.rows, (t, k, theta, rate, K, V, a)):
+            self.rows[key].append(v)
+
+    def peak_at(self, t: float, theta: float, eq: EquationOfMotion):
+        """A turning point or the end of an episode at ``t``: the running peaks.  The pieces'
+        rotations are taken where ``|theta|`` peaks: exact while each grows with ``|theta|`` along
+        the mechanism (the four-bar's rates ``w3``, ``w2`` keep their sign; so on every mechanism
+        of the tests), otherwise a lower bound.  So is the smallest ``V`` (``V`` rises to the
+        unstable equilibrium, then falls: over an excursion its smallest value is at an end)."""
+        if abs(theta) > self.peak_theta:
+            self.peak_theta, self.t_peak_theta = abs(theta), float(t)
+        self.V_min = min(self.V_min, eq.potential(theta))
+        rot = max(abs(x) for x in eq.piece_rotations(theta))
+        if rot > self.peak:
+            self.peak, self.t_peak = rot, float(t)
+
