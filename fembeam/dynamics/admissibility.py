@@ -9,7 +9,6 @@ import numpy as np
 
 from ..errors import SolverError
 from .equation import EquationOfMotion
-from .events import brentq
 from .ground import GroundMotion
 from .thrust import friction_ratio, impact_impulses, section_forces_many, uniform_sections
 
@@ -35,19 +34,22 @@ def motion_sections(eq: EquationOfMotion, joints: np.ndarray | None) -> np.ndarr
 
 
 def thrust_scan(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: float,
-                joints: np.ndarray | None = None, tol: float = THRUST_TOL):
+                joints: np.ndarray | None = None, tol: float = THRUST_TOL, mu: float | None = None,
+                refine: bool = True):
     """The dynamic thrust line along the motion (``pieces``: ``(ta, tb, mechanism, dense
-    solution)``) at the sections of :func:`motion_sections`: ``(exit, (ratio, t, s))``.
+    solution)``) at the sections of :func:`motion_sections`: ``(exit, (ratio, t, s), slide)``.
 
     ``exit``: the first time (s) at which it leaves the section by more than ``tol`` of the
     thickness anywhere (from then on other hinges would open); None if it never does.
     ``(ratio, t, s)``: the largest ``|S| / N`` over the sections in compression (S the shear, N
     the normal force) and its time and section (m); ``(0, None, None)`` without motion.
+    ``slide``: given a friction coefficient ``mu``, the first time that ratio exceeds ``mu`` in a
+    section in compression (located as the exit), else None.
 
     Each piece of motion is evaluated every ``dt`` (at least 5, at most 400 instants; all the
     instants of a mechanism at once: :func:`~fembeam.dynamics.thrust.section_forces_many`); the first exit is located
-    (``brentq``) to 2^-32 of a scan interval, the largest ratio refined by bounded Brent on the
-    scan intervals either side of its best instant."""
+    (:func:`_first`) to 2^-32 of a scan interval, the largest ratio refined by bounded Brent on the
+    scan intervals either side of its best instant (``refine=False``: the best scanned instant)."""
     cuts: dict[int, np.ndarray] = {}
     at = ground.scalar()
 
@@ -58,8 +60,11 @@ def thrust_scan(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: f
         acc = np.array([eqs[k].acceleration(th, w, x) for (th, w), x in zip(y.tolist(), a.tolist())])
         return section_forces_many(eqs[k], y[:, 0], y[:, 1], acc, a, cuts[k])
 
-    def margin(k, sol, tt):
-        return float(state(k, [(sol, tt)]).margin[0]) + tol
+    def margins_at(k, sol, ts):
+        return state(k, [(sol, tt) for tt in ts.tolist()]).margin + tol
+
+    def ratios_at(k, sol, ts):
+        return friction_ratio(state(k, [(sol, tt) for tt in ts.tolist()]))[1]
 
     def ratio(k, sol, tt):
         _, best, i = friction_ratio(state(k, [(sol, tt)]))
@@ -75,8 +80,16 @@ def thrust_scan(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: f
         ends = np.cumsum([0] + [grids[i].size for i in idx])
         for i, lo, hi in zip(idx, ends[:-1], ends[1:]):
             results[i] = (f.margin[lo:hi], best[lo:hi])
-    exit_at, top = None, (0.0, None, None, None)       # ratio, time, piece, scan interval
+    exit_at, slide_at, top = None, None, (0.0, None, None, None)       # top: ratio, time, piece, scan interval
     for (ta, tb, k, sol), ts, (margins, best) in zip(pieces, grids, results):
+        if mu is not None and slide_at is None:
+            over = np.flatnonzero(best > mu)
+            if over.size:
+                i = int(over[0])
+                if i == 0:
+                    slide_at = float(ta)
+                else:
+                    slide_at = _first(lambda x_: mu - ratios_at(k, sol, x_), ts[i - 1], ts[i])
         if exit_at is None:
             out = np.flatnonzero(margins + tol < 0)
             if out.size:
@@ -84,20 +97,15 @@ def thrust_scan(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: f
                 if i == 0:
                     exit_at = float(ta)
                 else:
-                    prev, tt = ts[i - 1], ts[i]
-                    xtol = (tt - prev) * 2.0 ** -32     # to 2^-32 of a scan interval, on the exit side
-                    x = brentq(lambda x_: margin(k, sol, x_), prev, tt, xtol=xtol)
-                    while x < tt and margin(k, sol, x) >= 0:
-                        x = min(x + xtol, tt)
-                    exit_at = float(x)
+                    exit_at = _first(lambda x_: margins_at(k, sol, x_), ts[i - 1], ts[i])
         i = int(np.argmax(best))
         if best[i] > top[0]:
             top = (float(best[i]), float(ts[i]), (k, sol), (ts[max(i - 1, 0)], ts[min(i + 1, ts.size - 1)]))
     if top[1] is None:
-        return exit_at, (0.0, None, None)
+        return exit_at, (0.0, None, None), slide_at
     value, t_best, (k, sol), (lo, hi) = top
     s_best = ratio(k, sol, t_best)[1]
-    if hi > lo:
+    if hi > lo and refine:
         from scipy.optimize import minimize_scalar
 
         r = minimize_scalar(lambda x: -ratio(k, sol, x)[0], bounds=(lo, hi), method="bounded",
@@ -105,7 +113,23 @@ def thrust_scan(pieces, eqs: list[EquationOfMotion], ground: GroundMotion, dt: f
         if -r.fun > value:
             value, t_best = float(-r.fun), float(r.x)
             s_best = ratio(k, sol, t_best)[1]
-    return exit_at, (value, t_best, s_best)
+    return exit_at, (value, t_best, s_best), slide_at
+
+
+def _first(fun, lo: float, hi: float, rel: float = 2.0 ** -32, points: int = 31) -> float:
+    """The first time in ``(lo, hi]`` where ``fun`` (vectorised over times) is negative, given
+    ``fun(lo) >= 0 > fun(hi)``, to ``rel`` of ``hi - lo``, on the negative side: ``points``
+    instants a round in one evaluation, the bracket shrinking 32-fold a round (7 rounds)."""
+    xtol = (hi - lo) * rel
+    while hi - lo > xtol:
+        xs = np.linspace(lo, hi, points + 2)[1:-1]
+        neg = np.flatnonzero(fun(xs) < 0)
+        if neg.size:
+            j = int(neg[0])
+            lo, hi = (xs[j - 1] if j else lo), xs[j]
+        else:
+            lo = xs[-1]
+    return float(hi)
 
 
 def impact_friction(eq: EquationOfMotion, eq2: EquationOfMotion, alpha_ratio: float, rate_in: float,

@@ -65,6 +65,12 @@ class RockingResult:
     friction: float | None = None           # Coulomb coefficient given (None: unlimited)
     friction_motion: tuple | None = None    # (largest |S|/N, t, s) over the motion
     friction_impact: tuple | None = None    # (largest |P_t|/P_n, t, s) over the impacts
+    slides_at: float | None = None          # with a friction coefficient: first time |S|/N exceeds it in the motion
+    impact_slides_at: float | None = None   # ... and first impact whose |P_t|/P_n exceeds it
+    state_end: tuple | None = None          # (mechanism, theta, rate) at the end; None at rest
+    rest_slides_at: float | None = None     # Rocker.run(rest_limit=...): first time at rest above that limit
+    violation: tuple | None = None          # Rocker.run(stop_at_violation=True): (t, reason) where it stopped
+    state_cut: tuple | None = None          # (mechanism index, theta, rate) there (internal)
     history: dict = field(default_factory=dict)
     unstable_rotation: list[float] = field(default_factory=list)   # per mechanism: V' = 0 (rad, signed)
     overturn_rotation: list[float] = field(default_factory=list)   # per mechanism: overturned there (rad, signed)
@@ -150,6 +156,7 @@ class Track:
     V_min: float = 0.0           # smallest V at the turning points and ends of the episodes
     pieces: list = field(default_factory=list)   # (ta, tb, mechanism, dense solution) of the motion
     peaks: list = field(default_factory=list)    # (t, mechanism, theta) where the rate vanishes
+    friction_best: tuple = (0.0, None, None)     # largest |S|/N scanned episode by episode (stop at violation)
 
     def __post_init__(self):
         self.grid_list = self.grid.tolist()

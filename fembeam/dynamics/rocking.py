@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import time
+from bisect import bisect_right
 from dataclasses import replace
 
 import numpy as np
@@ -144,7 +145,9 @@ class Rocker:
 
     def run(self, ground: GroundMotion, *, t_end: float | None = None, dt_out: float | None = None,
             thrust_check: bool = True, progress=None, history: bool = True, settle: bool = False,
-            friction: float | None = None) -> RockingResult:
+            friction: float | None = None, t_start: float | None = None,
+            state: tuple | None = None, rest_limit: dict | None = None,
+            stop_at_violation: bool = False) -> RockingResult:
         """Time history under ``ground``.  ``t_end`` (s): default the end of the ground
         motion plus ``20 sqrt(L/g)`` (L: the member's length); ``dt_out`` (s): history
         sampling step (default ``(t_end - t_0) / 4000``); ``thrust_check``: find the first
@@ -154,8 +157,20 @@ class Rocker:
         the ground motion, stop if the free motion is known to come to rest without
         overturning (:meth:`settles`): outcome ``"rest"``, ``settled_at`` and ``t_end`` that time.
         ``friction``: a Coulomb coefficient (> 0) for ``friction_demand``'s ``sliding_risk``
-        (it does not change the motion: the joints never slide in this model)."""
-        return _run(self, ground, t_end, dt_out, thrust_check, progress, history, settle, friction)
+        (it does not change the motion: the joints never slide in this model) and for
+        ``slides_at``, ``impact_slides_at`` (the first times the demand exceeds it).
+        ``t_start`` (s): start there (default: the start of the ground motion), at rest or in
+        ``state`` = ``(mechanism, theta, rate)`` (a :class:`~fembeam.mechanisms.Mechanism` of this
+        member, rad, rad/s); the result's ``state_end`` is that triple at the end (None at rest).
+        ``rest_limit``: ``{+1: A, -1: A}`` (g), the inertia loads the member carries at rest (e.g. by
+        friction, below ``A_L``): ``rest_slides_at`` is the first time the ground exceeds one at rest
+        (the motion itself is not changed).  ``stop_at_violation``: end the run at the first time the
+        mechanism is not admissible (the thrust line leaves a section; with ``friction``, a section's
+        or an impact's demand exceeds it; with ``rest_limit``, at rest above it): ``violation`` is
+        ``(t, reason)`` (``"thrust_line"``, ``"friction_motion"``, ``"friction_impact"``,
+        ``"friction_rest"``) and ``state_end`` the state there (an impact's: just before it)."""
+        return _run(self, ground, t_end, dt_out, thrust_check, progress, history, settle, friction, t_start, state,
+                    rest_limit, stop_at_violation)
 
     def barrier(self, k: int) -> float:
         """The energy barrier of mechanism ``k`` (J per unit depth): the largest ``V`` from rest
@@ -213,7 +228,7 @@ def _check_friction(mu) -> float | None:
 
 
 def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True, settle=False,
-         friction=None) -> RockingResult:
+         friction=None, t_start=None, state0=None, rest_limit=None, stop=False) -> RockingResult:
     clock = time.perf_counter()
     curve, g = rk.curve, rk.g
     t_end = _check_inputs(curve, ground, t_end)
@@ -221,7 +236,13 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     if friction is not None and not thrust_check:
         raise InputError("a friction coefficient is checked against the friction demand, which comes with the "
                          "thrust-line check: do not turn the check off")
-    t0 = float(ground.t[0])
+    if stop and not thrust_check:
+        raise InputError("stop_at_violation needs the thrust-line check")
+    t0 = float(ground.t[0]) if t_start is None else float(t_start)
+    if not math.isfinite(t0):
+        raise InputError(f"t_start must be a finite time, got {t_start!r}")
+    if t_end is not None and not t_end > t0:
+        raise InputError(f"t_end must be after the start ({t0:g} s), got {t_end:g}")
     if t_end is None:
         t_end = float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / g)
     if dt_out is None:
@@ -248,6 +269,11 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     t_quiet = float(ground.t[-1])   # the ground is still from then on
     out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, elements=rk.n, friction=friction)
     t, state = t0, None         # state: (mechanism index, theta, rate) while moving
+    if state0 is not None:
+        m0, th0, w0 = state0
+        if not isinstance(m0, Mechanism) or m0.curve != curve or not (math.isfinite(th0) and math.isfinite(w0)):
+            raise InputError("state must be (a Mechanism of this member, theta, rate) with finite theta and rate")
+        state = (mech_index(m0), float(th0), float(w0))
     balance = 0.0               # largest |K + V - E_start - W_ground| of an episode (relative)
     t_int = 0.0
     for _ in range(MAX_EPISODES):
@@ -262,6 +288,15 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
                 # wait until the ground is back below both thresholds, then for a new crossing
                 tb = below_time(ground, t, t_end, A[1], A[-1], 1e-9 * T_ref)
                 on = None if tb is None else onset_time(ground, tb, t_end, A[1], A[-1])
+            if rest_limit is not None and out.rest_slides_at is None:
+                slide = onset_time(ground, t, t_end, rest_limit[1], rest_limit[-1])
+                if slide is not None and (on is None or slide[0] < on[0]):
+                    out.rest_slides_at = slide[0]
+                    if stop:
+                        _rest_rows(track, ground, t, slide[0])
+                        t = t_end = slide[0]
+                        out.violation = (slide[0], "friction_rest")
+                        break
             _rest_rows(track, ground, t, t_end if on is None else on[0])
             if on is None:
                 t = t_end
@@ -279,6 +314,12 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
         t_int += time.perf_counter() - ti
         balance = max(balance, err)
         out.ground_work += work
+        if stop:
+            bad = _episode_violation(rk, track, ground, dt_out, friction, ev, k, rate)
+            if bad is not None:
+                t = t_end = _cut(track, rk, out, bad, k)
+                state = out.state_cut
+                break
         if ev == "end":
             state = (k, theta, rate)
             if check and t < t_end:     # the end of the ground motion
@@ -330,6 +371,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     if state is not None:
         k, th, w = state
         out.K_end, out.V_end = 0.5 * eqs[k].coefficients(th)[0] * w * w, eqs[k].potential(th)
+        out.state_end = (rk.mechanisms[k], float(th), float(w))
     out.V_min = track.V_min
     out.peak_rotation, out.t_peak, out.peaks = track.peak, track.t_peak, track.peaks
     out.peak_theta, out.t_peak_theta = track.peak_theta, track.t_peak_theta
@@ -340,26 +382,80 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     if thrust_check:
         t_chk = time.perf_counter()
         out.thrust_checked = True
-        out.thrust_line_exits_at, out.friction_motion = thrust_scan(track.pieces, eqs, ground, dt_out, rk.joints)
+        if stop:        # every episode was scanned as it ended (its largest ratio on the scan grid)
+            v = out.violation or (None, None)
+            out.thrust_line_exits_at = v[0] if v[1] == "thrust_line" else None
+            out.slides_at = v[0] if v[1] == "friction_motion" else None
+            out.friction_motion = track.friction_best
+        else:
+            out.thrust_line_exits_at, out.friction_motion, out.slides_at = thrust_scan(
+                track.pieces, eqs, ground, dt_out, rk.joints, mu=friction)
         hits = [(*rk.impact_friction(e.before, e.after, e.rate_in), e.t) for e in out.impacts if e.after is not None]
         if hits:             # the first impact within rounding of the largest (mirrored transitions tie)
             top = max(h[0] for h in hits)
             ratio, s_, t_ = next(h for h in hits if h[0] >= top * (1 - 1e-12))
             out.friction_impact = (top, t_, s_)
+            if friction is not None:
+                out.impact_slides_at = next((t_i for r_i, _, t_i in hits if r_i > friction), None)
         out.timings["thrust_check"] = time.perf_counter() - t_chk
-    _own_mechanisms(out, rk)
+    _own_mechanisms(out, rk, None if state0 is None else mech_index(state0[0]))
     out.timings["total"] = time.perf_counter() - clock
     return out
 
 
-def _own_mechanisms(out: RockingResult, rk: Rocker) -> None:
+def _episode_violation(rk: Rocker, track: Track, ground, dt_out: float, mu, ev: str, k: int, rate: float):
+    """The first violation of admissibility in the episode just integrated (the last piece of
+    ``track``; it ended by ``ev`` at rate ``rate`` on mechanism ``k``): ``(t, reason)`` or None.  An
+    impact whose percussions need more friction than ``mu`` is a violation just before it."""
+    if not track.pieces:
+        return None
+    ta, tb, kp, sol = track.pieces[-1]
+    exit_at, best, slide_at = thrust_scan([track.pieces[-1]], rk.equations, ground, dt_out, rk.joints, mu=mu,
+                                          refine=False)
+    if best[1] is not None and best[1] <= min(x for x in (exit_at, slide_at, tb) if x is not None) \
+            and best[0] > track.friction_best[0]:
+        track.friction_best = best
+    cands = [(x, why) for x, why in ((exit_at, "thrust_line"), (slide_at, "friction_motion")) if x is not None]
+    if not cands and mu is not None and ev == "impact":
+        tr = rk.model(rk.mechanisms[k])
+        if tr.after is not None and rk.impact_friction(k, rk.index(tr.after), rate)[0] > mu:
+            cands = [(max(ta, tb - 1e-9 * max(1.0, abs(tb))), "friction_impact")]
+    return min(cands) if cands else None
+
+
+def _cut(track: Track, rk: Rocker, out: RockingResult, bad: tuple, k: int) -> float:
+    """End the motion at the violation ``bad = (t, reason)`` inside the last piece of ``track``:
+    the history, turning points and pieces after it dropped, the peaks recomputed; sets
+    ``out.violation`` and ``out.state_cut`` (``(k, theta, rate)`` there).  Returns the time."""
+    tv, why = bad
+    ta, tb, kp, sol = track.pieces[-1]
+    th, w = sol(tv)[:2]
+    track.pieces[-1] = (ta, tv, kp, sol)
+    n = bisect_right(track.rows["t"], tv)
+    for col in track.rows.values():
+        del col[n:]
+    eq = rk.equations[k]
+    track.add(tv, k, th, w, 0.5 * eq.coefficients(th)[0] * w * w, eq.potential(th), float(out.ground(tv)))
+    track.peaks[:] = [p for p in track.peaks if p[0] <= tv]
+    track.peak = track.peak_theta = 0.0
+    track.t_peak = track.t_peak_theta = None
+    track.V_min = 0.0
+    for t_, k_, th_ in track.peaks:
+        track.peak_at(t_, th_, rk.equations[k_])
+    track.peak_at(tv, th, eq)
+    out.violation = (float(tv), why)
+    out.state_cut = (k, float(th), float(w))
+    return float(tv)
+
+
+def _own_mechanisms(out: RockingResult, rk: Rocker, k0: int | None) -> None:
     """Number the mechanisms of ``out`` as the run met them: ``out.mechanisms`` holds those of this
     run only (a Rocker run many times knows the mechanisms of all its runs), in the order the run
-    met them (by onset or impact), and every index of ``out`` (onsets, impacts, turning points, history) is
+    met them (``k0``: the mechanism it started on, then by onset or impact), and every index of ``out`` (onsets, impacts, turning points, history) is
     renumbered to match."""
     met = sorted([(t, 0, k) for t, k in out.onsets] + [(e.t, 1, e.before) for e in out.impacts]
                  + [(e.t, 2, e.after) for e in out.impacts if e.after is not None])
-    order = list(dict.fromkeys(k for _, _, k in met))
+    order = list(dict.fromkeys(([] if k0 is None else [k0]) + [k for _, _, k in met]))
     new = {k: i for i, k in enumerate(order)}
     out.mechanisms = [rk.mechanisms[k] for k in order]
     out.unstable_rotation = [e.sign * min(e.theta_unstable, e.theta_lock) for e in (rk.equations[k] for k in order)]

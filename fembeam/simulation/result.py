@@ -71,6 +71,8 @@ class SimulationResult:
     history: dict = field(default_factory=lambda: {k: [] for k in HISTORY_COLUMNS})
     positions: list = field(default_factory=list)
     impacts: list = field(default_factory=list)     # (t, K before, K after) of each impact (a corner closes)
+    q_end: np.ndarray | None = None                 # (n + 1, 3) positions and velocities at t_end (the last
+    v_end: np.ndarray | None = None                 # row the ground's zeros): a later run may start from them
 
     def record(self, t, q, v, K, V, W, D, a_g, gap, thickness) -> None:
         """Append one history row (``gap`` ``(J, 2)`` and ``thickness`` ``(J, 1)``, m)."""

@@ -80,17 +80,17 @@ _SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a De
 
 class Simulator:
     """Bodies and contacts of ``curve`` cut into ``voussoirs`` (discrete arch) or ``elements``
-    (continuous arch: rigid elements) equal pieces; a block (``StraightMember``) is one body.
-    ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
+    (continuous arch: rigid elements) equal pieces, or at the cuts ``nodes`` (arc lengths, m, from 0
+    to L); a block (``StraightMember``) is one body.  ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
     whatever their tangential force).  Set up once, run under any ground motions (:meth:`run`)."""
 
     def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
-                 g: float = GRAVITY, friction: float | None = None):
+                 g: float = GRAVITY, friction: float | None = None, nodes=None):
         if voussoirs is not None and elements is not None:
             raise InputError("give voussoirs or elements, not both")
         n = voussoirs if voussoirs is not None else (elements if elements is not None else 100)
         self.mode = "voussoirs" if voussoirs is not None else "continuous"
-        self.bodies = Bodies.from_curve(curve, n)
+        self.bodies = Bodies.from_curve(curve, n, nodes=nodes)
         self.contacts = Contacts(self.bodies)
         if not self.contacts.chain:
             raise InputError("simulate needs a chain of bodies with a joint at every interior cut")
@@ -99,9 +99,11 @@ class Simulator:
 
     def run(self, ground: GroundMotion, *, dt: float = 1e-3, t_end: float | None = None,
             dt_out: float | None = None, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
-            stop_at_overturn: bool = True, progress=None, engine: str = "compiled") -> SimulationResult:
+            stop_at_overturn: bool = True, progress=None, engine: str = "compiled",
+            t_start: float | None = None) -> SimulationResult:
         """Time history under ``ground`` from rest (or ``q0``, ``v0``: ``(n + 1, 3)`` arrays, the last
-        row the ground's zeros) with steps ``dt`` (s) to ``t_end`` (default: end of the ground motion
+        row the ground's zeros) at ``t_start`` (s; default the start of the ground motion) with steps
+        ``dt`` (s) to ``t_end`` (default: end of the ground motion
         plus ``20 sqrt(L/g)``, as ``fembeam rock``); history sampled every ``dt_out`` (s; default
         ``max(dt, duration / 4000)``).  ``engine``: ``"compiled"`` (:mod:`.kernel`) or ``"reference"``
         (:mod:`.reference`, NumPy, no friction)."""
@@ -109,10 +111,12 @@ class Simulator:
             if self.friction is not None:
                 raise InputError("the reference engine has no friction")
             from .reference import run_reference
+            if t_start is not None:
+                raise InputError("the reference engine starts at the start of the ground motion")
             return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
         if engine != "compiled":
             raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
-        return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+        return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress, t_start)
 
 
 def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int | None = None,
@@ -178,12 +182,14 @@ def _ground_args(ground: GroundMotion):
     return kind, float(p.amplitude), float(p.period), np.zeros(1), np.zeros(1)
 
 
-def checked_run(sim: Simulator, ground, dt, t_end, dt_out, q0, v0):
+def checked_run(sim: Simulator, ground, dt, t_end, dt_out, q0, v0, t_start=None):
     """The arguments of :meth:`Simulator.run` checked (InputError otherwise) and completed:
     ``(t0, t_end, dt, dt_out, q, v)`` with the initial positions and velocities ``(n + 1, 3)``."""
     if not isinstance(ground, GroundMotion):
         raise InputError(f"simulate needs a fembeam.dynamics.GroundMotion, got {type(ground).__name__}")
-    t0 = float(ground.t[0])
+    t0 = float(ground.t[0]) if t_start is None else float(t_start)
+    if not math.isfinite(t0):
+        raise InputError(f"t_start must be a finite time, got {t_start!r}")
     if t_end is None:
         t_end = float(ground.t[-1]) + 20.0 * math.sqrt(sim.curve.length / sim.g)
     t_end = float(t_end)
@@ -204,9 +210,10 @@ def checked_run(sim: Simulator, ground, dt, t_end, dt_out, q0, v0):
     return t0, t_end, dt, dt_out, q, v
 
 
-def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
+def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress,
+         t_start=None):
     clock = time.perf_counter()
-    t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0)
+    t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0, t_start)
     K = compiled_kernel()                # numba: compiled, or loaded from its cache, on first use
     t_load = time.perf_counter() - clock
     bodies, con, g = sim.bodies, sim.contacts, sim.g
@@ -233,7 +240,8 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     was_closed = gap <= GAP_TOL * thick[:, None]
     working, working_imp = np.zeros(3 * J, bool), np.zeros(3 * J, bool)
     box, box_imp = np.zeros(3 * J, np.int64), np.zeros(3 * J, np.int64)
-    s_ref = np.zeros(J)
+    # the slip the joints carry: none from rest; a run from a given state (q0) keeps the state's
+    s_ref = np.zeros(J) if q0 is None else slip[np.arange(J), contact].copy()
     fs = np.zeros(K.N_FLOAT)
     ist = np.zeros(K.N_INT, np.int64)
     E0 = float(0.5 * np.sum(mv * v * v)) + g * float(m @ (q[:-1, 1] - y0))
@@ -303,4 +311,5 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                friction_work=float(fs[K.F_FRICTION]), coulomb_residual=float(fs[K.F_COULOMB]),
                time=time.perf_counter() - clock,
                timings={"compile_or_load": t_load, "run": t_run, "total": time.perf_counter() - clock})
+    res.q_end, res.v_end = q.copy(), v.copy()
     return res

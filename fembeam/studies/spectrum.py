@@ -62,7 +62,7 @@ __all__ = ["overturning_amplitude", "spectrum", "spectrum_case", "SpectrumResult
            "PULSES", "SAFE", "COLLAPSE", "MODELS", "DT"]
 
 PULSES = ("rect", "sine", "ricker")
-MODELS = ("rock", "simulate")   # one mechanism between impacts; the multi-block simulation
+MODELS = ("rock", "simulate", "auto")   # one mechanism; the multi-block simulation; rock while it holds, then simulate
 SAFE = ("no_motion", "rest", "survived", "below_barrier")   # outcomes that are not overturning
 COLLAPSE = ("overturned", "collapsed_by_sliding")           # outcomes that count as collapse (sliding: simulate
                                                             # with friction only)
@@ -136,7 +136,7 @@ def check_model(model: str, dt: float | None = None, friction: float | None = No
         given = [n for n, x in ((d, dt), (f, friction)) if x is not None]
         if given:
             raise InputError(f"{' and '.join(given)} appl{'y' if len(given) > 1 else 'ies'} to the multi-block "
-                             f"simulation only ({m} simulate), not to rock")
+                             f"simulation only ({m} simulate or auto), not to rock")
         return None, None
     from ..simulation import DT_RANGE
     lo, hi = DT_RANGE
@@ -207,19 +207,38 @@ def _simulator(curve: MidCurve, voussoirs: int | None, elements: int | None, fri
     return sim
 
 
+def _auto_model(curve: MidCurve, voussoirs: int | None, elements: int, friction: float | None, dt: float):
+    """This thread's :class:`~fembeam.auto.AutoModel` of the member (kept for the next tasks, as
+    :func:`_simulator`)."""
+    from ..auto import AutoModel
+    with np.printoptions(threshold=sys.maxsize, precision=17):
+        key = ("auto", repr(curve), voussoirs, elements, friction, dt)
+    kept = getattr(_SIMULATORS, "auto", None)
+    if kept is not None and kept[0] == key:
+        return kept[1]
+    am = AutoModel(curve, voussoirs=voussoirs, elements=elements, friction=friction, dt=dt)
+    _SIMULATORS.auto = (key, am)
+    return am
+
+
 class MultiBody:
-    """The member as ``fembeam simulate`` moves it, for :func:`overturning_amplitude`: its
+    """The member as ``fembeam simulate`` moves it (``model="simulate"``), or as ``--model auto``
+    (``"auto"``: :class:`~fembeam.auto.AutoModel`, the one-mechanism model while it holds, the
+    simulation from the first violation), for :func:`overturning_amplitude`: its
     :class:`~fembeam.simulation.Simulator` (of this worker thread, reused), the onset thresholds
     ``A`` (g, ``{+1: A_L(+1), -1: A_L(-1)}``, from the limit analysis), the time step ``dt`` (s) and
     the Coulomb coefficient ``friction`` (None: the joints never slide).  ``steps`` counts the time
     steps of its runs."""
 
     def __init__(self, curve: MidCurve, A: dict, *, voussoirs: int | None = None, elements: int = 200,
-                 dt: float = DT, friction: float | None = None):
-        self.curve, self.dt, self.friction = curve, float(dt), friction
+                 dt: float = DT, friction: float | None = None, model: str = "simulate"):
+        self.curve, self.dt, self.friction, self.model = curve, float(dt), friction, model
         self.A = {1: float(A[1]), -1: float(A[-1])}
         self.stands = not any(math.isnan(x) for x in self.A.values())
-        self.sim = _simulator(curve, voussoirs, None if voussoirs is not None else elements, friction)
+        if model == "auto":
+            self.sim = _auto_model(curve, voussoirs, elements, friction, self.dt)
+        else:
+            self.sim = _simulator(curve, voussoirs, None if voussoirs is not None else elements, friction)
         self.steps = 0
 
     @property
@@ -228,6 +247,8 @@ class MultiBody:
         return self.friction is None
 
     def outcome(self, ground: GroundMotion, t_end: float | None) -> str:
+        if self.model == "auto":
+            return self.sim.run(ground, t_end=t_end, history=False).outcome
         res = self.sim.run(ground, dt=self.dt, t_end=t_end, stop_at_overturn=True)
         self.steps += int(res.steps)
         return res.outcome
@@ -339,14 +360,14 @@ def spectrum_case(curve: MidCurve, kind: str, period: float, amplitudes: list[fl
     ``[A_L(+1), A_L(-1)]``), then :func:`overturning_amplitude` of ``pulse(kind, a, period)``; a row
     with ``period`` (s), ``t_end`` (s), ``time_s`` and for simulate ``steps`` (time steps run)."""
     clock = time.perf_counter()
-    if model == "simulate":
+    if model != "rock":
         member = MultiBody(curve, {1: thresholds[0], -1: thresholds[1]}, voussoirs=voussoirs, elements=elements,
-                           dt=dt, friction=friction)
+                           dt=dt, friction=friction, model=model)
     else:
         member = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
     res = overturning_amplitude(member, functools.partial(_pulse_of, kind, period), amplitudes, t_end=t_end,
                                 bisect_tol=bisect_tol, sign=sign, onset=onset)
-    extra = {"steps": member.steps} if model == "simulate" else {}
+    extra = {"steps": member.steps} if model != "rock" else {}
     return {"period": float(period), **res, "t_end": float(t_end), **extra, "time_s": time.perf_counter() - clock}
 
 
@@ -405,14 +426,14 @@ class SpectrumResult:
                         "bracket_lo_g": lo, "bracket_hi_g": hi, "safe_above": r["safe_above"],
                         "safe_amplitudes_above_g": ";".join(f"{x:.6g}" for x in r["safe_amplitudes_above"]),
                         "runs": r["runs"], "errors": len(r["errors"]), "time_s": round(r["time_s"], 4)})
-            if self.model == "simulate":
+            if self.model != "rock":
                 out[-1].update(collapse=r.get("collapse") or "", steps=r.get("steps", 0))
         return out
 
 
 def _collapse_outcomes(model: str) -> list[str]:
     """The outcomes a search counts as collapse (rock has no sliding)."""
-    return list(COLLAPSE) if model == "simulate" else ["overturned"]
+    return list(COLLAPSE) if model != "rock" else ["overturned"]
 
 
 def _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign, n_amplitudes,
@@ -478,12 +499,12 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     free = t_end_factor * math.sqrt(curve.length / rk.g)
     common = {"curve": curve, "kind": kind, "amplitudes": grid, "voussoirs": voussoirs, "elements": elements,
               "backend": backend, "bisect_tol": bisect_tol, "sign": sign, "onset": onset, "model": model}
-    if model == "simulate":
+    if model != "rock":
         _check_steps(dt, 0.0, max(pulse_end(kind, p) for p in ps) + free)
         common.update(dt=dt, friction=friction, thresholds=[rk.A[1], rk.A[-1]])
     rows = run_tasks([(spectrum_case, {**common, "period": p, "t_end": pulse_end(kind, p) + free}) for p in ps],
                      workers=workers, scheduler=scheduler, progress=progress,
-                     desc=f"spectrum: {kind} pulses" + (" (simulate)" if model == "simulate" else ""),
+                     desc=f"spectrum: {kind} pulses" + (f" ({model})" if model != "rock" else ""),
                      journal=journal, lost=_lost_period)
     wall = time.perf_counter() - clock
     settings = {"model": model, "voussoirs": voussoirs, "elements": elements if voussoirs is None else None,
@@ -493,7 +514,7 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
                 "executor": "dask" if scheduler is not None else f"local ({workers or default_workers()} workers)"}
     timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
               "runs": sum(r["runs"] for r in rows)}
-    if model == "simulate":
+    if model != "rock":
         settings.update(dt=dt, friction=friction)
         timing["steps"] = sum(r.get("steps", 0) for r in rows)
     geo = curve.describe() if hasattr(curve, "describe") else {}
@@ -503,7 +524,7 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
 def _lost_period(task, message: str) -> dict:
     """The row of a period whose worker process died twice: undecided, with the error."""
     kw = task[1]
-    extra = {"steps": 0} if kw.get("model") == "simulate" else {}
+    extra = {"steps": 0} if kw.get("model", "rock") != "rock" else {}
     return {"period": float(kw["period"]), "first_overturning": None, "bracket": [None, None], "safe_above": False,
             "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": kw["onset"], "bisection": [],
             "runs": 0, "errors": [f"the worker process died twice ({message})"], "t_end": float(kw["t_end"]),
@@ -580,7 +601,7 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
         raise InputError(f"the default factor grid needs 2..{MAX_CASES} points and a span > 1")
     if t_end is not None and not (math.isfinite(t_end) and t_end > ground.t[0]):
         raise InputError(f"t_end must be finite and after the start of the record ({ground.t[0]:g} s), got {t_end}")
-    if model == "simulate":
+    if model != "rock":
         _check_steps(dt, float(ground.t[0]), t_end if t_end is not None else
                      float(ground.t[-1]) + T_END_FACTOR * math.sqrt(curve.length / GRAVITY))
     clock = time.perf_counter()
@@ -592,7 +613,7 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
         raise InputError("no scale factor of this record can set the member moving (A_L infinite)")
     grid = [float(f) for f in factors] if factors is not None else geometric_grid(f0, span, n_factors)
     member = rk if model == "rock" else MultiBody(curve, rk.A, voussoirs=voussoirs, elements=elements, dt=dt,
-                                                  friction=friction)
+                                                  friction=friction, model=model)
     res = overturning_amplitude(member, ground.scaled, grid, t_end=t_end, bisect_tol=bisect_tol, sign=sign,
                                 onset=f0, progress=progress)
     f = res["first_overturning"]
@@ -604,7 +625,7 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
                A_L={"+1": rk.A[1], "-1": rk.A[-1]}, geometry=curve.describe() if hasattr(curve, "describe") else {},
                voussoirs=voussoirs, elements=elements if voussoirs is None else None,
                t_end=t_end, model=model, collapse_outcomes=_collapse_outcomes(model), time_s=time.perf_counter() - clock)
-    if model == "simulate":
+    if model != "rock":
         res.update(dt=dt, friction=friction, steps=member.steps)
     res.pop("onset")
     return _json_safe(res)

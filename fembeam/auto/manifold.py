@@ -1,0 +1,160 @@
+"""A one-parameter mechanism as a manifold of the multi-block state, and back.
+
+The multi-block model (:mod:`fembeam.simulation`) is the truth: every body ``i`` has its centroid
+``x_i`` (m), angle ``phi_i`` (rad, counter-clockwise, 0 at rest) and velocities ``(v_i, omega_i)``.
+A mechanism (:class:`~fembeam.mechanisms.Mechanism`) moving with coordinate ``theta`` and rate
+``theta'`` is one curve in that state space: the bodies of a piece move with it,
+
+* crank (first moving piece) about its first hinge ``C1``: ``phi = theta``,
+  ``x = C1 + R(theta) (G0 - C1)``, ``v = theta' k x (x - C1)``;
+* coupler from the moved second hinge ``B``: ``phi = psi3``, ``x = B + R(psi3) (G0 - C13)``,
+  ``v = B' + psi3' k x (x - B)`` with ``B' = theta' k x (B - C1)``;
+* rocker about the last hinge ``C2``: ``phi = psi2``, ``x = C2 + R(psi2) (G0 - C2)``,
+  ``v = psi2' k x (x - C2)``;
+
+with ``psi3(theta)``, ``psi2(theta)`` and their rates ``psi' = w theta'`` from the four-bar's loop
+closure (:class:`~fembeam.dynamics.equation.EquationOfMotion`); a block turns about its corner.
+Bodies outside the outer hinges stay at rest.  :func:`bodies_state` is this map (the bodies must
+have joints at the hinges); its kinetic and potential energies are the mechanism's
+``1/2 Lambda theta'^2`` and ``V(theta)`` exactly (``tests/test_auto.py``).
+
+:func:`mechanism_of` goes back: the joints with one corner open are the hinges (pivoting on the
+closed corner); with as many as a mechanism of the member has, no joint separated and none slid,
+``theta`` is the crank's angle and ``theta'`` the kinetic-metric projection of the velocities on
+the mechanism's field, accepted when that field and the rebuilt positions match the state to the
+tolerances given (what is left is reported: the kinetic energy the projection drops).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..dynamics.equation import EquationOfMotion
+from ..errors import InputError
+from ..mechanisms import Mechanism
+from ..simulation.bodies import Bodies
+from ..simulation.contacts import Contacts
+
+__all__ = ["bodies_state", "mechanism_of", "OPEN_TOL"]
+
+OPEN_TOL = 1e-6       # a corner open by more than this fraction of the joint's thickness
+
+
+def _rot(phi: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Rotate the columns ``v`` (2, n) by the angles ``phi`` (n,)."""
+    c, s = np.cos(phi), np.sin(phi)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _cross_k(w: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """``w k x r`` for angular rates ``w`` (n,) and vectors ``r`` (2, n)."""
+    return np.array([-w * r[1], w * r[0]])
+
+
+def _pieces(mech: Mechanism, bodies: Bodies) -> np.ndarray:
+    """The piece of each body (by its mid arc length); every body must lie within one piece."""
+    nodes = bodies.nodes
+    br = mech.breaks
+    L = mech.curve.length
+    tol = 1e-9 * L
+    inner = br[1:-1]
+    if not all(np.min(np.abs(nodes - s)) <= tol for s in inner if tol < s < L - tol):
+        raise InputError("the bodies need a joint at every hinge of the mechanism")
+    return mech.piece_of(0.5 * (nodes[:-1] + nodes[1:]))
+
+
+def bodies_state(eq: EquationOfMotion, theta: float, rate: float, bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
+    """Positions and velocities ``(n + 1, 3)`` of ``bodies`` (last row: the ground) on the mechanism
+    of ``eq`` at ``theta`` (rad) moving at ``rate`` (rad/s)."""
+    mech = eq.mechanism
+    piece = _pieces(mech, bodies)
+    moving = np.flatnonzero(mech.moving)
+    G0 = bodies.G0
+    n = bodies.n
+    q = np.zeros((n + 1, 3))
+    v = np.zeros((n + 1, 3))
+    q[:-1, :2] = G0.T
+    if mech.n_hinges == 1:
+        roles = {int(moving[0]): "block"}
+    else:
+        roles = dict(zip(map(int, moving), ("crank", "coupler", "rocker")))
+        k = eq._scalars(theta)
+        if k is None:
+            raise InputError(f"the mechanism's linkage cannot reach theta = {theta:g} rad")
+        B, D, psi3, psi2, w3, w2 = np.array(k[0]), np.array(k[1]), k[2], k[3], k[4], k[5]
+    for p, role in roles.items():
+        sel = np.flatnonzero(piece == p)
+        if sel.size == 0:
+            continue
+        g0 = G0[:, sel]
+        m = sel.size
+        if role in ("block", "crank"):
+            C = eq.C if role == "block" else eq.C1
+            phi, w, x = np.full(m, theta), np.full(m, rate), None
+            x = C[:, None] + _rot(phi, g0 - C[:, None])
+            vel = _cross_k(w, x - C[:, None])
+        elif role == "coupler":
+            phi, w = np.full(m, psi3), np.full(m, w3 * rate)
+            x = B[:, None] + _rot(phi, g0 - eq.C13[:, None])
+            dB = _cross_k(np.array([rate]), (B - eq.C1)[:, None])
+            vel = dB + _cross_k(w, x - B[:, None])
+        else:
+            phi, w = np.full(m, psi2), np.full(m, w2 * rate)
+            x = eq.C2[:, None] + _rot(phi, g0 - eq.C2[:, None])
+            vel = _cross_k(w, x - eq.C2[:, None])
+        q[sel, :2], q[sel, 2] = x.T, phi
+        v[sel, :2], v[sel, 2] = vel.T, w
+    return q, v
+
+
+def mechanism_of(bodies: Bodies, contacts: Contacts, q: np.ndarray, v: np.ndarray, *, g: float,
+                 position_tol: float = 1e-5, velocity_tol: float = 1e-2):
+    """The mechanism the multi-block state ``q``, ``v`` ``(n + 1, 3)`` moves on:
+    ``(mechanism, theta, rate, dropped)`` with ``dropped`` the kinetic energy (J per unit depth)
+    the projection on the mechanism's field leaves out; None when the state is not on a
+    mechanism of the member: hinges not as many as the member's mechanisms have, a joint separated
+    or slid (by ``position_tol`` of its thickness), the positions rebuilt from ``theta`` off by more
+    than ``position_tol`` of the thickness, or the velocities off the mechanism's field by more
+    than ``velocity_tol`` in the kinetic-energy norm (relative)."""
+    curve = bodies.curve
+    geo = contacts.evaluate(q)
+    t = bodies.thickness
+    opened = geo.gap > OPEN_TOL * t[:, None]
+    n_open = opened.sum(axis=1)
+    if np.any(n_open == 2) or np.any(np.abs(geo.slip) > position_tol * t[:, None]):
+        return None
+    hinge = np.flatnonzero(n_open == 1)
+    if hinge.size != Mechanism.n_hinges_expected(curve):
+        return None
+    sides = tuple("extrados" if opened[j, 0] else "intrados" for j in hinge)     # pivots on the closed corner
+    try:
+        mech = Mechanism(curve, tuple(float(s) for s in bodies.joint_s[hinge]), sides)
+        eq = EquationOfMotion(mech, g)
+    except Exception:           # not a compatible mechanism of this member: not on its manifold
+        return None
+    piece = _pieces(mech, bodies)
+    first = np.flatnonzero(piece == np.flatnonzero(mech.moving)[0])
+    if first.size == 0:
+        return None
+    theta = float(q[first[0], 2])
+    try:
+        q1, u = bodies_state(eq, theta, 1.0, bodies)
+    except InputError:
+        return None
+    if np.max(np.abs(q1[:-1, :2] - q[:-1, :2])) > position_tol * float(np.min(t)) or \
+            np.max(np.abs(q1[:-1, 2] - q[:-1, 2])) > position_tol:
+        return None
+    mv = np.zeros_like(v)
+    mv[:-1, 0] = mv[:-1, 1] = bodies.m
+    mv[:-1, 2] = bodies.I
+    uu = float(np.sum(mv * u * u))
+    rate = float(np.sum(mv * u * v)) / uu
+    K = 0.5 * float(np.sum(mv * v * v))
+    rest = v - rate * u
+    dropped = 0.5 * float(np.sum(mv * rest * rest))
+    if K > 0 and dropped > velocity_tol * K:
+        return None
+    if not math.isfinite(rate):
+        return None
+    return mech, theta, rate, dropped

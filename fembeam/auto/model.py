@@ -1,0 +1,404 @@
+"""``--model auto``: the one-mechanism model while it holds, the multi-block simulation from the
+moment it does not, and back.
+
+The multi-block model (every voussoir or element a rigid body in unilateral contact,
+:mod:`fembeam.simulation`) is the truth; a one-parameter mechanism is a manifold of its state
+(:mod:`.manifold`).  The run alternates two kinds of segments:
+
+* **rock** (:class:`~fembeam.dynamics.Rocker`): rest, onset, one mechanism between impacts, the
+  paper's impact model at each impact, while the mechanism is *admissible*: the dynamic thrust
+  line inside every section (a thrust line outside by more than ``THRUST_TOL`` of the thickness
+  means that another hinge opens), and, when a Coulomb coefficient ``mu`` is given, ``|S|/N <=
+  mu`` in every section in compression along the motion and ``|P_t|/P_n <= mu`` at every impact.
+  At the first violation the exact state of the mechanism (``theta``, ``theta'`` at that time; just
+  before the impact for an impact's friction) is mapped onto the bodies and handed over.
+* **simulate** (:class:`~fembeam.simulation.Simulator`, steps ``dt``, Coulomb friction ``mu`` when
+  given), advanced in windows of ``WINDOW`` s.  At the end of a window the state is handed back to
+  the one-mechanism model when the member is at rest (kinetic energy below ``REST_ENERGY m g L``,
+  every joint closed, none slid) or moves on a mechanism of the member (:func:`.manifold.mechanism_of`:
+  its hinges and no other joint open, positions within ``POSITION_TOL`` of the thickness, velocities
+  within ``VELOCITY_TOL`` of the mechanism's field in the kinetic-energy norm; the energy the
+  projection drops is reported), provided the one-mechanism model is admissible from there (a
+  hand-back whose mechanism is violated at once is not made: the simulation goes on).
+
+Overturning is the rule shared by both models (:mod:`fembeam.dynamics.outcomes`).  A motion that
+never violates admissibility is ``rock``'s exactly.  The result lists the segments: the model,
+its interval and why it ended.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..dynamics.equation import GRAVITY
+from ..dynamics.ground import GroundMotion
+from ..dynamics.outcomes import friction_demand
+from ..dynamics.rocking import Rocker
+from ..errors import InputError, SolverError
+from ..fem import nodes_through, uniform_nodes
+from ..geometry import MidCurve
+from .manifold import bodies_state, mechanism_of
+
+__all__ = ["AutoModel", "AutoResult", "Segment", "WINDOW", "REST_ENERGY", "POSITION_TOL", "VELOCITY_TOL",
+           "MAX_SEGMENTS", "DT"]
+
+DT = 1e-3               # s: default time step of the simulation segments (that of fembeam simulate)
+WINDOW = 0.1            # s: a simulation segment is advanced this long between two hand-back checks
+REST_ENERGY = 1e-12     # at rest: kinetic energy below this fraction of m g L
+POSITION_TOL = 1e-5     # hand-back: positions rebuilt from theta within this fraction of the thickness
+VELOCITY_TOL = 1e-3     # hand-back: kinetic energy off the mechanism's field below this fraction
+MAX_SEGMENTS = 10_000   # bound on the segments of one run
+SIM_ELEMENTS = 100      # continuous arch: rigid bodies of a simulation segment (plus the hinges' cuts)
+REASONS = {
+    "thrust_line": "the dynamic thrust line left a section (another hinge opens)",
+    "friction_motion": "a section's |S|/N exceeded the friction coefficient during the motion",
+    "friction_impact": "an impact's |P_t|/P_n exceeded the friction coefficient",
+    "friction_rest": "at rest, the ground exceeded the load the joints carry by friction (A_L with Coulomb rows)",
+    "rest": "the member came to rest",
+    "mechanism": "the bodies moved on one mechanism of the member again",
+    "overturned": "overturned",
+    "collapsed_by_sliding": "a joint slid out",
+    "end": "end of the simulated time",
+}
+
+
+@dataclass
+class Segment:
+    """One model over ``[t_start, t_end]`` (s): ``model`` ``"rock"`` or ``"simulate"``; ``end``:
+    why it ended (a key of :data:`REASONS`); ``peak_rotation`` (rad) over it; ``impacts``;
+    ``dropped``: kinetic energy (J per unit depth) dropped by the hand-back that started it."""
+
+    model: str
+    t_start: float
+    t_end: float
+    end: str
+    peak_rotation: float = 0.0
+    t_peak: float | None = None
+    impacts: int = 0
+    dropped: float = 0.0
+
+    def to_dict(self) -> dict:
+        return {"model": self.model, "t_start": self.t_start, "t_end": self.t_end, "end": self.end,
+                "why": REASONS[self.end], "peak_rotation": self.peak_rotation, "t_peak": self.t_peak,
+                "impacts": self.impacts, "handback_energy_dropped": self.dropped}
+
+
+@dataclass
+class AutoResult:
+    """The verdict of :meth:`AutoModel.run`: ``outcome`` (:data:`fembeam.dynamics.OUTCOMES`),
+    ``t_overturn``, the largest rotation of any piece or body ``peak_rotation`` (rad) and its time,
+    the ``segments``, the first time the one-mechanism model failed (``first_failure``: ``(t,
+    reason)`` or None) and the ``history`` (``t``, ``model`` (0 rock, 1 simulate), ``K``, ``V`` (J per
+    unit depth), ``a_g`` (g), ``max_rotation`` (rad))."""
+
+    curve: MidCurve
+    ground: GroundMotion
+    A_L: dict
+    mode: str
+    elements: int
+    friction: float | None
+    dt: float
+    outcome: str = "rest"
+    t_end: float = 0.0
+    t_overturn: float | None = None
+    overturn_reason: str | None = None
+    peak_rotation: float = 0.0
+    t_peak: float | None = None
+    segments: list[Segment] = field(default_factory=list)
+    first_failure: tuple | None = None
+    impacts: list = field(default_factory=list)        # (t, model) of every impact
+    friction_ratio: tuple = (0.0, None, None, None)    # (largest |S|/N or |P_t|/P_n, t, s, at)
+    history: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def handovers(self) -> int:
+        return max(len(self.segments) - 1, 0)
+
+    def to_dict(self, history: bool = False) -> dict:
+        """The JSON of ``fembeam rock --model auto`` (strict: no NaN or infinity)."""
+        def num(x):
+            return None if x is None or not math.isfinite(x) else float(x)
+
+        ratio, t, s, at = self.friction_ratio
+        out = {
+            "command": "rock",
+            "model": "auto",
+            "outcome": self.outcome,
+            "geometry": self.curve.describe() if hasattr(self.curve, "describe") else {},
+            "mode": self.mode,
+            "elements": self.elements,
+            "ground_motion": {"name": self.ground.name, "duration_s": self.ground.duration, "pga_g": self.ground.pga},
+            "dt": self.dt,
+            "t_end": self.t_end,
+            "A_L": {"+1": num(self.A_L.get(1)), "-1": num(self.A_L.get(-1))},
+            "peak_rotation": float(self.peak_rotation),
+            "t_peak": num(self.t_peak),
+            "t_overturn": num(self.t_overturn),
+            "overturn_reason": self.overturn_reason,
+            "first_failure": None if self.first_failure is None else
+            {"t": self.first_failure[0], "reason": self.first_failure[1], "why": REASONS[self.first_failure[1]]},
+            "handovers": self.handovers,
+            "segments": [sg.to_dict() for sg in self.segments],
+            "time_in": {m: float(sum(sg.t_end - sg.t_start for sg in self.segments if sg.model == m))
+                        for m in ("rock", "simulate")},
+            "n_impacts": len(self.impacts),
+            "friction_demand": friction_demand(ratio, t, s, at, self.friction),
+            "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
+        }
+        if history:
+            out["history"] = {k: [float(x) for x in v] for k, v in self.history.items()}
+        return out
+
+
+class AutoModel:
+    """``curve`` as ``fembeam rock`` (``voussoirs``, or a continuous member with ``elements`` for the
+    limit analysis) and ``fembeam simulate`` (the same voussoirs; a continuous member cut into
+    ``sim_elements`` equal bodies plus a cut at each hinge of the mechanism handed over), with the
+    Coulomb coefficient ``friction`` (None: joints never slide) and the simulation's step ``dt`` (s).
+    Set up once, run under any number of ground motions."""
+
+    def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int = 200,
+                 sim_elements: int = SIM_ELEMENTS, friction: float | None = None, dt: float = DT,
+                 backend: str = "clarabel", qp: bool = False, g: float = GRAVITY):
+        from ..simulation.stepper import DT_RANGE, check_friction
+        self.rocker = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=qp, g=g)
+        self.curve, self.g, self.voussoirs = curve, float(g), voussoirs
+        self.friction = check_friction(friction)
+        try:
+            self.dt = float(dt)
+        except (TypeError, ValueError):
+            raise InputError(f"dt must be a number of seconds, got {dt!r}") from None
+        if not (math.isfinite(self.dt) and DT_RANGE[0] <= self.dt <= DT_RANGE[1]):
+            raise InputError(f"dt must be in [{DT_RANGE[0]:g}, {DT_RANGE[1]:g}] s, got {dt!r}")
+        if not (isinstance(sim_elements, (int, np.integer)) and 2 <= sim_elements <= 2000):
+            raise InputError(f"sim_elements must be an integer in [2, 2000], got {sim_elements!r}")
+        self.sim_elements = int(sim_elements)
+        self._sims: dict = {}
+        self.rest_limit = None          # with friction: the inertia load each way the joints carry at rest
+        if self.friction is not None and self.rocker.stands:
+            from ..analysis import analyze
+            self.rest_limit = {}
+            for d in (1, -1):
+                res = analyze(curve, elements=None if voussoirs is not None else elements, voussoirs=voussoirs,
+                              direction=d, backend=backend, friction=self.friction)
+                self.rest_limit[d] = res.A_L if res.outcome == "sliding" else math.inf
+
+    @property
+    def A(self) -> dict:
+        return self.rocker.A
+
+    @property
+    def stands(self) -> bool:
+        return self.rocker.stands
+
+    def simulator(self, mechanism=None):
+        """The :class:`~fembeam.simulation.Simulator` whose bodies have a joint at every hinge of
+        ``mechanism`` (voussoirs and blocks: the one simulator; a continuous member: one per set of
+        cuts, kept)."""
+        from ..simulation import Simulator
+        if self.voussoirs is not None or self.curve.describe().get("shape") == "block":
+            key = None
+            make = lambda: Simulator(self.curve, voussoirs=self.voussoirs or 1, g=self.g,  # noqa: E731
+                                     friction=self.friction)
+        else:
+            nodes = uniform_nodes(self.curve, self.sim_elements)
+            if mechanism is not None:
+                nodes = nodes_through(nodes, mechanism.s, keep=self.curve.fixed_nodes)
+            key = tuple(np.round(nodes / self.curve.length, 12))
+            make = lambda: Simulator(self.curve, nodes=nodes, g=self.g, friction=self.friction)  # noqa: E731
+        if key not in self._sims:
+            self._sims[key] = make()
+        return self._sims[key]
+
+    def run(self, ground: GroundMotion, *, t_end: float | None = None, dt_out: float | None = None,
+            progress=None, history: bool = True) -> AutoResult:
+        """The verdict under ``ground`` to ``t_end`` (s; default the end of the ground motion plus
+        ``20 sqrt(L/g)``), history sampled every ``dt_out`` (s; default 1/4000 of the time; none
+        with ``history=False``); ``progress(t)`` after each episode and window."""
+        return _run(self, ground, t_end, dt_out, progress, history)
+
+
+def _violation(r) -> tuple[float, str] | None:
+    """The first violation of admissibility of the rock segment ``r``: ``(t, reason)`` or None."""
+    cands = [(t, why) for t, why in ((r.thrust_line_exits_at, "thrust_line"), (r.slides_at, "friction_motion"),
+                                     (r.impact_slides_at, "friction_impact"), (r.rest_slides_at, "friction_rest"))
+             if t is not None]
+    return min(cands) if cands else None
+
+
+def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=True) -> AutoResult:
+    clock = time.perf_counter()
+    rk, curve, mu = am.rocker, am.curve, am.friction
+    t0 = float(ground.t[0])
+    if t_end is None:
+        t_end = float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / am.g)
+    t_end = float(t_end)
+    if not (math.isfinite(t_end) and t_end > t0):
+        raise InputError(f"t_end must be finite and after the start of the ground motion ({t0:g} s), got {t_end:g}")
+    dt_out = (t_end - t0) / 4000.0 if dt_out is None else float(dt_out)
+    if not (math.isfinite(dt_out) and dt_out > 0):
+        raise InputError(f"dt_out must be a positive number of seconds, got {dt_out!r}")
+    keep = history
+    if not history:
+        dt_out = max(dt_out, WINDOW)      # the simulation's rows: one a window
+    out = AutoResult(curve, ground, dict(rk.A), rk.mode, rk.n, mu, am.dt, t_end=t_end)
+    if not rk.stands:
+        out.outcome = "cannot_stand"
+        out.timings = {"total": time.perf_counter() - clock}
+        return out
+    rows = {k: [] for k in ("t", "model", "K", "V", "a_g", "max_rotation")}
+    t, rock_state, sim_state, dropped = t0, None, None, 0.0
+    mode, resume = "rock", False
+    timing = {"rock": 0.0, "simulate": 0.0}
+    for _ in range(MAX_SEGMENTS):
+        if t >= t_end:
+            break
+        if mode == "rock":
+            tick = time.perf_counter()
+            r = rk.run(ground, t_end=t_end, dt_out=dt_out, t_start=t, state=rock_state, friction=mu,
+                       rest_limit=am.rest_limit, progress=progress, history=keep, stop_at_violation=True)
+            timing["rock"] += time.perf_counter() - tick
+            bad = r.violation
+            if bad is not None and sim_state is not None and bad[0] <= t + am.dt:
+                # the state handed back fails at once (within a step): the simulation goes on
+                mode, resume, dropped = "simulate", True, 0.0
+                continue
+            if bad is None:
+                _rock_segment(out, rows if keep else None, rk, r, t, dropped,
+                              "overturned" if r.outcome == "overturned" else "end")
+                out.outcome, out.t_overturn, out.overturn_reason = r.outcome, r.t_overturn, r.overturn_reason
+                t = r.t_end
+                break
+            tv, why = bad
+            if tv > t:
+                _rock_segment(out, rows if keep else None, rk, r, t, dropped, why)
+            dropped = 0.0
+            if out.first_failure is None:
+                out.first_failure = (float(tv), why)
+            t = max(t, tv)
+            state = r.state_end
+            sim = am.simulator(state[0] if state is not None else None)
+            if state is None:
+                q, v = sim.bodies.rest_state(), np.zeros((sim.bodies.n + 1, 3))
+            else:
+                m, th, w = state
+                q, v = bodies_state(rk.equations[rk.index(m)], th, w, sim.bodies)
+            sim_state = (sim, q, v)
+            mode = "simulate"
+            continue
+        # ---------------------------------------------------------------- simulate
+        tick = time.perf_counter()
+        seg_start, peak, t_peak, n_imp, drop0 = t, 0.0, None, 0, dropped
+        if resume:              # the hand-back was not made: the last simulation segment goes on
+            last = out.segments.pop()
+            seg_start, peak, t_peak, n_imp, drop0 = last.t_start, last.peak_rotation, last.t_peak, last.impacts, last.dropped
+            resume = False
+        end = "end"
+        sim, q, v = sim_state
+        E_unit = sim.bodies.mass * am.g * curve.length
+        handback = None
+        while t < t_end:
+            t1 = min(t + WINDOW, t_end)
+            res = sim.run(ground, dt=am.dt, t_end=t1, dt_out=dt_out, q0=q, v0=v, t_start=t)
+            if keep:
+                _sim_rows(rows, res)
+            for ti, _, _ in res.impacts:
+                out.impacts.append((float(ti), "simulate"))
+            n_imp += len(res.impacts)
+            if res.peak_rotation > peak:
+                peak, t_peak = float(res.peak_rotation), res.t_peak
+            _friction(out, res.friction_ratio, res.t_friction, res.s_friction, res.friction_at)
+            q, v, t = res.q_end, res.v_end, float(res.t_end)
+            if progress is not None:
+                progress(t)
+            if res.outcome in ("overturned", "collapsed_by_sliding"):
+                end = res.outcome
+                out.outcome, out.t_overturn = res.outcome, res.t_overturn
+                out.overturn_reason = "below_rest" if res.outcome == "overturned" else "slid_out"
+                break
+            if t >= t_end:
+                break
+            handback = _handback(am, sim, q, v, E_unit)
+            if handback is not None:
+                end = handback[0]
+                break
+        timing["simulate"] += time.perf_counter() - tick
+        out.segments.append(Segment("simulate", seg_start, t, end, peak, t_peak, n_imp, drop0))
+        _peak(out, peak, t_peak)
+        sim_state = (sim, q, v)
+        if end in ("overturned", "collapsed_by_sliding") or t >= t_end:
+            if end == "end":
+                K = sim.bodies.kinetic_energy(v)
+                out.outcome = "rest" if K < REST_ENERGY * E_unit else "survived"
+            break
+        why, rock_state, dropped = handback
+        mode = "rock"
+    else:
+        raise SolverError(f"the motion needed more than {MAX_SEGMENTS} hand-overs before t = {t_end:g} s")
+    out.t_end = float(t_end if out.t_overturn is None else out.t_overturn)
+    out.history = {k: np.asarray(x, float) for k, x in rows.items()}
+    out.timings = {**timing, "total": time.perf_counter() - clock}
+    return out
+
+
+def _handback(am: AutoModel, sim, q, v, E_unit):
+    """``(reason, rock state, dropped energy)`` when the simulation's state may go back to the
+    one-mechanism model, else None."""
+    K = sim.bodies.kinetic_energy(v)
+    geo = sim.contacts.evaluate(q)
+    t = sim.bodies.thickness[:, None]
+    if K < REST_ENERGY * E_unit:
+        if np.all(geo.gap <= POSITION_TOL * t) and np.all(np.abs(geo.slip) <= POSITION_TOL * t):
+            return "rest", None, K
+        return None
+    on = mechanism_of(sim.bodies, sim.contacts, q, v, g=am.g, position_tol=POSITION_TOL, velocity_tol=VELOCITY_TOL)
+    if on is None:
+        return None
+    m, theta, rate, drop = on
+    return "mechanism", (m, theta, rate), drop
+
+
+def _peak(out: AutoResult, peak: float, t_peak) -> None:
+    if peak > out.peak_rotation:
+        out.peak_rotation, out.t_peak = float(peak), t_peak
+
+
+def _friction(out: AutoResult, ratio, t, s, at) -> None:
+    if t is not None and ratio > out.friction_ratio[0]:
+        out.friction_ratio = (float(ratio), float(t), s, at)
+
+
+def _rock_segment(out: AutoResult, rows: dict | None, rk: Rocker, r, t_start: float, dropped: float, end: str) -> None:
+    """Append the rock run ``r`` (from ``t_start``) as a segment: figures, impacts and history rows."""
+    out.segments.append(Segment("rock", t_start, float(r.t_overturn if r.t_overturn is not None else r.t_end), end,
+                                float(r.peak_rotation), r.t_peak, len(r.impacts), dropped))
+    _peak(out, r.peak_rotation, r.t_peak)
+    out.impacts.extend((float(e.t), "rock") for e in r.impacts)
+    fd = r.friction_demand
+    if fd is not None:
+        _friction(out, fd["max_ratio"], fd["t"], fd["s"], fd["at"])
+    if rows is None:
+        return
+    h = r.history
+    eqs = [rk.equations[rk.index(m)] for m in r.mechanisms]
+    rot = [0.0 if k < 0 else max(abs(x) for x in eqs[int(k)].piece_rotations(th))
+           for k, th in zip(h["mechanism"].tolist(), h["theta"].tolist())]
+    rows["t"].extend(h["t"].tolist())
+    rows["model"].extend([0.0] * len(rot))
+    rows["K"].extend(h["K"].tolist())
+    rows["V"].extend(h["V"].tolist())
+    rows["a_g"].extend(h["a_g"].tolist())
+    rows["max_rotation"].extend(rot)
+
+
+def _sim_rows(rows: dict, res) -> None:
+    h = res.history
+    n = len(h["t"])
+    rows["t"].extend(np.asarray(h["t"], float).tolist())
+    rows["model"].extend([1.0] * n)
+    for k in ("K", "V", "a_g", "max_rotation"):
+        rows[k].extend(np.asarray(h[k], float).tolist())
