@@ -122,7 +122,8 @@ def mechanism_of(bodies: Bodies, contacts: Contacts, q: np.ndarray, v: np.ndarra
     t = bodies.thickness
     opened = geo.gap > OPEN_TOL * t[:, None]
     n_open = opened.sum(axis=1)
-    if np.any(n_open == 2) or np.any(np.abs(geo.slip) > position_tol * t[:, None]):
+    slip = geo.slip[np.arange(t.size), geo.contact]           # at the closed (or closer) corner
+    if np.any(n_open == 2) or np.any(np.abs(slip) > position_tol * t):
         return None
     hinge = np.flatnonzero(n_open == 1)
     if hinge.size != Mechanism.n_hinges_expected(curve):

@@ -352,7 +352,8 @@ def _handback(am: AutoModel, sim, q, v, E_unit):
     geo = sim.contacts.evaluate(q)
     t = sim.bodies.thickness[:, None]
     if K < REST_ENERGY * E_unit:
-        if np.all(geo.gap <= POSITION_TOL * t) and np.all(np.abs(geo.slip) <= POSITION_TOL * t):
+        slip = geo.slip[np.arange(t.size), geo.contact]
+        if np.all(geo.gap <= POSITION_TOL * t) and np.all(np.abs(slip) <= POSITION_TOL * t[:, 0]):
             return "rest", None, K
         return None
     on = mechanism_of(sim.bodies, sim.contacts, q, v, g=am.g, position_tol=POSITION_TOL, velocity_tol=VELOCITY_TOL)

@@ -110,7 +110,16 @@ def register(sub) -> None:
                    help="skip the thrust-line check along the motion (and with it the friction demand)")
     t.add_argument("--friction", type=coulomb, default=None, metavar="MU",
                    help="Coulomb coefficient MU > 0 at the joints: friction_demand's sliding_risk when the largest "
-                        "|S|/N of the motion or |P_t|/P_n of an impact exceeds it (the motion itself never slides)")
+                        "|S|/N of the motion or |P_t|/P_n of an impact exceeds it (the motion itself never slides); "
+                        "with --model auto (MU in [0.001, 1000]) a demand above MU hands the motion over to the "
+                        "multi-block simulation, whose joints slide by Coulomb's law")
+    t.add_argument("--model", choices=("rock", "auto"), default="rock",
+                   help="rock: one mechanism between impacts (the paper's model); auto: rock while its mechanism "
+                        "is admissible (thrust line inside every section, friction demand within MU), the "
+                        "multi-block simulation (fembeam simulate) from the first violation, back to rock at rest "
+                        "or on a mechanism (docs/dynamics.md, 'The hand-over')")
+    t.add_argument("--dt", type=finite_float, default=None, metavar="S",
+                   help="--model auto: time step of the simulation (s; default 1e-3, in [1e-6, 0.05])")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
@@ -240,6 +249,10 @@ def motion_outputs(args) -> dict:
 
 
 def run(args) -> int:
+    if args.model == "auto":
+        return run_auto(args)
+    if args.dt is not None:
+        raise InputError("--dt is the time step of the multi-block simulation: it applies to --model auto only")
     outputs = motion_outputs(args)
     if args.friction is not None and args.no_thrust_check:
         raise InputError("--friction is checked against the friction demand, which comes with the thrust-line "
@@ -278,3 +291,85 @@ def run(args) -> int:
         for w in written:
             print(f"  {w}")
     return 0
+
+
+def run_auto(args) -> int:
+    """``fembeam rock --model auto`` (:class:`fembeam.auto.AutoModel`)."""
+    from ..auto import AutoModel
+    from ..auto.model import DT
+    outputs = motion_outputs(args)
+    if outputs["vtk"] or outputs["gif"]:
+        raise InputError("--vtk and --gif draw one mechanism's motion: use them with --model rock, or fembeam "
+                         "simulate for the multi-block motion")
+    if args.no_thrust_check:
+        raise InputError("--model auto checks the thrust line to decide when to hand over: drop --no-thrust-check")
+    curve, voussoirs, elements = member_from(args)
+    ground = ground_from(args)
+    model = AutoModel(curve, voussoirs=voussoirs, elements=elements, friction=args.friction,
+                      dt=DT if args.dt is None else args.dt, backend=args.backend)
+    t_end = args.t_end
+    update, bar = _progress(t_end if t_end is not None else
+                            float(ground.t[-1]) + 20.0 * (curve.length / model.g) ** 0.5)
+    try:
+        res = model.run(ground, t_end=t_end, dt_out=args.dt_out, progress=update)
+    finally:
+        if bar is not None:
+            bar.close()
+    written = []
+    if outputs["csv"]:
+        rows = [dict(zip(res.history, row)) for row in zip(*res.history.values())]
+        with atomic(outputs["csv"]) as tmp, open(tmp, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(res.history))
+            w.writeheader()
+            w.writerows(rows)
+        written.append(f"CSV: {outputs['csv']}")
+    if outputs["plot"]:
+        from ..output.motion import plot_auto
+        plot_auto(res, outputs["plot"])
+        written.append(f"figure: {outputs['plot']}")
+    if args.json:
+        print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
+    else:
+        print(auto_summary(res))
+        for w in written:
+            print(f"  {w}")
+    return 0
+
+
+def auto_summary(res) -> str:
+    """The text page of ``rock --model auto``."""
+    geo = res.to_dict()["geometry"]
+    head = (f"block {geo['width']:g} m x {geo['height']:g} m on a rigid base" if geo.get("shape") == "block"
+            else arch_title(geo) + f"; {res.mode}, {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'elements'}")
+    mu = "joints never slide" if res.friction is None else f"Coulomb friction mu = {res.friction:g}"
+    lines = [f"fembeam rock --model auto: {head}",
+             f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g), simulated to t = {res.t_end:.4g} s",
+             f"  models: rock while its mechanism is admissible, simulate (dt = {res.dt:g} s, {mu}) after"]
+    if res.outcome == "cannot_stand":
+        lines.append("  outcome: cannot_stand (the member does not stand under its own weight: fembeam analyze)")
+        return "\n".join(lines)
+    if res.outcome in ("overturned", "collapsed_by_sliding"):
+        what = "OVERTURNED" if res.outcome == "overturned" else "COLLAPSED BY SLIDING"
+        lines.append(f"  outcome: {what} at t = {res.t_overturn:.6g} s")
+    else:
+        lines.append(f"  outcome: {res.outcome} at t = {res.t_end:.4g} s")
+    if res.t_peak is not None:
+        lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s (largest of any piece or body)")
+    if res.first_failure is None:
+        lines.append("  the one-mechanism model held throughout: this is rock's answer")
+    else:
+        from ..auto.model import REASONS
+        t, why = res.first_failure
+        lines.append(f"  the one-mechanism model first failed at t = {t:.6g} s: {REASONS[why]}")
+    lines.append(f"  segments ({res.handovers} hand-overs):")
+    for sg in res.segments[:20]:
+        lines.append(f"    {sg.model:8s} {sg.t_start:10.5f} -> {sg.t_end:10.5f} s  ended: {sg.end}")
+    if len(res.segments) > 20:
+        lines.append(f"    ... {len(res.segments) - 20} more (--json lists them all)")
+    fd = res.to_dict()["friction_demand"]
+    if fd["t"] is not None:
+        line = f"  friction demand: largest |S|/N = {fd['max_ratio']:.4f} at t = {fd['t']:.6g} s"
+        if fd["mu"] is not None:
+            line += f" (mu = {fd['mu']:g})"
+        lines.append(line)
+    return "\n".join(lines)

@@ -226,6 +226,59 @@ def plot_history(result: "RockingResult", path: str | Path, dpi: int = 150) -> N
         plt.close(fig)
 
 
+def auto_figure(result):
+    """matplotlib Figure of a ``--model auto`` run (:class:`fembeam.auto.AutoResult`), 3 panels
+    sharing ``t`` (s): ``a_g`` (g); the largest rotation of any piece or body (rad) with the
+    intervals of the multi-block simulation shaded and the first failure of the one-mechanism
+    model marked; ``K``, ``V`` (J per unit depth).  The caller closes it."""
+    h = result.history
+    if len(h.get("t", ())) == 0:
+        raise InputError("the result has no history to plot")
+    plt = _pyplot()
+    fig, (ax_a, ax_r, ax_e) = plt.subplots(3, 1, sharex=True, figsize=(8.0, 7.5))
+    t = h["t"]
+    ax_a.plot(t, h["a_g"], color="tab:gray", lw=1.0)
+    ax_a.set_ylabel(r"ground acceleration $a_g$ (g)")
+    ax_r.plot(t, h["max_rotation"], color="tab:blue", lw=1.2, label="largest rotation")
+    first = True
+    for sg in result.segments:
+        if sg.model == "simulate":
+            for ax in (ax_a, ax_r, ax_e):
+                ax.axvspan(sg.t_start, sg.t_end, color="tab:orange", alpha=0.15,
+                           label="multi-block simulation" if (first and ax is ax_r) else None)
+            first = False
+    if result.first_failure is not None:
+        ax_r.axvline(result.first_failure[0], color="tab:red", ls="--", lw=1.2,
+                     label=f"one-mechanism model fails ({result.first_failure[1]}), t = {result.first_failure[0]:.3f} s")
+    if result.t_overturn is not None:
+        ax_r.axvline(result.t_overturn, color="black", lw=1.5, label=f"{result.outcome}, t = {result.t_overturn:.3f} s")
+    ax_r.set_ylabel("largest rotation (rad)")
+    ax_r.legend(loc="best", fontsize=8)
+    ax_e.plot(t, h["K"], color="tab:red", lw=1.0, label="K (kinetic)")
+    ax_e.plot(t, h["V"], color="tab:green", lw=1.0, label="V (potential)")
+    ax_e.set_ylabel("energy (J per m depth)")
+    ax_e.set_xlabel("time t (s)")
+    ax_e.legend(loc="best", fontsize=8)
+    for ax in (ax_a, ax_r, ax_e):
+        ax.grid(True, lw=0.3, alpha=0.5)
+    ax_e.set_xlim(t[0], t[-1] if t[-1] > t[0] else t[0] + 1.0)
+    fig.suptitle(f"--model auto: {result.outcome} - {result.ground.name}")
+    fig.tight_layout()
+    return fig
+
+
+def plot_auto(result, path: str | Path, dpi: int = 150) -> None:
+    """:func:`auto_figure` saved to ``path`` (.png, .pdf or .svg), written atomically."""
+    p = check_output(path, "plot_auto", PLOT_SUFFIXES)
+    fig = auto_figure(result)
+    plt = _pyplot()
+    try:
+        with atomic(p) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=p.suffix[1:].lower())
+    finally:
+        plt.close(fig)
+
+
 # --------------------------------------------------------------------------- ParaView
 def frame_mesh(curve: MidCurve, mechanism: Mechanism | None, theta: float, layout):
     """meshio Mesh of the member in one configuration on the fixed ``layout``
