@@ -38,17 +38,16 @@ from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms.hinge import merge_adjacent
 from .continuum import ContinuumLimit, continuum_limit
-from .friction import bound_of, bounds, check_friction, continuum_support, lower_bound, required_friction
+from .friction import bound_of, bounds, continuum_support, lower_bound, required_friction
 from .impact import ImpactResult, impact
-from .limit import LimitResult, _check_direction, limit_analysis
+from .limit import LimitResult, limit_analysis
+from .rows import check_direction, check_friction
+from .sizes import DEFAULT_ELEMENTS, MAX_ELEMENTS, MIN_ELEMENTS, MIN_VOUSSOIRS, check_count
 from .thickness import MinimumThickness, thickness_on
 from .verification import THRESHOLDS, check
 
+# DEFAULT_ELEMENTS and MAX_ELEMENTS live in fembeam.analysis.sizes; kept here for compatibility
 __all__ = ["AnalysisResult", "analyze", "DEFAULT_ELEMENTS", "MAX_ELEMENTS"]
-
-DEFAULT_ELEMENTS = 200
-MIN_ELEMENTS = 4
-MAX_ELEMENTS = 200_000     # analyze at 2 10^5 elements: 1.1 GB, 5.6 s (fresh process; linear): a run stays under ~1.1 GB
 
 
 @dataclass
@@ -193,12 +192,6 @@ def statics_determinate(disc) -> bool:
     return 3 * disc.n_joints == disc.M.shape[0]    # k = 3 J - (DOFs) redundants (statics.py)
 
 
-def _count(n, name: str, lowest: int) -> int:
-    if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or not lowest <= n <= MAX_ELEMENTS:
-        raise InputError(f"the number of {name} must be an integer in [{lowest}, {MAX_ELEMENTS}], got {n!r}")
-    return int(n)
-
-
 def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
             direction: int = 1, backend: str = "auto", refine_hinges: bool = True,
             verify: bool = True, tmin_tol: float = 1e-6, friction: float | None = None) -> AnalysisResult:
@@ -208,11 +201,11 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
         raise InputError(f"analyze needs a member (e.g. fembeam.CircularArch), got {type(curve).__name__}")
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
-    direction = _check_direction(direction)
+    direction = check_direction(direction)
     mu = check_friction(friction)
     mode = "voussoirs" if voussoirs is not None else "continuous"
-    n = (_count(voussoirs, "voussoirs", 1) if mode == "voussoirs"
-         else _count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS))
+    n = (check_count(voussoirs, "voussoirs", MIN_VOUSSOIRS) if mode == "voussoirs"
+         else check_count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS))
     continuum = mode == "continuous" and refine_hinges
     desc = curve.describe() if hasattr(curve, "describe") else {}
     res = AnalysisResult(desc, mode, n, direction, backend, "rocking", friction=mu)

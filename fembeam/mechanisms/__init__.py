@@ -8,10 +8,11 @@
 * :mod:`.four_hinge_analysis`, :mod:`.discrete_series`: complete analyses.
 """
 from .energy import ImpactFigures, load_factor, momenta, post_impact, product, restitution
-from .hinge import (HINGE_REL_TOL, ROCKING_SIDES, SIDES, Hinge, Side, find_hinges, merge_adjacent,
-                    opening_signs, pivot_fractions, side_of)
+from .hinge import (HINGE_REL_TOL, ROCKING_SIDES, SIDES, Hinge, Side, find_hinges, hinges_and_slides,
+                    merge_adjacent, opening_signs, pivot_fractions, pivot_sides, side_of)
 from .mechanism import Configuration, Mechanism
 
 __all__ = ["ImpactFigures", "load_factor", "momenta", "post_impact", "product", "restitution",
-           "HINGE_REL_TOL", "ROCKING_SIDES", "SIDES", "Hinge", "Side", "find_hinges", "merge_adjacent",
-           "opening_signs", "pivot_fractions", "side_of", "Configuration", "Mechanism"]
+           "HINGE_REL_TOL", "ROCKING_SIDES", "SIDES", "Hinge", "Side", "find_hinges", "hinges_and_slides",
+           "merge_adjacent", "opening_signs", "pivot_fractions", "pivot_sides", "side_of",
+           "Configuration", "Mechanism"]

@@ -8,7 +8,8 @@ has separated (side ``"separated"``).
 :data:`SIDES` is the one table of what a side means: the pivot offset ``y/t`` along
 the inward normal ``n`` (intrados ``+1/2``, extrados ``-1/2``), the sign of the
 rotation jump ``[omega]`` (right minus left, counter-clockwise) that opens the hinge,
-and the opposite side.  Every other module asks it.
+and the opposite side; :func:`pivot_sides` names the side a joint pivots on from the
+edges that open.  Every other module asks these.
 
 :func:`find_hinges` reads the hinges of a DOF vector: openings below ``rel_tol`` times
 the largest opening rate are treated as closed (default 1e-5: interior-point solutions
@@ -24,8 +25,8 @@ import numpy as np
 from ..errors import InputError
 from ..fem import Discretization
 
-__all__ = ["Side", "SIDES", "ROCKING_SIDES", "side_of", "pivot_fractions", "opening_signs", "Hinge",
-           "find_hinges", "merge_adjacent", "HINGE_REL_TOL"]
+__all__ = ["Side", "SIDES", "ROCKING_SIDES", "side_of", "pivot_fractions", "opening_signs", "pivot_sides",
+           "Hinge", "find_hinges", "hinges_and_slides", "merge_adjacent", "HINGE_REL_TOL"]
 
 HINGE_REL_TOL = 1e-5
 
@@ -70,6 +71,12 @@ def side_of(name: str) -> Side:
         raise InputError(f"unknown hinge side {name!r}: expected one of {', '.join(SIDES)}") from None
 
 
+def pivot_sides(open_intrados: np.ndarray, open_extrados: np.ndarray) -> np.ndarray:
+    """Sides the joints pivot on, from which of their edges open (bool arrays): a joint whose
+    extrados opens pivots on the intrados and vice versa; both open: ``"separated"``."""
+    return np.where(open_intrados & open_extrados, "separated", np.where(open_extrados, "intrados", "extrados"))
+
+
 def pivot_fractions(sides: Iterable[str]) -> np.ndarray:
     """``y/t`` of the pivot points of ``sides``."""
     return np.array([side_of(k).pivot for k in sides], float)
@@ -105,10 +112,33 @@ def find_hinges(disc: Discretization, d: np.ndarray, rel_tol: float = HINGE_REL_
     oi, oe = ei > rel_tol * scale, ee > rel_tol * scale
     rot = (ei - ee) / disc.joint_thickness  # [omega] = (eps_+ - eps_-) / t
     j = np.flatnonzero(oi | oe)
-    side = np.where(oi[j] & oe[j], "separated", np.where(oe[j], "intrados", "extrados"))
+    side = pivot_sides(oi[j], oe[j])
     angle = np.atleast_1d(disc.curve.angle_deg(disc.joint_s[j]))
     return [Hinge(float(disc.joint_s[k]), float(a), str(sd), float(rot[k]), (int(k),))
             for k, a, sd in zip(j, angle, side)]
+
+
+def hinges_and_slides(disc: Discretization, u: np.ndarray, mu: float | None,
+                      rel_tol: float = HINGE_REL_TOL) -> tuple[list[Hinge], list[dict]]:
+    """Hinges and sliding joints of the field ``u`` whose joints may slide with associative
+    dilatancy (Coulomb coefficient ``mu``; None: no sliding): the hinges from the rotation part
+    of the openings, ``eps+- - mu |gamma|``, the slides where ``|gamma|`` (``gamma = B_slide u``)
+    is above ``rel_tol`` of the largest jump.  A slide is ``{"angle_deg", "s", "rate"}``
+    (``rate``: sliding velocity ``gamma``, m/s, + along ``n``)."""
+    J = disc.n_joints
+    gam = disc.B_slide @ u
+    eps = (disc.B_open @ u).reshape(2, J) - (0.0 if mu is None else mu) * np.abs(gam)
+    scale = max(np.max(np.abs(eps)), np.max(np.abs(gam)), 1e-300)
+    oi, oe = eps[0] > rel_tol * scale, eps[1] > rel_tol * scale
+    rot = (eps[0] - eps[1]) / disc.joint_thickness
+    j = np.flatnonzero(oi | oe)
+    side = pivot_sides(oi[j], oe[j])
+    hinges = [Hinge(float(disc.joint_s[k]), float(disc.joint_angle_deg[k]), str(sd), float(rot[k]), (int(k),))
+              for k, sd in zip(j, side)]
+    sl = np.flatnonzero(np.abs(gam) > rel_tol * scale)
+    slides = [{"angle_deg": round(float(disc.joint_angle_deg[k]), 6), "s": float(disc.joint_s[k]),
+               "rate": float(gam[k])} for k in sl]
+    return hinges, slides
 
 
 def merge_adjacent(disc: Discretization, hinges: list[Hinge]) -> list[Hinge]:
