@@ -8,8 +8,11 @@ has separated (side ``"separated"``).
 :data:`SIDES` is the one table of what a side means: the pivot offset ``y/t`` along
 the inward normal ``n`` (intrados ``+1/2``, extrados ``-1/2``), the sign of the
 rotation jump ``[omega]`` (right minus left, counter-clockwise) that opens the hinge,
-and the opposite side; :func:`pivot_sides` names the side a joint pivots on from the
-edges that open.  Every other module asks these.
+the opposite side and the one-letter initial of text output.  :data:`EDGES` is the order of
+the two edges of a section in every array over them (fibre forces ``N+``, ``N-``; opening
+rates; the corners of a joint in :mod:`fembeam.simulation`): index 0 the intrados, 1 the
+extrados.  :func:`pivot_sides` names the side a joint pivots on from the edges that open,
+:func:`side_from_text` reads a side from its name or initial.  Every other module asks these.
 
 :func:`find_hinges` reads the hinges of a DOF vector: openings below ``rel_tol`` times
 the largest opening rate are treated as closed (default 1e-5: interior-point solutions
@@ -25,8 +28,9 @@ import numpy as np
 from ..errors import InputError
 from ..fem import Discretization
 
-__all__ = ["Side", "SIDES", "ROCKING_SIDES", "side_of", "pivot_fractions", "opening_signs", "pivot_sides",
-           "Hinge", "find_hinges", "hinges_and_slides", "merge_adjacent", "HINGE_REL_TOL"]
+__all__ = ["Side", "SIDES", "EDGES", "ROCKING_SIDES", "side_of", "side_from_text", "pivot_fractions",
+           "opening_signs", "pivot_sides", "Hinge", "find_hinges", "hinges_and_slides", "merge_adjacent",
+           "HINGE_REL_TOL"]
 
 HINGE_REL_TOL = 1e-5
 
@@ -38,7 +42,8 @@ class Side:
     ``pivot``: offset ``y/t`` of the pivot point from the mid-curve along ``n``;
     ``opening``: sign of the rotation jump ``[omega]`` (rad/s, right minus left) that
     opens the hinge (0: no rotation is implied, the joint has separated);
-    ``opposite_name``: the side across the thickness.
+    ``opposite_name``: the side across the thickness.  ``code`` and ``initial`` are derived:
+    the sign of the pivot offset and the first letter of the name.
     """
 
     name: str
@@ -55,12 +60,20 @@ class Side:
         """+1 intrados, -1 extrados, 0 separated (the sign of ``y`` of the pivot)."""
         return int(np.sign(self.pivot))
 
+    @property
+    def initial(self) -> str:
+        """``"i"``, ``"e"`` or ``"s"``: the side in text output (and on the command line)."""
+        return self.name[0]
+
 
 # A joint pivoting on the intrados (y = +t/2) opens at the extrados: eps_- = -t [omega] > 0.
 SIDES: dict[str, Side] = {k.name: k for k in (Side("intrados", 0.5, -1.0, "extrados"),
                                                Side("extrados", -0.5, 1.0, "intrados"),
                                                Side("separated", 0.0, 0.0, "separated"))}
-ROCKING_SIDES = ("intrados", "extrados")   # the sides of a hinge of a mechanism
+# The edges of a section in the order of every array over them: index 0 the intrados (y = +t/2:
+# fibre force N+, opening rate eps+, the simulation's corner 0), index 1 the extrados (y = -t/2).
+EDGES = ("intrados", "extrados")
+ROCKING_SIDES = EDGES   # the sides a hinge of a mechanism may pivot on
 
 
 def side_of(name: str) -> Side:
@@ -69,6 +82,16 @@ def side_of(name: str) -> Side:
         return SIDES[name]
     except (KeyError, TypeError):
         raise InputError(f"unknown hinge side {name!r}: expected one of {', '.join(SIDES)}") from None
+
+
+def side_from_text(text: str) -> str:
+    """The rocking side named ``text`` or by its initial (``"i"``, ``"e"``; any case, spaces
+    ignored); InputError otherwise."""
+    key = text.strip().lower() if isinstance(text, str) else None
+    for name in ROCKING_SIDES:
+        if key in (name, SIDES[name].initial):
+            return name
+    raise InputError(f"unknown hinge side {text!r}: expected one of {', '.join(ROCKING_SIDES)} or their initials")
 
 
 def pivot_sides(open_intrados: np.ndarray, open_extrados: np.ndarray) -> np.ndarray:

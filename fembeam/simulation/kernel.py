@@ -7,7 +7,8 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
    factorisation of ``W`` restricted to a set of rows (the others identity rows) plus a diagonal.
    Joint ``j`` has the reference side ``A[j]`` and the other side ``B[j]`` (body ``n``: the
    ground); rows ``3 j``, ``3 j + 1`` are the opening rates of its intrados and extrados corners
-   and ``3 j + 2`` the sliding rate at its ``contact`` corner.
+   (corner index ``c`` 0 and 1, the order of :data:`~fembeam.mechanisms.hinge.EDGES`) and
+   ``3 j + 2`` the sliding rate at its ``contact`` corner.
 
 2. **One step's contact problem.**  Without friction (sticking joints) it is the MLCP of
    :mod:`.projection`, ``w = W P + c``, ``w_T = 0`` (sliding rows), ``0 <= P_N _|_ w_N >= 0``,

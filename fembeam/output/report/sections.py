@@ -11,6 +11,7 @@ import numpy as np
 from ...analysis import THRESHOLDS, analyze, minimum_thickness
 from ...geometry import CircularArch
 from ...errors import FembeamError
+from ...mechanisms.hinge import side_of
 from .checks import (SECTIONS, TOLERANCES, Check, Report, ReportSettings, _against, _at_least, _at_most, _close,
                      _holds, _info)
 
@@ -139,7 +140,7 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
                _against(S, "Oppenheim 150: classical model r", o["classical"].r, "oppenheim150.r"),
                _holds(S, "Oppenheim 150: best new hinges = points C-bar opposite u's = mirror of u's",
                       _same(c, o["best"].after, fb.opposite()) and _same(c, fb.opposite(), fb.mirrored()),
-                      " ".join(f"{h['angle_deg']:.2f}{h['side'][0]}" for h in o["best"].after.to_list()),
+                      " ".join(f"{h['angle_deg']:.2f}{side_of(h['side']).initial}" for h in o["best"].after.to_list()),
                       "opposite = mirrored", "paper Sect. 6.1, Fig. 10 caption")]
 
     say("paper: Oppenheim's arch, 157.5 deg")
