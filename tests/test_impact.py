@@ -17,7 +17,7 @@ def test_paper_continuous_published_numbers(paper_result):
     """Paper Sect. 6.2 (A_L = 0.353 g, r = 0.606): the continuum A_L 0.3533839 (7 digits) and
     r = 0.606517 (6 digits) on 200 elements with nodes at the continuum hinges."""
     res = paper_result
-    assert res.outcome == "rocking" and res.elements == 200 and res.to_dict()["hinges_exact"]
+    assert res.outcome == "rocking" and res.n == 200 and res.to_dict()["hinges_exact"]
     assert res.A_L == pytest.approx(0.3533839, abs=5e-8)
     assert res.r == pytest.approx(0.606517, abs=5e-7)
     for got, want in ((res.hinges_before, HINGES_BEFORE), (res.hinges_after, HINGES_AFTER)):

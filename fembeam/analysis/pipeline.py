@@ -56,7 +56,7 @@ class AnalysisResult:
 
     geometry: dict
     mode: str                       # "continuous" or "voussoirs"
-    elements: int
+    n: int                          # pieces of the uniform mesh: elements ("continuous") or voussoirs
     direction: int
     backend: str
     outcome: str
@@ -72,6 +72,11 @@ class AnalysisResult:
     friction: float | None = None   # Coulomb coefficient of the limit analysis (None: no sliding)
     # with friction: (status, A_L) of the frictionless analysis on the same mesh (the safe lower bound)
     friction_lower: tuple | None = None
+
+    @property
+    def elements(self) -> int:
+        """:attr:`n` under its JSON key (a voussoir count in mode ``"voussoirs"``)."""
+        return self.n
 
     @property
     def t_min_over_R(self) -> float | None:
@@ -145,7 +150,7 @@ class AnalysisResult:
             "outcome": self.outcome,
             "A_L": num(self.A_L),
             "r": num(self.r),
-            "elements": self.elements,
+            "elements": self.n,
             "mode": self.mode,
             "direction": self.direction,
             "geometry": self.geometry,

@@ -988,7 +988,7 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
 
 # ==================================================================================================== the loop
 # float state
-F_T, F_W, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_TOVER, F_RATIO, F_TRATIO, \
+F_T, F_W_GROUND, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_TOVER, F_RATIO, F_TRATIO, \
     F_SLIP, F_TSLIP, F_VMIN, F_KKT, F_FRICTION, F_COULOMB, F_VSCALE = range(20)
 N_FLOAT = 20
 # integer state
@@ -1223,8 +1223,8 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
     for count in range(max_steps + 1):
         K = _kinetic(mv, v)
         V = _potential(m, y0, g, q)
-        fs[F_ESEEN] = max(fs[F_ESEEN], K + abs(V), abs(fs[F_W]), fs[F_D])
-        fs[F_BAL] = max(fs[F_BAL], abs(K + V - fs[F_E0] - fs[F_W] + fs[F_D]) / fs[F_ESEEN])
+        fs[F_ESEEN] = max(fs[F_ESEEN], K + abs(V), abs(fs[F_W_GROUND]), fs[F_D])
+        fs[F_BAL] = max(fs[F_BAL], abs(K + V - fs[F_E0] - fs[F_W_GROUND] + fs[F_D]) / fs[F_ESEEN])
         fs[F_VMIN] = min(fs[F_VMIN], V)
         rot = 0.0
         for i in range(n):
@@ -1256,7 +1256,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             hist[nh, 0] = t
             hist[nh, 1] = K
             hist[nh, 2] = V
-            hist[nh, 3] = fs[F_W]
+            hist[nh, 3] = fs[F_W_GROUND]
             hist[nh, 4] = fs[F_D]
             hist[nh, 5] = ground_at(kind, amp, period, ts, av, t)
             hist[nh, 6] = hinges
@@ -1429,7 +1429,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
         wx = 0.0
         for i in range(n):
             wx += m[i] * (q_new[i, 0] - q[i, 0])
-        fs[F_W] += -a_g * g * wx
+        fs[F_W_GROUND] += -a_g * g * wx
         q[:, :] = q_new
         v[:, :] = v_new
         t = t + h
