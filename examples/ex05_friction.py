@@ -7,11 +7,11 @@ Run: ``python examples/ex05_friction.py``; the table is the one of docs/friction
 import numpy as np
 
 from fembeam import CircularArch
-from fembeam.analysis.continuum import _stand
+from fembeam.analysis.continuum import margin_search
 from fembeam.analysis.friction import mass_on_midcurve
-from fembeam.analysis.limit import joint_rows
+from fembeam.analysis.rows import joint_rows
 from fembeam.analysis.statics import section_force_rows, statics
-from fembeam.analysis.thickness import _stands, thickness_on
+from fembeam.analysis.thickness import stands_on, thickness_on
 from fembeam.fem import discretize, uniform_nodes
 
 ELEMENTS = 400
@@ -28,7 +28,7 @@ def mu_min(curve, n: int, tol: float = 1e-9) -> float:
     lo, hi = 0.0, 1.0
     while hi - lo > tol * hi:
         mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if _stands(thick, nodes, False, mid) else (mid, hi)   # fibres slack: joints only
+        lo, hi = (lo, mid) if stands_on(thick, nodes, False, mid) else (mid, hi)   # fibres slack: joints only
     return hi
 
 
@@ -37,7 +37,7 @@ def state(curve, n: int, mu=None):
     and of the section needing the most friction (springing excluded), of the most central
     state of ``curve`` (at its minimum thickness: the limit state)."""
     st = statics(discretize(curve, uniform_nodes(curve, n)))
-    stand, *_ = _stand(st, 1, joint_rows(st, 1, mu), np.empty(0), np.empty(0, int), 1e-10, 50)
+    stand, *_ = margin_search(st, 1, joint_rows(st, 1, mu), np.empty(0), np.empty(0, int), 1e-10, 50)
     z = np.r_[stand.z[:st.k], 0.0, 1.0]
     s = np.linspace(0.0, 0.5 * curve.length, 90_001)[1:]
     S, Np, Nm = section_force_rows(st, s) @ z

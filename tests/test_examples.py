@@ -7,6 +7,8 @@ import runpy
 import numpy as np
 import pytest
 
+from fembeam.mechanisms import side_of
+
 EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
 
 
@@ -64,7 +66,7 @@ def test_ex01_paper_arch_numbers_and_figure(tmp_path):
                          (ex.result.hinges_after, yi, phi)):
         for h in hinges:
             j = int(np.argmin(np.abs(x - h.angle_deg)))
-            touch = 1.0 if h.side == "intrados" else -1.0
+            touch = side_of(h.side).code
             assert np.nanmin(np.abs(y[max(j - 2, 0):j + 3] - touch)) < 0.05, (h.angle_deg, h.side)
     fig.savefig(tmp_path / "ex01.png")
     assert (tmp_path / "ex01.png").stat().st_size > 10_000

@@ -12,8 +12,9 @@ import pytest
 
 from fembeam import CircularArch, analyze, discretize, limit_analysis, minimum_thickness, uniform_nodes
 from fembeam.analysis.friction import mass_on_midcurve
-from fembeam.analysis.limit import FRICTION_TOL, joint_rows
-from fembeam.analysis.continuum import _stand
+from fembeam.analysis.limit import FRICTION_TOL
+from fembeam.analysis.continuum import margin_search
+from fembeam.analysis.rows import joint_rows
 from fembeam.analysis.statics import section_forces, statics
 from fembeam.cli.main import main
 from fembeam.errors import InputError
@@ -215,7 +216,7 @@ def test_cocchetti_rizzi_mixed_range_and_no_equilibrium_below():
     th = minimum_thickness(HEYMAN, elements=200, tol=1e-10, friction=0.35)
     assert 0.107426 < th.t_over_R < 0.200637
     st = statics(disc_of(HEYMAN.with_thickness_scaled(th.scale), 200))
-    stand, *_ = _stand(st, 1, joint_rows(st, 1, 0.35), np.empty(0), np.empty(0, int), 1e-10, 50)
+    stand, *_ = margin_search(st, 1, joint_rows(st, 1, 0.35), np.empty(0), np.empty(0, int), 1e-10, 50)
     g = section_forces(st, np.array([0.0, 0.5 * st.disc.curve.length]), stand.z[:3], 0.0)
     h = np.pi * (g[1, 1] + g[2, 1])                       # crown thrust in units of w r
     assert h == pytest.approx(0.5 * np.pi * 0.35, rel=1e-5)

@@ -5,7 +5,9 @@ import pytest
 
 from fembeam import CircularArch, StraightMember, analyze, discretize, nodes_through, uniform_nodes
 from fembeam.errors import InputError
-from fembeam.mechanisms import SIDES, Mechanism, find_hinges, post_impact, side_of
+from fembeam.mechanisms import (EDGES, SIDES, Mechanism, find_hinges, pivot_sides, post_impact, side_from_text,
+                                side_of)
+from fembeam.simulation.bodies import Bodies
 
 SIDES4 = ("intrados", "extrados", "intrados", "extrados")
 
@@ -33,6 +35,27 @@ def test_side_table():
     assert side_of("separated").code == 0
     with pytest.raises(InputError):
         side_of("middle")
+
+
+def test_side_table_against_the_geometry(arch):
+    """The table's numbers from the arch itself (R = 1, t = 0.15: intrados radius 0.925,
+    extrados 1.075): the pivot offsets, the edge order of the simulation's joint corners, the
+    side a joint pivots on when one edge opens, and the side names read from text."""
+    s = np.linspace(0.0, arch.length, 5)
+    for k, radius in (("intrados", 0.925), ("extrados", 1.075)):
+        assert np.allclose(np.hypot(*arch.point(s, side_of(k).pivot * 0.15)), radius, rtol=0, atol=1e-14)
+    assert EDGES == ("intrados", "extrados")
+    corners = Bodies.from_curve(arch, 6).corners                      # (J, edge, xy)
+    assert np.allclose(np.hypot(corners[:, 0, 0], corners[:, 0, 1]), 0.925, rtol=0, atol=1e-14)
+    assert np.allclose(np.hypot(corners[:, 1, 0], corners[:, 1, 1]), 1.075, rtol=0, atol=1e-14)
+    # an open extrados (eps- > 0) turns the joint about its intrados, and vice versa
+    opened = pivot_sides(np.array([True, False, True]), np.array([False, True, True]))
+    assert list(opened) == ["extrados", "intrados", "separated"]
+    assert [side_of(k).initial for k in SIDES] == ["i", "e", "s"]
+    assert [side_from_text(x) for x in ("i", " E ", "intrados", "Extrados")] == ["intrados", "extrados"] * 2
+    for bad in ("s", "separated", "x", "", None):
+        with pytest.raises(InputError):
+            side_from_text(bad)
 
 
 def test_appendix_a_centres_and_continuity(mech):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fembeam import CircularArch, minimum_thickness
-from fembeam.analysis.thickness import _stands
+from fembeam.analysis.thickness import stands_on
 from fembeam.cli.main import main
 from fembeam.fem import uniform_nodes
 from fembeam.geometry import CatenaryArch, EllipticalArch, ParabolicArch, PointedArch
@@ -40,8 +40,8 @@ def test_bracket_is_a_certificate():
     a = PointedArch(span=10.0, rise=7.0, thickness=0.5)
     th = minimum_thickness(a, elements=80, tol=1e-8)
     nodes = uniform_nodes(a, 80)
-    assert _stands(a.with_thickness_scaled(th.scale), nodes, True)
-    assert not _stands(a.with_thickness_scaled(th.lower), nodes, True)
+    assert stands_on(a.with_thickness_scaled(th.scale), nodes, True)
+    assert not stands_on(a.with_thickness_scaled(th.lower), nodes, True)
     assert th.scale - th.lower <= 1e-8 * th.scale
 
 
@@ -61,7 +61,7 @@ def test_catenary_stands_at_any_thickness(capsys):
     a = CatenaryArch(span=10.0, rise=4.0, thickness=0.5)
     nodes = uniform_nodes(a, 100)
     for k in (1.0, 0.1, a.min_thickness_scale):
-        assert _stands(a.with_thickness_scaled(k), nodes, True)
+        assert stands_on(a.with_thickness_scaled(k), nodes, True)
     code, out, _ = _run(capsys, "--shape", "catenary", "--span", "10", "--rise", "4", "--thickness", "0.5", "--json")
     d = json.loads(out)
     assert code == 0 and d["outcome"] == "stands_at_any_thickness" and d["thickness_min"] == {"thickness": 0.0}

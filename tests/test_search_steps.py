@@ -10,9 +10,9 @@ import pytest
 from fembeam import CircularArch, PointedArch
 from fembeam.analysis import continuum as cont
 from fembeam.analysis.continuum import brent_minimise, weakest_sections
-from fembeam.analysis.limit import _unboxed, joint_rows, main_lp
+from fembeam.analysis.rows import joint_rows, main_lp, solve_unboxed
 from fembeam.analysis.statics import statics
-from fembeam.analysis.thickness import _stands, shrink_bracket, thickness_on
+from fembeam.analysis.thickness import shrink_bracket, stands_on, thickness_on
 from fembeam.fem import discretize, uniform_nodes
 
 
@@ -53,7 +53,7 @@ def test_weakest_sections_agree_with_dense_sampling(beta, t):
     arch = CircularArch.from_ratio(beta, t)
     disc = discretize(arch, uniform_nodes(arch, 40))
     st = statics(disc)
-    lp = _unboxed(main_lp, joint_rows(st, 1), st.k)
+    lp = solve_unboxed(main_lp, joint_rows(st, 1), st.k)
     z = np.r_[lp.z[:st.k], lp.z[st.k], 1.0]
     n_calls = []
     fibres = cont._fibres
@@ -128,8 +128,8 @@ def test_minimum_thickness_root_finder_certificate_and_solves(arch):
     than half the margin solves of a bisection to the same tolerance."""
     nodes = uniform_nodes(arch, 60)
     th = thickness_on(arch, nodes, True, 1e-8)
-    assert _stands(arch.with_thickness_scaled(th.scale), nodes, True)
-    assert not _stands(arch.with_thickness_scaled(th.lower), nodes, True)
+    assert stands_on(arch.with_thickness_scaled(th.scale), nodes, True)
+    assert not stands_on(arch.with_thickness_scaled(th.lower), nodes, True)
     assert th.scale - th.lower <= 1e-8 * th.scale
     bracketing = 2 + math.ceil(abs(math.log2(th.scale)))    # doublings or halvings from 1
     assert th.solves < bracketing + 0.5 * math.log2(1e8)

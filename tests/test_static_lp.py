@@ -97,15 +97,15 @@ def test_continuum_takes_the_first_round_from_the_limit_analysis(beta, tr, direc
     """The continuum search's first LPs (the joints' rows alone) are the limit analysis's:
     taken from it, the result is the same bit for bit and two LPs fewer are solved (the
     stand LP only for a member that cannot stand)."""
-    import fembeam.analysis.limit as limit_mod
+    import fembeam.analysis.continuum as continuum_mod
 
     arch = CircularArch.from_ratio(beta, tr)
     disc = discretize(arch, uniform_nodes(arch, 60))
     lim = limit_analysis(disc, direction)
     calls = []
     for name in ("stand_lp", "main_lp"):
-        real = getattr(limit_mod, name)
-        monkeypatch.setattr(limit_mod, name, lambda *a, _f=real, _n=name, **k: (calls.append(_n), _f(*a, **k))[1])
+        real = getattr(continuum_mod, name)
+        monkeypatch.setattr(continuum_mod, name, lambda *a, _f=real, _n=name, **k: (calls.append(_n), _f(*a, **k))[1])
     alone = continuum_limit(disc, direction)
     n_alone = len(calls)
     reused = continuum_limit(disc, direction, lim=lim)

@@ -5,9 +5,8 @@ import pytest
 import fembeam
 from fembeam.dynamics.equation import EquationOfMotion
 from fembeam.dynamics.thrust import section_forces, thrust_line_margin
-from fembeam.mechanisms import Mechanism
+from fembeam.mechanisms import Mechanism, side_of
 
-EDGE = {"intrados": 0.5, "extrados": -0.5}   # e / t of a thrust line through the hinge's pivot
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +28,7 @@ def _near_hinges(mech, d):
     for sh, k in zip(mech.s, mech.sides):
         for x in (sh - d, sh + d):
             if mech.s[0] <= x <= mech.s[-1]:
-                s.append(x), edge.append(EDGE[k])
+                s.append(x), edge.append(side_of(k).pivot)
     return np.array(s), np.array(edge)
 
 
@@ -78,7 +77,7 @@ def test_residual_vanishes_only_on_the_equation_of_motion(arch_eq):
     s = np.array(mech.s[1:]) - 1e-9 * mech.curve.length
     e = section_forces(eq, theta, rate, accel, a_g, s).eccentricity / t
     print(f"moving arch: e/t just left of C13, C23, C2: {e}")
-    assert np.allclose(e, [EDGE[k] for k in mech.sides[1:]], atol=1e-6)
+    assert np.allclose(e, [side_of(k).pivot for k in mech.sides[1:]], atol=1e-6)
 
 
 # ---------------------------------------------------------------------- 3. block at rest
@@ -94,8 +93,8 @@ def test_block_at_rest(block):
     on = section_forces(eq, 0.0, 0.0, 0.0, -res.A_L, [0.0, 1e-6 * L])
     m = thrust_line_margin(eq, 0.0, 0.0, 0.0, -res.A_L)
     print(f"\nblock at onset: e/t at the base {on.eccentricity / w}, margin {m.margin:.2e}, residual {m.residual:.2e}")
-    assert on.eccentricity[0] / w == pytest.approx(EDGE[res.hinges_before[0].side], abs=1e-12)
-    assert on.eccentricity[1] / w == pytest.approx(EDGE[res.hinges_before[0].side], abs=1e-6)
+    assert on.eccentricity[0] / w == pytest.approx(side_of(res.hinges_before[0].side).pivot, abs=1e-12)
+    assert on.eccentricity[1] / w == pytest.approx(side_of(res.hinges_before[0].side).pivot, abs=1e-6)
     assert -1e-12 <= m.margin < 1e-6 and m.residual < 1e-12
 
 
@@ -136,10 +135,10 @@ def test_block_rocking_closed_form(block):
     assert f.V[1] == pytest.approx(T @ nn, rel=1e-12)
     assert f.M[1] == pytest.approx(M, rel=1e-12)
     # on the equation of motion the base resultant passes through the hinge corner
-    assert f.eccentricity[0] / w == pytest.approx(EDGE[res.hinges_before[0].side], abs=1e-12)
+    assert f.eccentricity[0] / w == pytest.approx(side_of(res.hinges_before[0].side).pivot, abs=1e-12)
     assert f.residual < 1e-12
     off = section_forces(eq, theta, rate, 1.01 * accel, a_g, [0.0])
-    assert off.residual > 1e-4 and abs(off.eccentricity[0] / w - EDGE[res.hinges_before[0].side]) > 1e-4
+    assert off.residual > 1e-4 and abs(off.eccentricity[0] / w - side_of(res.hinges_before[0].side).pivot) > 1e-4
 
 
 # ---------------------------------------------------------------------- 5. many instants at once

@@ -46,9 +46,9 @@ from scipy.linalg import blas, lapack
 
 from ..errors import InputError
 from ..fem import Discretization, dof_scaling
-from ..fem.rigid import _block_diagonal, _diagonal_blocks
+from ..fem.rigid import block_diagonal, diagonal_blocks
 from .banded_ipm import interior_point
-from .statics import _inverse3
+from .statics import inverse3
 
 __all__ = ["ChainProjection", "project_chain", "MAX_STEPS"]
 
@@ -286,7 +286,7 @@ def _glued(disc: Discretization | _Glued, d0: np.ndarray, K: int,
     frames = {k: disc.frames[k][:, ::K] for k in ("P", "t", "n")}
     chain = _Glued(_from_blocks(Mg, lead.size), _from_blocks(bg, kept.size), (bg, Mg), disc.curve, joints,
                    frames)
-    return chain, np.einsum("ije,je->ei", _inverse3(Mg)[0], p).ravel()
+    return chain, np.einsum("ije,je->ei", inverse3(Mg)[0], p).ravel()
 
 
 def _from_blocks(blocks: np.ndarray, rows: int) -> sp.csr_matrix:
@@ -446,7 +446,7 @@ def _permute(v: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 def _block_inverse(M: sp.csr_matrix) -> sp.csr_matrix:
     """Inverse of a block-diagonal matrix of 3x3 blocks."""
-    return _block_diagonal(_inverse3(_diagonal_blocks(M).transpose(1, 2, 0))[0].transpose(2, 0, 1))
+    return block_diagonal(inverse3(diagonal_blocks(M).transpose(1, 2, 0))[0].transpose(2, 0, 1))
 
 
 def _joint_major(disc: Discretization) -> sp.csr_matrix:
@@ -480,7 +480,7 @@ def _chain_q(b: np.ndarray, Mb: np.ndarray, J: int, m: float) -> np.ndarray:
     element (block tridiagonal, 3x3 blocks joint by joint) in LAPACK lower band storage
     (``(6, 3 J)``, Fortran order)."""
     n = b.shape[2]
-    W = np.einsum("aie,ije->aje", b, _inverse3(Mb)[0] * m)          # b M^-1, then times b^T:
+    W = np.einsum("aie,ije->aje", b, inverse3(Mb)[0] * m)          # b M^-1, then times b^T:
     strip = np.zeros((6, 3, n + 1))                              # strip[r, c, j] = Q[3 j + r, 3 j + c]
     strip[:, :, :n] = np.einsum("aje,bje->abe", W, b[:3])        # element e at joint e and (e + 1, e)
     strip[:3, :, 1:] += np.einsum("aje,bje->abe", W[3:], b[3:])  # element e at joint e + 1

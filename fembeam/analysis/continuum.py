@@ -11,14 +11,18 @@ that come close to zero.
 """
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError, SolverError
+from .lp import SmallLP
+from .rows import STAND_TOL, append_section_rows, check_direction, joint_rows, main_lp, solve_unboxed, stand_lp
 from .statics import Statics, section_force_rows, section_forces, statics
 
-__all__ = ["weakest_sections", "ContinuumLimit", "continuum_limit"]
+__all__ = ["weakest_sections", "brent_minimise", "ContinuumLimit", "continuum_limit", "margin_search",
+           "continuum_stands"]
 
 SAMPLES = 4          # interior samples per element
 SEARCH_STEPS = 100   # at most; Brent's bracket shrinks down to 1e-7 of the length (~6-10 steps)
@@ -281,15 +285,6 @@ class ContinuumLimit:
         return (self.A_L - self.A_L_lower) / self.A_L if self.A_L > 0 else 0.0
 
 
-def _rows(st: Statics, direction: int, R: np.ndarray, cuts: np.ndarray, fib: np.ndarray) -> np.ndarray:
-    if cuts.size == 0:
-        return R
-    C = section_force_rows(st, cuts)                      # (3, nc, k + 2)
-    C = C[1 + fib, np.arange(cuts.size)]
-    C[:, st.k] *= direction
-    return np.concatenate([R, C])
-
-
 def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: int = 50,
                     lim=None) -> ContinuumLimit:
     """Limit analysis of the continuous member meshed by ``disc``: the joints of ``disc``
@@ -301,27 +296,25 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
     the convex combination ``theta z* + (1 - theta) z_c`` of the optimum and of the
     most central state under gravity ``z_c`` (margin ``m_c > 0``) is admissible for
     ``theta = m_c / (m_c + violation)``, so ``A_L >= theta A_L*``."""
-    from .limit import STAND_TOL, _check_direction, _unboxed, joint_rows, main_lp
-
     if getattr(disc, "element", None) != "rigid":
         raise InputError("the continuum analysis needs rigid elements (fembeam.discretize): its sections "
                          "between joints are cut from rigid pieces")
-    direction = _check_direction(direction)
+    direction = check_direction(direction)
 
     st = statics(disc)
     k, J = st.k, disc.n_joints
     R = joint_rows(st, direction)
     first = (lim.lps if lim is not None and lim.disc is disc and lim.direction == direction and lim.friction is None
              else (None, None))
-    stand, margin, cuts, fib, rounds = _stand(st, direction, R, np.empty(0), np.empty(0, int), tol, max_rounds,
-                                              first=first[0])
+    stand, margin, cuts, fib, rounds = margin_search(st, direction, R, np.empty(0), np.empty(0, int), tol,
+                                                     max_rounds, first=first[0])
     if stand.value < -STAND_TOL:
         return ContinuumLimit("cannot_stand", float("nan"), float("nan"), stand.value,
                               _support(disc, cuts, stand.y, J), cuts, float("nan"), rounds)
     for _ in range(max_rounds):
         rounds += 1
         main = (first[1] if cuts.size == 0 and first[1] is not None
-                else _unboxed(main_lp, _rows(st, direction, R, cuts, fib), k))
+                else solve_unboxed(main_lp, append_section_rows(R, st, direction, cuts, fib), k))
         if main.at_bound[k]:
             return ContinuumLimit("no_mechanism", float("inf"), float("inf"), margin, np.empty(0), cuts, 0.0, rounds)
         s_new, f_new, v = weakest_sections(st, np.r_[main.z[:k], direction * main.z[k], 1.0])
@@ -384,8 +377,6 @@ def _at_breaks(disc, s, fib, fixed) -> list:
     as a free unknown.  At a kink the hinge may be on the kink's own cut or on either
     one-sided cut (one ulp off the kink: the normal cut of that side's branch), three
     candidates each.  Empty when no cluster moves."""
-    import itertools
-
     br = np.asarray(getattr(disc.curve, "breaks", ()), float)
     if br.size == 0 or s.size == 0:
         return []
@@ -538,21 +529,23 @@ def _newton(FJ, p0: np.ndarray, inside, max_steps: int = NEWTON_STEPS) -> np.nda
     return p
 
 
-def _stand(st: Statics, direction: int, R, cuts, fib, tol: float, max_rounds: int, converge: bool = False,
-           first=None):
-    """Largest margin under gravity on the continuum: the LP's value bounds it from above,
-    the smallest fibre force of the LP's state along the whole member from below.  The
-    rounds stop as soon as that state stands, or with ``converge`` only when the bounds
-    agree to ``tol`` (or the joints alone cannot stand).  ``first``: the LP on the rows
-    ``R`` alone, already solved."""
-    from .limit import STAND_TOL, _unboxed, stand_lp
-
+def margin_search(st: Statics, direction: int, R: np.ndarray, cuts: np.ndarray, fib: np.ndarray, tol: float,
+                  max_rounds: int, converge: bool = False,
+                  first: SmallLP | None = None) -> tuple[SmallLP, float, np.ndarray, np.ndarray, int]:
+    """Largest margin under gravity on the continuum (units of weight), by the exchange method
+    from the rows ``R`` (:func:`~fembeam.analysis.rows.joint_rows` along ``direction``) and the
+    fibre rows ``fib`` at the sections ``cuts`` (m): the LP's value bounds it from above, the
+    smallest fibre force of the LP's state along the whole member from below.  The rounds stop
+    as soon as that state stands, or with ``converge`` only when the bounds agree to ``tol``
+    (or the joints alone cannot stand).  ``first``: the LP on the rows ``R`` alone, already
+    solved.  Returns ``(stand, margin, cuts, fib, rounds)``: the last stand LP (its value the
+    upper bound), the lower bound, the sections of that LP and the rounds used."""
     k = st.k
     if isinstance(max_rounds, bool) or not isinstance(max_rounds, (int, np.integer)) or max_rounds < 1:
         raise InputError(f"max_rounds must be a positive integer, got {max_rounds!r}")
     for rounds in range(1, max_rounds + 1):
         stand = (first if first is not None and cuts.size == 0
-                 else _unboxed(stand_lp, _rows(st, direction, R, cuts, fib), k))
+                 else solve_unboxed(stand_lp, append_section_rows(R, st, direction, cuts, fib), k))
         z_c = np.r_[stand.z[:k], 0.0, 1.0]
         s_new, f_new, v = weakest_sections(st, z_c, stand.value)
         margin = min(stand.value, float(np.min(v, initial=np.inf)))
@@ -573,10 +566,8 @@ def continuum_stands(disc, tol: float = 1e-10, max_rounds: int = 50, converge: b
     margin (units of weight; a lower bound when it stands, the LP's bound when not).
     ``converge``: the margin to ``tol`` also when it stands (more LP rounds), a continuous
     function of the thickness for a root finder (unless the joints alone cannot stand)."""
-    from .limit import STAND_TOL, joint_rows
-
     st = statics(disc)
-    stand, margin, *_ = _stand(st, 1, joint_rows(st, 1), np.empty(0), np.empty(0, int), tol, max_rounds, converge)
+    stand, margin, *_ = margin_search(st, 1, joint_rows(st, 1), np.empty(0), np.empty(0, int), tol, max_rounds, converge)
     if stand.value < -STAND_TOL:
         return False, stand.value
     return margin >= -STAND_TOL, margin

@@ -1,5 +1,9 @@
-"""Coulomb friction at the joints: the rows of the static problem, the kinematics of its
-duals (sliding with associative dilatancy) and the friction each joint requires.
+"""Coulomb friction at the joints: the theory of the friction rows of the static problem and
+of their duals (sliding with associative dilatancy), the limit LP of the continuous member
+with friction, the two bounds of the collapse load and the friction each joint requires.
+The rows and the jumps of their duals are built in :mod:`~fembeam.analysis.rows`
+(:func:`~fembeam.analysis.rows.friction_rows`, :func:`~fembeam.analysis.rows.jumps`), the
+hinges and slides of a field in :mod:`~fembeam.mechanisms.hinge`.
 
 Joint forces ``g_j = (S_j, N+_j, N-_j)`` (:mod:`~fembeam.analysis.statics`; shear and
 fibre forces, compression positive, units of the total weight).  With a finite
@@ -33,21 +37,24 @@ no-tension), :data:`REDUCED_FRICTION` and :func:`lower_bound` (docs/friction.md,
 from __future__ import annotations
 
 import copy
-import math
 
 import numpy as np
 
-from ..errors import InputError, SolverError
-from ..fem import Discretization, dof_scaling
+from ..errors import SolverError
+from ..fem import Discretization
 from ..geometry import MidCurve
-from ..mechanisms.hinge import HINGE_REL_TOL, Hinge
+from ..mechanisms.hinge import hinges_and_slides
+from .continuum import margin_search, weakest_sections
+from .limit import limit_analysis
+from .rows import (MAX_FRICTION, STAND_TOL, append_section_rows, check_friction, friction_rows, joint_rows, jumps,
+                   main_lp, solve_unboxed)
+from .statics import Statics, statics
 
+# check_friction, friction_rows, jumps (fembeam.analysis.rows) and hinges_and_slides
+# (fembeam.mechanisms.hinge) are kept here for compatibility
 __all__ = ["check_friction", "friction_rows", "jumps", "mechanism", "hinges_and_slides", "required_friction",
-           "mass_on_midcurve", "REDUCED_FRICTION", "UPPER_BOUND", "LOWER_BOUND", "EXACT_WITHOUT_FRICTION", "THICKNESS_BOUND", "bound_of",
-           "lower_bound", "bounds"]
-
-
-MAX_FRICTION = 1000.0   # beyond it the rows' round-off (times mu) exceeds the certificate's tolerance
+           "mass_on_midcurve", "continuum_support", "REDUCED_FRICTION", "UPPER_BOUND", "LOWER_BOUND",
+           "EXACT_WITHOUT_FRICTION", "THICKNESS_BOUND", "MAX_FRICTION", "bound_of", "lower_bound", "bounds"]
 
 # Radenkovic's reduced coefficient of a cohesionless Coulomb joint that slides without
 # dilatancy, whatever its mu: the largest cone {|S| <= mu* N} whose normals contain every
@@ -69,72 +76,10 @@ def bound_of(mu: float | None) -> str | None:
     return None if mu is None else (EXACT_WITHOUT_FRICTION if mu == REDUCED_FRICTION else UPPER_BOUND)
 
 
-def check_friction(mu) -> float | None:
-    """``None`` (no sliding) or a Coulomb coefficient ``0 <= mu <= MAX_FRICTION``; InputError
-    otherwise (joints that never slide: no coefficient at all)."""
-    if mu is None:
-        return None
-    if isinstance(mu, bool) or not isinstance(mu, (int, float, np.integer, np.floating)) \
-            or not math.isfinite(mu) or not 0 <= mu <= MAX_FRICTION:
-        raise InputError(f"the friction coefficient must be a number in [0, {MAX_FRICTION:g}] (no coefficient: "
-                         f"joints that never slide), got {mu!r}")
-    return float(mu)
-
-
-def friction_rows(st, direction: int, mu: float) -> np.ndarray:
-    """``(2 J, k + 2)``: rows ``(mu N -+ S) / (1 + mu)`` (``N = N+ + N-``) of every joint
-    acting on ``(x, lambda, 1)``, ``-S`` rows first (units of weight)."""
-    def rows(i):
-        return np.concatenate([st.G_x[i], direction * st.G_lambda[i][:, None], st.G0[i][:, None]], 1)
-
-    N, S = rows(1) + rows(2), rows(0)
-    return np.concatenate([mu * N - S, mu * N + S]) / (1.0 + mu)
-
-
-def jumps(y: np.ndarray, J: int, mu: float | None) -> np.ndarray:
-    """Jumps ``(3, J)`` (sliding, intrados and extrados opening rates) conjugate to the row
-    duals ``y`` (fibre rows ``N+``, ``N-``, then with ``mu`` the friction rows)."""
-    y = np.asarray(y, float).reshape(-1, J)
-    c = np.zeros((3, J))
-    c[1:] = y[:2]
-    if mu is not None:
-        a, b = y[2], y[3]
-        c[0] = (b - a) / (1.0 + mu)
-        c[1:] += mu * (a + b) / (1.0 + mu)
-    return c
-
-
-def mechanism(st, c: np.ndarray) -> tuple[np.ndarray, float]:
-    """Element velocities ``u`` with jumps ``c`` (3, J) at the joints (``K^T u = c`` on all
-    joints but the first ``k`` rows), and the closure misfit of those rows relative to
-    ``max |c|`` (zero when ``c`` comes from the duals of a limit LP)."""
-    disc = st.disc
-    cj = np.asarray(c, float).T.ravel()                   # joint-major (S, N+, N-)
-    u = dof_scaling(disc) @ st.solve(cj[st.k:], trans="T")
-    got = np.concatenate([disc.B_slide @ u, disc.B_open @ u])
-    want = np.concatenate([c[0], c[1], c[2]])
-    return u, float(np.max(np.abs(got - want)) / max(np.max(np.abs(c)), 1e-300))
-
-
-def hinges_and_slides(disc: Discretization, u: np.ndarray, mu: float | None,
-                      rel_tol: float = HINGE_REL_TOL) -> tuple[list[Hinge], list[dict]]:
-    """Hinges (rotation part of the openings, ``eps+- - mu |gamma|``) and sliding joints
-    (``|gamma|`` above ``rel_tol`` of the largest jump) of the field ``u``.  A slide is
-    ``{"angle_deg", "s", "rate"}`` (``rate``: sliding velocity ``gamma``, m/s, + along ``n``)."""
-    J = disc.n_joints
-    gam = disc.B_slide @ u
-    eps = (disc.B_open @ u).reshape(2, J) - (0.0 if mu is None else mu) * np.abs(gam)
-    scale = max(np.max(np.abs(eps)), np.max(np.abs(gam)), 1e-300)
-    oi, oe = eps[0] > rel_tol * scale, eps[1] > rel_tol * scale
-    rot = (eps[0] - eps[1]) / disc.joint_thickness
-    j = np.flatnonzero(oi | oe)
-    side = np.where(oi[j] & oe[j], "separated", np.where(oe[j], "intrados", "extrados"))
-    hinges = [Hinge(float(disc.joint_s[k]), float(disc.joint_angle_deg[k]), str(sd), float(rot[k]), (int(k),))
-              for k, sd in zip(j, side)]
-    sl = np.flatnonzero(np.abs(gam) > rel_tol * scale)
-    slides = [{"angle_deg": round(float(disc.joint_angle_deg[k]), 6), "s": float(disc.joint_s[k]),
-               "rate": float(gam[k])} for k in sl]
-    return hinges, slides
+def mechanism(st: Statics, c: np.ndarray) -> tuple[np.ndarray, float]:
+    """Element velocities with jumps ``c`` (3, J) at the joints and their closure misfit:
+    :meth:`~fembeam.analysis.statics.Statics.velocities`."""
+    return st.velocities(c)
 
 
 def required_friction(angle_deg: np.ndarray, s: np.ndarray, shear: np.ndarray, normal: np.ndarray,
@@ -191,18 +136,14 @@ def continuum_support(disc: Discretization, direction: int, mu: float, tol: floa
     Returns the status (as :class:`~fembeam.analysis.limit.LimitResult`), the load factor
     (g; NaN unless ``"ok"``) and the sections (m) carrying the duals: the hinges and
     slides, where the mesh needs nodes."""
-    from .continuum import _rows, _stand, weakest_sections
-    from .limit import STAND_TOL, _unboxed, joint_rows, main_lp
-    from .statics import statics
-
     st = statics(disc)
     k, J = st.k, disc.n_joints
     R = joint_rows(st, direction, mu)
-    stand, margin, cuts, fib, _ = _stand(st, direction, R, np.empty(0), np.empty(0, int), tol, max_rounds)
+    stand, margin, cuts, fib, _ = margin_search(st, direction, R, np.empty(0), np.empty(0, int), tol, max_rounds)
     lp, status, lam = stand, "cannot_stand", float("nan")
     if stand.value >= -STAND_TOL:
         for _ in range(max_rounds):
-            lp = _unboxed(main_lp, _rows(st, direction, R, cuts, fib), k)
+            lp = solve_unboxed(main_lp, append_section_rows(R, st, direction, cuts, fib), k)
             if lp.at_bound[k]:
                 return "no_mechanism", float("inf"), np.empty(0)
             s_new, f_new, v = weakest_sections(st, np.r_[lp.z[:k], direction * lp.z[k], 1.0])
@@ -230,7 +171,6 @@ def lower_bound(disc: Discretization, direction: int, continuum: bool, verify: b
     if continuum:
         status, lam, _ = continuum_support(disc, direction, REDUCED_FRICTION)
     else:
-        from .limit import limit_analysis
         lim = limit_analysis(disc, direction, verify=verify, friction=REDUCED_FRICTION)
         status, lam = lim.status, lim.A_L
     return status, (max(float(lam), 0.0) + 0.0 if status == "ok" else float("nan"))   # + 0.0: no -0.0

@@ -8,10 +8,11 @@ Static (lower-bound) linear programme in the ``k`` redundants ``x`` of the chain
 
 with the horizontal acceleration ``direction * lambda g``: both fibre forces of every
 joint compressive (the thrust line inside the section), the shear free (no sliding).
-``k + 1 <= 4`` unknowns and ``2 J`` rows, solved by constraint generation in O(J)
-(:mod:`~fembeam.analysis.lp`).  Its duals are the opening rates of the joints: the
-mechanism ``u`` (element velocities from :meth:`Statics.mechanism`), whose kinematic
-load factor ``f_y.u / (direction f_x.u)`` must equal the static one (duality gap).
+``k + 1 <= 4`` unknowns and ``2 J`` rows (:mod:`~fembeam.analysis.rows`), solved by
+constraint generation in O(J) (:mod:`~fembeam.analysis.lp`).  Its duals are the opening
+rates of the joints: the mechanism ``u`` (element velocities from
+:meth:`Statics.velocities`), whose kinematic load factor ``f_y.u / (direction f_x.u)``
+must equal the static one (duality gap).
 
 Outcomes, each with its certificate, checked before it is returned:
 
@@ -25,9 +26,10 @@ Outcomes, each with its certificate, checked before it is returned:
   ``lambda >= 0``): no horizontal acceleration turns the member into a mechanism.
 
 With a finite Coulomb coefficient ``friction = mu`` every joint also gets the rows
-``mu (N+ + N-) -+ S >= 0`` (:mod:`~fembeam.analysis.friction`); the duals then give a
-mechanism that may slide, with the associative dilatancy ``mu |gamma|`` at both fibres,
-and the same certificates hold (the jumps lie in the dual cone of the admissible forces).
+``mu (N+ + N-) -+ S >= 0`` (:mod:`~fembeam.analysis.rows`, the theory in
+:mod:`~fembeam.analysis.friction`); the duals then give a mechanism that may slide, with
+the associative dilatancy ``mu |gamma|`` at both fibres, and the same certificates hold
+(the jumps lie in the dual cone of the admissible forces).
 Joints that slide without dilatancy may collapse below that ``A_L``: it is an upper bound
 for them, and ``friction=0`` gives the lower one (docs/friction.md, section 3).
 
@@ -42,17 +44,17 @@ import numpy as np
 
 from ..errors import CannotStandError, InputError, SolverError
 from ..fem import Discretization
-from ..mechanisms.hinge import Hinge
-from . import friction as fr
-from .lp import FEAS_TOL, maximise
+from ..mechanisms.hinge import Hinge, hinges_and_slides
+from .lp import FEAS_TOL
+from .rows import (BOX, STAND_TOL, XBOX, check_direction, check_friction, joint_rows, jumps, main_lp, ray_lp,
+                   solve_unboxed, stand_lp)
 from .statics import Statics, section_forces, statics
 from .verification import check
 
-__all__ = ["LimitResult", "limit_analysis", "joint_rows", "stand_lp", "main_lp", "ray_lp", "STAND_TOL", "BOX"]
+# the LP rows and LPs live in fembeam.analysis.rows; their names here are kept for compatibility
+__all__ = ["LimitResult", "limit_analysis", "FRICTION_TOL", "joint_rows", "stand_lp", "main_lp", "ray_lp",
+           "STAND_TOL", "BOX", "XBOX"]
 
-BOX = 1e6          # bound on lambda (g): beyond it, look for a no-mechanism certificate
-XBOX = 1e3         # bound on the redundants (units of the weight)
-STAND_TOL = 1e-12  # margin (units of weight) below which the member does not stand
 FRICTION_TOL = 1e-6  # friction_excess above which a result with friction fails its check
 
 
@@ -87,51 +89,6 @@ class LimitResult:
             return np.where(Nt > 1e-12 * np.max(Nt), 0.5 * t * (self.N[0] - self.N[1]) / Nt, np.nan)
 
 
-def joint_rows(st: Statics, direction: int, friction: float | None = None) -> np.ndarray:
-    """``(2 J, k + 2)``: fibre forces ``N+`` then ``N-`` of every joint as rows acting on
-    ``(x, lambda, 1)`` (units of weight; lambda along ``direction``); with ``friction``
-    ``(4 J, k + 2)``: then the friction rows of :func:`~fembeam.analysis.friction.friction_rows`."""
-    R = np.concatenate([np.concatenate([st.G_x[i], direction * st.G_lambda[i][:, None], st.G0[i][:, None]], 1)
-                        for i in (1, 2)])
-    return R if friction is None else np.concatenate([R, fr.friction_rows(st, direction, friction)])
-
-
-def stand_lp(R: np.ndarray, k: int, xbox: float = XBOX):
-    """Largest margin under gravity alone: ``max tau s.t. rows(x, 0) >= tau``."""
-    A = np.column_stack([R[:, :k], -np.ones(R.shape[0])])
-    return maximise(np.r_[np.zeros(k), 1.0], A, R[:, k + 1], [(-xbox, xbox)] * k + [(None, 1.0)],
-                    seq=R.shape[0] // 2)
-
-
-def main_lp(R: np.ndarray, k: int, xbox: float = XBOX):
-    """``max lambda s.t. rows(x, lambda) >= 0``."""
-    return maximise(np.r_[np.zeros(k), 1.0], R[:, :k + 1], R[:, k + 1], [(-xbox, xbox)] * k + [(None, BOX)],
-                    seq=R.shape[0] // 2)
-
-
-def ray_lp(R: np.ndarray, k: int, xbox: float = XBOX):
-    """``max tau s.t. rows_x dx + rows_lambda >= tau``: ``tau >= 0`` is an admissible ray."""
-    A = np.column_stack([R[:, :k], -np.ones(R.shape[0])])
-    return maximise(np.r_[np.zeros(k), 1.0], A, R[:, k], [(-xbox, xbox)] * k + [(None, 1.0)], seq=R.shape[0] // 2)
-
-
-def _unboxed(lp, R: np.ndarray, k: int):
-    """Solve ``lp`` with the redundants boxed, enlarging the box while it binds (a thrust of
-    more than 1e3 weights: very flat or very thin members); the box never binds at the end,
-    so the duals are those of the unboxed problem."""
-    for xbox in (XBOX, 1e6 * XBOX, 1e12 * XBOX):
-        sol = lp(R, k, xbox)
-        if not sol.at_bound[:k].any():
-            return sol
-    raise SolverError(f"limit LP: the redundants exceed {1e12 * XBOX:g} weights (no finite thrust state)")
-
-
-def _check_direction(direction) -> int:
-    if isinstance(direction, bool) or direction not in (1, -1):
-        raise InputError(f"direction must be +1 or -1, got {direction!r}")
-    return int(direction)
-
-
 def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = False,
                    verify: bool = True, friction: float | None = None) -> LimitResult:
     """Static LP on the joints of ``disc`` for a horizontal acceleration along
@@ -141,18 +98,18 @@ def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = Fals
     ``friction``: Coulomb coefficient ``mu >= 0`` of every joint (None: no sliding)."""
     if not isinstance(disc, Discretization):
         raise InputError(f"limit_analysis needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
-    direction = _check_direction(direction)
-    mu = fr.check_friction(friction)
+    direction = check_direction(direction)
+    mu = check_friction(friction)
     t0 = time.perf_counter()
     st = statics(disc)
-    k, J = st.k, disc.n_joints
+    k = st.k
     R = joint_rows(st, direction, mu)
-    stand = _unboxed(stand_lp, R, k)
+    stand = solve_unboxed(stand_lp, R, k)
     margin = stand.value
     if margin < -STAND_TOL:
         res = _cannot_stand(st, direction, stand, R, mu)
     else:
-        main = _unboxed(main_lp, R, k)
+        main = solve_unboxed(main_lp, R, k)
         if main.at_bound[k]:      # lambda held by its bound: look for the no-mechanism certificate
             res = _no_mechanism(st, direction, stand, R, mu)
         else:
@@ -206,13 +163,13 @@ def _incompatibility(disc, u, closure, mu: float | None = None) -> float:
 def _kinematics(st: Statics, y: np.ndarray, R: np.ndarray, mu: float | None):
     """Mechanism of the row duals ``y``: jumps ``c`` (3, J), velocities ``u``, closure."""
     yc = _duals(y, R, st.k)
-    c = fr.jumps(yc, st.disc.n_joints, mu)
-    u, closure = fr.mechanism(st, c)
+    c = jumps(yc, st.disc.n_joints, mu)
+    u, closure = st.velocities(c)
     return yc, c, u, closure
 
 
 def _ok(st: Statics, direction: int, lp, R: np.ndarray, mu: float | None = None) -> LimitResult:
-    disc, m, k, J = st.disc, st.mass, st.k, st.disc.n_joints
+    disc, m, k = st.disc, st.mass, st.k
     x, lam = lp.z[:k], float(lp.z[k])
     if -1e-9 < lam < 0:   # a member at its minimum thickness: A_L = 0 to the LP's tolerance
         lam = 0.0
@@ -223,7 +180,7 @@ def _ok(st: Statics, direction: int, lp, R: np.ndarray, mu: float | None = None)
         raise SolverError("limit LP: the dual mechanism does no work against the horizontal load")
     u *= m / power
     g = st.forces(x, direction * lam)
-    hinges, slides = fr.hinges_and_slides(disc, u, mu)
+    hinges, slides = hinges_and_slides(disc, u, mu)
     out = LimitResult("ok", disc, direction, lam, u, m * g[1:], m * g[0], hinges, slides=slides)
     lam_k = float(fy @ u) / m
     out.verification = _static_figures(st, x, direction * lam, g, fy - direction * lam * fx, mu)
@@ -272,14 +229,14 @@ def _shear_ratio(g) -> float:
 
 def _cannot_stand(st: Statics, direction: int, lp, R: np.ndarray, mu: float | None = None) -> LimitResult:
     """Certificate: the margin LP's duals, a compatible mechanism that gravity drives."""
-    disc, m, J = st.disc, st.mass, st.disc.n_joints
+    disc, m = st.disc, st.mass
     _, _, u, closure = _kinematics(st, lp.y, R, mu)
     fx, fy = disc.load_vectors()
     lift = float(fy @ u)
     if not lift < 0:
         raise SolverError("cannot-stand certificate failed: gravity does no work on the margin LP's mechanism")
     u *= m / -lift
-    hinges, slides = fr.hinges_and_slides(disc, u, mu)
+    hinges, slides = hinges_and_slides(disc, u, mu)
     out = LimitResult("cannot_stand", disc, direction, u=u, hinges=hinges, slides=slides)
     rms = np.sqrt(float(u @ disc.M @ u) / m)
     out.verification = {"incompatibility": _incompatibility(disc, u, closure, mu),
@@ -291,7 +248,7 @@ def _no_mechanism(st: Statics, direction: int, stand, R, mu: float | None = None
     """Certificate: an admissible state at lambda = 0 and an admissible ray of
     (self-stress, horizontal load)."""
     disc, m, k = st.disc, st.mass, st.k
-    ray = _unboxed(ray_lp, R, k)
+    ray = solve_unboxed(ray_lp, R, k)
     if ray.value < -FEAS_TOL:
         raise SolverError(f"limit LP: A_L exceeds {BOX:g} g but no admissible ray exists")
     dx = ray.z[:k]

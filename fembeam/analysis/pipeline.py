@@ -38,17 +38,16 @@ from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms.hinge import merge_adjacent
 from .continuum import ContinuumLimit, continuum_limit
-from .friction import bound_of, bounds, check_friction, continuum_support, lower_bound, required_friction
+from .friction import bound_of, bounds, continuum_support, lower_bound, required_friction
 from .impact import ImpactResult, impact
-from .limit import LimitResult, _check_direction, limit_analysis
+from .limit import LimitResult, limit_analysis
+from .rows import check_direction, check_friction
+from .sizes import DEFAULT_ELEMENTS, MAX_ELEMENTS, MIN_ELEMENTS, MIN_VOUSSOIRS, check_count
 from .thickness import MinimumThickness, thickness_on
 from .verification import THRESHOLDS, check
 
+# DEFAULT_ELEMENTS and MAX_ELEMENTS live in fembeam.analysis.sizes; kept here for compatibility
 __all__ = ["AnalysisResult", "analyze", "DEFAULT_ELEMENTS", "MAX_ELEMENTS"]
-
-DEFAULT_ELEMENTS = 200
-MIN_ELEMENTS = 4
-MAX_ELEMENTS = 200_000     # analyze at 2 10^5 elements: 1.1 GB, 5.6 s (fresh process; linear): a run stays under ~1.1 GB
 
 
 @dataclass
@@ -57,7 +56,7 @@ class AnalysisResult:
 
     geometry: dict
     mode: str                       # "continuous" or "voussoirs"
-    elements: int
+    n: int                          # pieces of the uniform mesh: elements ("continuous") or voussoirs
     direction: int
     backend: str
     outcome: str
@@ -73,6 +72,11 @@ class AnalysisResult:
     friction: float | None = None   # Coulomb coefficient of the limit analysis (None: no sliding)
     # with friction: (status, A_L) of the frictionless analysis on the same mesh (the safe lower bound)
     friction_lower: tuple | None = None
+
+    @property
+    def elements(self) -> int:
+        """:attr:`n` under its JSON key (a voussoir count in mode ``"voussoirs"``)."""
+        return self.n
 
     @property
     def t_min_over_R(self) -> float | None:
@@ -146,7 +150,7 @@ class AnalysisResult:
             "outcome": self.outcome,
             "A_L": num(self.A_L),
             "r": num(self.r),
-            "elements": self.elements,
+            "elements": self.n,
             "mode": self.mode,
             "direction": self.direction,
             "geometry": self.geometry,
@@ -193,12 +197,6 @@ def statics_determinate(disc) -> bool:
     return 3 * disc.n_joints == disc.M.shape[0]    # k = 3 J - (DOFs) redundants (statics.py)
 
 
-def _count(n, name: str, lowest: int) -> int:
-    if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or not lowest <= n <= MAX_ELEMENTS:
-        raise InputError(f"the number of {name} must be an integer in [{lowest}, {MAX_ELEMENTS}], got {n!r}")
-    return int(n)
-
-
 def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
             direction: int = 1, backend: str = "auto", refine_hinges: bool = True,
             verify: bool = True, tmin_tol: float = 1e-6, friction: float | None = None) -> AnalysisResult:
@@ -208,11 +206,11 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
         raise InputError(f"analyze needs a member (e.g. fembeam.CircularArch), got {type(curve).__name__}")
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
-    direction = _check_direction(direction)
+    direction = check_direction(direction)
     mu = check_friction(friction)
     mode = "voussoirs" if voussoirs is not None else "continuous"
-    n = (_count(voussoirs, "voussoirs", 1) if mode == "voussoirs"
-         else _count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS))
+    n = (check_count(voussoirs, "voussoirs", MIN_VOUSSOIRS) if mode == "voussoirs"
+         else check_count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS))
     continuum = mode == "continuous" and refine_hinges
     desc = curve.describe() if hasattr(curve, "describe") else {}
     res = AnalysisResult(desc, mode, n, direction, backend, "rocking", friction=mu)

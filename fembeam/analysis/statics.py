@@ -41,7 +41,7 @@ from scipy.linalg import get_lapack_funcs
 from ..errors import InputError, SolverError
 from ..fem import Discretization, dof_scaling
 
-__all__ = ["Statics", "statics", "section_forces", "section_force_rows"]
+__all__ = ["Statics", "statics", "section_forces", "section_force_rows", "inverse3"]
 
 
 @dataclass(frozen=True)
@@ -77,21 +77,22 @@ class Statics:
         sol = self.solve(D @ np.asarray(p, float) / self.mass)
         return np.concatenate([np.zeros(self.k), sol]).reshape(-1, 3).T
 
-    def mechanism(self, eps: np.ndarray) -> tuple[np.ndarray, float]:
-        """Element velocities ``u`` whose opening rates are ``eps`` (2, J) (sliding zero),
-        and the closure residual: the relative misfit of the ``k`` rows of the first joint
-        (zero when ``eps`` is compatible, e.g. the duals of a limit LP)."""
+    def velocities(self, c: np.ndarray) -> tuple[np.ndarray, float]:
+        """Element velocities ``u`` whose jumps at the joints are ``c`` (3, J) (rows: sliding
+        rate ``B_slide u``, intrados and extrados opening rates ``B_open u``): ``K^T u = c`` on
+        all joints but the first ``k`` rows; and the closure misfit of those rows relative to
+        ``max |c|`` (zero when ``c`` is compatible, e.g. from the duals of a limit LP)."""
         disc = self.disc
-        J = disc.n_joints
-        c = np.zeros((J, 3))
-        c[:, 1], c[:, 2] = eps[0], eps[1]
-        c = c.ravel()
-        ut = self.solve(c[self.k:], trans="T")
-        u = dof_scaling(disc) @ ut
-        jumps = np.concatenate([disc.B_slide @ u, disc.B_open @ u])
-        want = np.concatenate([np.zeros(J), eps[0], eps[1]])
-        scale = max(np.max(np.abs(eps)), 1e-300)
-        return u, float(np.max(np.abs(jumps - want)) / scale)
+        cj = np.asarray(c, float).T.ravel()                   # joint-major (S, N+, N-)
+        u = dof_scaling(disc) @ self.solve(cj[self.k:], trans="T")
+        got = np.concatenate([disc.B_slide @ u, disc.B_open @ u])
+        want = np.concatenate([c[0], c[1], c[2]])
+        return u, float(np.max(np.abs(got - want)) / max(np.max(np.abs(c)), 1e-300))
+
+    def mechanism(self, eps: np.ndarray) -> tuple[np.ndarray, float]:
+        """:meth:`velocities` of the opening rates ``eps`` (2, J) without sliding."""
+        eps = np.asarray(eps, float)
+        return self.velocities(np.concatenate([np.zeros((1, eps.shape[1])), eps]))
 
 
 def statics(disc: Discretization) -> Statics:
@@ -179,7 +180,7 @@ class _BlockBidiagonal:
         at = (6 * (row - 3 * b) + c + (3 if lu.lower else 0)) * nb + b
         blocks = np.bincount(at, weights=data, minlength=6 * n).reshape(3, 6, nb)
         A, C = (blocks[:, 3:], blocks[:, :3]) if lu.lower else (blocks[:, :3], blocks[:, 3:])
-        Ainv, det = _inverse3(A)
+        Ainv, det = inverse3(A)
         if not np.all(det != 0):
             raise SolverError("the equilibrium operator is singular (a singular 3x3 block)")
         N = np.einsum("ijb,jkb->bik", Ainv, C)
@@ -208,7 +209,7 @@ class _BlockBidiagonal:
         return x
 
 
-def _inverse3(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def inverse3(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Inverses and determinants of 3x3 matrices ``a`` (3, 3, nb), by cofactors (array
     arithmetic along the last axis: many times faster than ``np.linalg.inv`` on small
     matrices)."""

@@ -1,6 +1,6 @@
 """Minimum thickness: the smallest factor of the thickness law at which the member stands.
 
-"Stands" is decided by the margin LP of :mod:`~fembeam.analysis.limit` (a thrust line
+"Stands" is decided by the margin LP (:func:`~fembeam.analysis.rows.stand_lp`: a thrust line
 under gravity alone inside every section), on the arch actually analysed: the joints of
 the mesh (voussoirs, or a mesh with hinges at joints only) or, for the continuous member,
 every section (:func:`~fembeam.analysis.continuum.continuum_stands`).  The mid-curve and
@@ -33,12 +33,12 @@ from ..errors import InputError, SolverError
 from ..fem import Discretization, discretize, uniform_nodes
 from ..fem.rigid import ThicknessFamily
 from ..geometry import MidCurve
-from .continuum import _stand, continuum_stands
-from .friction import check_friction
-from .limit import STAND_TOL, _unboxed, joint_rows, stand_lp
+from .continuum import continuum_stands, margin_search
+from .rows import STAND_TOL, check_friction, joint_rows, solve_unboxed, stand_lp
+from .sizes import DEFAULT_ELEMENTS, MIN_ELEMENTS, MIN_VOUSSOIRS, check_count
 from .statics import statics
 
-__all__ = ["MinimumThickness", "minimum_thickness", "thickness_on", "shrink_bracket"]
+__all__ = ["MinimumThickness", "minimum_thickness", "thickness_on", "stands_on", "shrink_bracket"]
 
 MAX_DOUBLINGS_SCALE = 2.0 ** 40   # a member that does not stand 10^12 times thicker never does
 
@@ -84,13 +84,15 @@ def _margin(disc: Discretization, continuum: bool, friction: float | None = None
     st = statics(disc)
     R = joint_rows(st, 1, friction)
     if continuum:    # fibre rows between the joints too, friction rows at the joints
-        stand, margin, *_ = _stand(st, 1, R, np.empty(0), np.empty(0, int), 1e-10, 50, converge=True)
+        stand, margin, *_ = margin_search(st, 1, R, np.empty(0), np.empty(0, int), 1e-10, 50, converge=True)
         return float(min(stand.value, margin))
-    return float(_unboxed(stand_lp, R, st.k).value)
+    return float(solve_unboxed(stand_lp, R, st.k).value)
 
 
-def _stands(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float | None = None) -> bool:
-    """Whether ``curve`` stands on the mesh ``nodes``, from its own assembly."""
+def stands_on(curve: MidCurve, nodes: np.ndarray, continuum: bool, friction: float | None = None) -> bool:
+    """Whether ``curve`` stands on the mesh ``nodes`` (arc lengths, m), from its own assembly;
+    ``continuum``: every section checked, else the joints only; ``friction`` as
+    :func:`minimum_thickness`."""
     return _margin(discretize(curve, nodes), continuum, friction) >= -STAND_TOL
 
 
@@ -137,13 +139,12 @@ def minimum_thickness(curve: MidCurve, elements: int | None = None, voussoirs: i
     continuous member meshed by ``elements`` (default 200) rigid elements, every section
     checked, or the discrete arch of ``voussoirs``; ``tol`` relative, in [1e-12, 0.1];
     ``friction``: Coulomb coefficient ``mu >= 0`` of the joints (None: no sliding)."""
-    from .pipeline import DEFAULT_ELEMENTS, _count
-
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
     if voussoirs is not None:
-        return thickness_on(curve, uniform_nodes(curve, _count(voussoirs, "voussoirs", 1)), False, tol, friction)
-    n = _count(DEFAULT_ELEMENTS if elements is None else elements, "elements", 4)
+        return thickness_on(curve, uniform_nodes(curve, check_count(voussoirs, "voussoirs", MIN_VOUSSOIRS)), False,
+                            tol, friction)
+    n = check_count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS)
     return thickness_on(curve, uniform_nodes(curve, n), True, tol, friction)
 
 

@@ -168,7 +168,7 @@ def friction_bound_lines(fb: dict | None) -> list[str]:
 
 def summary(res: AnalysisResult) -> str:
     lines = [f"fembeam analyze: {arch_title(res.geometry)}",
-             f"  mesh: {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
+             f"  mesh: {res.n} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
              f" ({res.mode}), load direction {res.direction:+d}"
              + ("" if res.friction is None else f", Coulomb friction mu = {res.friction:g} at the joints")]
     if res.outcome == "cannot_stand":
@@ -176,7 +176,7 @@ def summary(res: AnalysisResult) -> str:
         lines.append(f"  collapse mechanism under gravity alone: {_hinges(res.limit.hinges)}")
         th = res.thickness
         if th is not None and th.outcome == "ok":
-            what = "the continuous arch" if th.continuum else f"these {res.elements} voussoirs"
+            what = "the continuous arch" if th.continuum else f"these {res.n} voussoirs"
             if th.t_over_R is not None:
                 lines.append(f"  minimum thickness of {what}: t/R >= {th.t_over_R:.6f} (bracket "
                              f"[{th.lower * th.curve.t_over_r:.6f}, {th.t_over_R:.6f}], {th.solves} margin LPs)")

@@ -6,6 +6,7 @@ import json
 
 from ..studies.convergence import ConvergenceStudy, convergence_study, plot_convergence
 from ..errors import InputError
+from ..mechanisms.hinge import side_of
 from ..analysis.impact import IMPACT_BACKENDS
 from .args import add_arch, arch_from, arch_title, check_outputs, finite_float, int_list, write_outputs
 
@@ -69,7 +70,7 @@ def _f(x, fmt):
 
 
 def _hinges(hs) -> str:
-    return " ".join(f"{h['angle_deg']:.3f}{h['side'][0]}" for h in hs) or "none"
+    return " ".join(f"{h['angle_deg']:.3f}{side_of(h['side']).initial}" for h in hs) or "none"
 
 
 def table(study: ConvergenceStudy) -> str:

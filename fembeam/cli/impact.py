@@ -18,14 +18,12 @@ import numpy as np
 
 from ..mechanisms.discrete_series import SERIES_ROWS, discrete_series
 from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, SIZE_LIMITS, FourHingeImpact, four_hinge_impact
-from ..mechanisms.hinge import ROCKING_SIDES
+from ..errors import InputError
+from ..mechanisms.hinge import side_from_text
 from ..geometry import CircularArch
 from .args import add_arch, arch_from, arch_title, int_list
 from ..analysis.friction import required_friction
 from .analyze import add_friction, add_picture_options, check_picture_options, friction_lines
-
-SIDE_CODES = {**{k[0]: k for k in ROCKING_SIDES}, **{k: k for k in ROCKING_SIDES}}
-
 
 def hinge_spec(text: str) -> tuple[list[float], list[str]]:
     """``"0:e,45:i,112.5:e,157.5:i"`` -> angles (deg) and sides.  Only the syntax is
@@ -38,9 +36,10 @@ def hinge_spec(text: str) -> tuple[list[float], list[str]]:
             angles.append(float(a))
         except ValueError:
             raise argparse.ArgumentTypeError(f"bad hinge {item!r}: expected ANGLE:i|e") from None
-        if k.strip().lower() not in SIDE_CODES:
-            raise argparse.ArgumentTypeError(f"bad hinge {item!r}: side must be i (intrados) or e (extrados)")
-        sides.append(SIDE_CODES[k.strip().lower()])
+        try:
+            sides.append(side_from_text(k))
+        except InputError:
+            raise argparse.ArgumentTypeError(f"bad hinge {item!r}: side must be i (intrados) or e (extrados)") from None
     return angles, sides
 
 

@@ -34,7 +34,8 @@ from ..errors import InputError, SolverError
 from ..geometry import MidCurve
 from .mesh import check_nodes
 
-__all__ = ["Discretization", "discretize", "ThicknessFamily", "rigid_dofs", "dof_scaling", "NDOF"]
+__all__ = ["Discretization", "discretize", "ThicknessFamily", "rigid_dofs", "dof_scaling", "block_diagonal",
+           "diagonal_blocks", "NDOF"]
 
 NDOF = 3  # (w, v, omega) per element
 
@@ -153,16 +154,17 @@ def _mass_blocks(m: np.ndarray, S0: np.ndarray, J0: np.ndarray, fr: dict) -> np.
     return blocks
 
 
-def _diagonal_blocks(M: sp.spmatrix) -> np.ndarray:
+def diagonal_blocks(M: sp.spmatrix) -> np.ndarray:
     """The 3x3 diagonal blocks ``(n, 3, 3)`` of a block-diagonal ``M`` (inverse of
-    :func:`_block_diagonal`)."""
+    :func:`block_diagonal`)."""
     C = M.tocoo()
     blocks = np.zeros((M.shape[0] // NDOF, NDOF, NDOF))
     blocks[C.row // NDOF, C.row % NDOF, C.col % NDOF] = C.data
     return blocks
 
 
-def _block_diagonal(blocks: np.ndarray) -> sp.csr_matrix:
+def block_diagonal(blocks: np.ndarray) -> sp.csr_matrix:
+    """The block-diagonal sparse matrix of the 3x3 ``blocks`` ``(n, 3, 3)``."""
     n = blocks.shape[0]
     dof = NDOF * np.arange(n)[:, None] + np.arange(NDOF)
     rows = np.repeat(dof, NDOF, axis=1).ravel()
@@ -302,7 +304,7 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
     B_slide = rows[2][joint_nodes].tocsr()
     for A in (B_open, B_slide):
         A.eliminate_zeros()
-    return Discretization(curve, mesh, _block_diagonal(blocks), B_open, B_slide, nodes_s[joint_nodes], fr,
+    return Discretization(curve, mesh, block_diagonal(blocks), B_open, B_slide, nodes_s[joint_nodes], fr,
                           intorder=int(intorder))
 
 
@@ -338,7 +340,7 @@ def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) 
     _, fr_w, blocks_w, rows_w = _elements(curve, x[win], x[win + 1], ends_w, intorder)
     pos = np.searchsorted(win, new)                                        # new elements in the window
     # elements: old blocks and frames, the new ones from the window
-    blocks = _diagonal_blocks(old.M)[oi]
+    blocks = diagonal_blocks(old.M)[oi]
     blocks[new] = blocks_w[pos]
     fr = {k: v[..., oi].copy() for k, v in old.frames.items()}
     for k in fr:
@@ -374,7 +376,7 @@ def _update(old: Discretization, curve: MidCurve, x: np.ndarray, intorder: int) 
         return out
 
     mesh = MeshLine1.init_tensor(x)
-    return Discretization(curve, mesh, _block_diagonal(blocks), splice(old.B_open, rows_w[:2]),
+    return Discretization(curve, mesh, block_diagonal(blocks), splice(old.B_open, rows_w[:2]),
                           splice(old.B_slide, rows_w[2:]), x[joint_nodes], fr, intorder=intorder)
 
 
@@ -408,7 +410,7 @@ class ThicknessFamily:
             return cls(discretize(curve, nodes), None, None, None, None, nodes)
         one = discretize(curve, nodes_s)
         a, b = one.nodes_s[:-1], one.nodes_s[1:]
-        M1, M3 = (_block_diagonal(_mass(curve, one.mesh, a, b, one.frames, one.intorder, p)) for p in (1, 3))
+        M1, M3 = (block_diagonal(_mass(curve, one.mesh, a, b, one.frames, one.intorder, p)) for p in (1, 3))
         probe = np.linspace(0.0, curve.length, 7)
         parts = zip(curve.inertia_densities(probe, 1), curve.inertia_densities(probe, 3), curve.inertia_densities(probe))
         if not (all(np.array_equal(one.M.indptr, M.indptr) and np.array_equal(one.M.indices, M.indices)

@@ -106,7 +106,7 @@ class FourHingeImpact:
     line: ImpulseLine | None = None
     extra: dict = field(default_factory=dict)
     line_at: Callable[[np.ndarray], ImpulseLine] | None = None
-    picture_elements: int = 200
+    picture_n: int = 200          # pieces of the pictures' uniform mesh: elements or voussoirs
     time_s: float = 0.0
     outcome: str = ""
     explanation: str = ""
@@ -136,7 +136,7 @@ class FourHingeImpact:
             "r_max_minus_r": res.r - float(self.r),
             "hinges_after_qp": [h.to_dict() for h in res.hinges_after],
             "qp_hinge_zones": hinge_zones(res.impact.hinges) if res.impact is not None else [],
-            "qp_elements": res.elements,
+            "qp_elements": res.n,
             **self.extra,
         })
         if fields:
@@ -153,7 +153,7 @@ class FourHingeImpact:
         if self.line is None:
             raise InputError(f"nothing to draw: outcome {self.outcome or self.analysis.outcome}")
         curve, before, after = self.curve, self.before, self.after
-        nodes = nodes_through(uniform_nodes(curve, self.picture_elements), np.concatenate([before.s, after.s]),
+        nodes = nodes_through(uniform_nodes(curve, self.picture_n), np.concatenate([before.s, after.s]),
                               keep=curve.fixed_nodes)
         disc = discretize(curve, nodes)
         line = self.line_at(disc.joint_s)
@@ -240,7 +240,7 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
         after = _hinges(curve, after, joints, "hinges after the impact")
 
     res = analyze(curve, elements=elements, voussoirs=voussoirs, direction=direction)
-    out = FourHingeImpact(curve, res, picture_elements=voussoirs or elements or 200)
+    out = FourHingeImpact(curve, res, picture_n=voussoirs or elements or 200)
     out.time_s = time.perf_counter() - clock
     if res.outcome not in ("rocking", "arrested"):
         out.explanation = f"the arch does not rock (outcome {res.outcome}): no impact"

@@ -333,8 +333,8 @@ class Mechanism:
         """(2, n) velocity (m/s) of the material points ``X(s) + y n(s)``."""
         s = np.atleast_1d(np.asarray(s, float))
         X = self.curve.point(s, y)
-        Vx, Vy, W = self.motion_at(s).T
-        return np.array([Vx - W * X[1], Vy + W * X[0]])
+        Vx, Vy, omega = self.motion_at(s).T
+        return np.array([Vx - omega * X[1], Vy + omega * X[0]])
 
     def dofs(self, disc: Discretization) -> np.ndarray:
         """Element DOFs of the field on ``disc``: each element takes the motion of the
@@ -347,8 +347,8 @@ class Mechanism:
         if short.any():
             right_of = np.searchsorted(self.breaks, nodes[:-1][short], side="right") - 1
             piece[short] = np.clip(right_of, 0, self.moving.size - 1)
-        Vx, Vy, W = self.motion()[piece].T
-        return rigid_dofs(disc, (Vx, Vy), W)
+        Vx, Vy, omega = self.motion()[piece].T
+        return rigid_dofs(disc, (Vx, Vy), omega)
 
     def hinges(self) -> list[Hinge]:
         """The hinges as :class:`~fembeam.mechanisms.hinge.Hinge` (rotation = jump of the

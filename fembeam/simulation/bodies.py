@@ -9,7 +9,8 @@ integrals of :class:`~fembeam.dynamics.equation.EquationOfMotion`).
 
 Joints are the nodes whose section is a contact: the interior nodes (between bodies ``i - 1`` and
 ``i``) and the ends of kind ``"joint"`` (against the ground, fixed in the ground's frame).  A joint
-has two corners, the intrados ``X + t/2 n`` (index 0) and the extrados ``X - t/2 n`` (index 1).
+has two corners, in the order of :data:`~fembeam.mechanisms.hinge.EDGES`: the intrados ``X + t/2 n``
+(index 0) and the extrados ``X - t/2 n`` (index 1).
 Its *reference* side is the body on its left (the ground at a springing) and its *other* side the
 body on its right (the body at a springing); the reference face's normal ``nu`` points into the
 other side and its tangent is the section's direction ``n``.  The ground is stored as an extra body
@@ -24,6 +25,7 @@ import numpy as np
 from ..errors import InputError
 from ..fem import uniform_nodes
 from ..geometry import MidCurve
+from ..mechanisms.hinge import EDGES, pivot_fractions
 
 __all__ = ["Bodies"]
 
@@ -33,7 +35,7 @@ class Bodies:
     """Rigid bodies between ``nodes`` of ``curve`` and their joints (rest configuration, SI units
     per unit depth).  Arrays over bodies have length ``n``; ``G0`` is ``(2, n)``.  Arrays over
     joints (length ``J``, ordered by arc length): ``joint_s``, ``ref``/``oth`` (body indices, ``n`` =
-    the ground), ``corners`` ``(J, 2, 2)`` (joint, intrados/extrados, xy), ``nu`` and ``tau``
+    the ground), ``corners`` ``(J, 2, 2)`` (joint, edge in the order of ``EDGES``, xy), ``nu`` and ``tau``
     ``(J, 2)`` (unit normal of the reference face into the other side, and its tangent), ``thickness``."""
 
     curve: MidCurve
@@ -70,7 +72,7 @@ class Bodies:
         s = nodes[idx]
         X, t, nrm = curve.position(s), curve.tangent(s), curve.normal(s)
         h = np.broadcast_to(np.asarray(curve.thickness_at(s), float), s.shape).copy()
-        corners = np.stack([(X + 0.5 * h * nrm).T, (X - 0.5 * h * nrm).T], axis=1)      # (J, 2, 2)
+        corners = np.stack([(X + y * h * nrm).T for y in pivot_fractions(EDGES)], axis=1)   # (J, 2, 2)
         ref = np.where(idx == 0, k, idx - 1)                       # left body; the ground at s = 0
         oth = np.where(idx == k, k, idx)                           # right body; at s = L: the ground ...
         right_end = idx == k                                       # ... so there the sides swap:

@@ -1,9 +1,10 @@
 """Contact geometry of the joints in a moved configuration, and the constraint operators.
 
 For joint ``j`` with reference side ``a`` and other side ``b`` (:class:`~.bodies.Bodies`), corner
-``c`` (0: intrados, 1: extrados) of ``b``'s face is at ``p = x_b + R(phi_b) (X_c - G0_b)`` and the
-corresponding corner of ``a``'s face at ``p_a = x_a + R(phi_a) (X_c - G0_a)``; ``a``'s face has the
-normal ``nu = R(phi_a) nu0`` (into ``b``) and tangent ``tau = R(phi_a) tau0``.  Then
+``c`` (0: intrados, 1: extrados: the order of :data:`~fembeam.mechanisms.hinge.EDGES`) of ``b``'s
+face is at ``p = x_b + R(phi_b) (X_c - G0_b)`` and the corresponding corner of ``a``'s face at
+``p_a = x_a + R(phi_a) (X_c - G0_a)``; ``a``'s face has the normal ``nu = R(phi_a) nu0`` (into
+``b``) and tangent ``tau = R(phi_a) tau0``.  Then
 
 * ``gap = (p - p_a) . nu`` (m, >= 0 open), ``slip = (p - p_a) . tau`` (m, the tangential offset);
 * the opening rate ``d gap/dt = (v_b(p) - v_a(p)) . nu``, exactly (the material point of ``a`` at

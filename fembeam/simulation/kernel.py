@@ -7,7 +7,8 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
    factorisation of ``W`` restricted to a set of rows (the others identity rows) plus a diagonal.
    Joint ``j`` has the reference side ``A[j]`` and the other side ``B[j]`` (body ``n``: the
    ground); rows ``3 j``, ``3 j + 1`` are the opening rates of its intrados and extrados corners
-   and ``3 j + 2`` the sliding rate at its ``contact`` corner.
+   (corner index ``c`` 0 and 1, the order of :data:`~fembeam.mechanisms.hinge.EDGES`) and
+   ``3 j + 2`` the sliding rate at its ``contact`` corner.
 
 2. **One step's contact problem.**  Without friction (sticking joints) it is the MLCP of
    :mod:`.projection`, ``w = W P + c``, ``w_T = 0`` (sliding rows), ``0 <= P_N _|_ w_N >= 0``,
@@ -987,7 +988,7 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
 
 # ==================================================================================================== the loop
 # float state
-F_T, F_W, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_TOVER, F_RATIO, F_TRATIO, \
+F_T, F_W_GROUND, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_TOVER, F_RATIO, F_TRATIO, \
     F_SLIP, F_TSLIP, F_VMIN, F_KKT, F_FRICTION, F_COULOMB, F_VSCALE = range(20)
 N_FLOAT = 20
 # integer state
@@ -1222,8 +1223,8 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
     for count in range(max_steps + 1):
         K = _kinetic(mv, v)
         V = _potential(m, y0, g, q)
-        fs[F_ESEEN] = max(fs[F_ESEEN], K + abs(V), abs(fs[F_W]), fs[F_D])
-        fs[F_BAL] = max(fs[F_BAL], abs(K + V - fs[F_E0] - fs[F_W] + fs[F_D]) / fs[F_ESEEN])
+        fs[F_ESEEN] = max(fs[F_ESEEN], K + abs(V), abs(fs[F_W_GROUND]), fs[F_D])
+        fs[F_BAL] = max(fs[F_BAL], abs(K + V - fs[F_E0] - fs[F_W_GROUND] + fs[F_D]) / fs[F_ESEEN])
         fs[F_VMIN] = min(fs[F_VMIN], V)
         rot = 0.0
         for i in range(n):
@@ -1255,7 +1256,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             hist[nh, 0] = t
             hist[nh, 1] = K
             hist[nh, 2] = V
-            hist[nh, 3] = fs[F_W]
+            hist[nh, 3] = fs[F_W_GROUND]
             hist[nh, 4] = fs[F_D]
             hist[nh, 5] = ground_at(kind, amp, period, ts, av, t)
             hist[nh, 6] = hinges
@@ -1428,7 +1429,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
         wx = 0.0
         for i in range(n):
             wx += m[i] * (q_new[i, 0] - q[i, 0])
-        fs[F_W] += -a_g * g * wx
+        fs[F_W_GROUND] += -a_g * g * wx
         q[:, :] = q_new
         v[:, :] = v_new
         t = t + h

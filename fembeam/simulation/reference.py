@@ -14,11 +14,7 @@ from ..dynamics.outcomes import overturn_level
 from .contacts import BAND, Contacts
 from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
 from .result import SimulationResult
-
-GAP_TOL = 1e-7
-MIN_STEP = 1e-6
-REST_ENERGY = 1e-12
-IMPACT_PIVOTS = 2
+from .stepper import GAP_TOL, IMPACT_PIVOTS, MIN_STEP, REST_KINETIC, checked_run
 
 
 def _roots(gap, vn, an):
@@ -33,7 +29,6 @@ def _roots(gap, vn, an):
 
 def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
     """The time history of :meth:`.stepper.Simulator.run` in NumPy (no friction)."""
-    from .stepper import checked_run
     clock = time.perf_counter()
     t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0)
     bodies, con, g = sim.bodies, sim.contacts, sim.g
@@ -62,7 +57,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
         return 0.5 * float(mv @ (v_.ravel() ** 2))
 
     E0 = kinetic(v) + potential(q)
-    W = D = drift = 0.0
+    W_ground = D = drift = 0.0
     working = working_imp = None      # warm starts of the smooth projections and of the impacts
     t = t0
     steps = cuts = pivots = 0
@@ -83,8 +78,8 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
     while True:
         K = kinetic(v)
         V = potential(q)
-        E_seen = max(E_seen, K + abs(V), abs(W), D)
-        balance = max(balance, abs(K + V - E0 - W + D) / E_seen)
+        E_seen = max(E_seen, K + abs(V), abs(W_ground), D)
+        balance = max(balance, abs(K + V - E0 - W_ground + D) / E_seen)
         rot = float(np.max(np.abs(q[:-1, 2])))
         if rot > peak:
             peak, t_peak = rot, t
@@ -93,7 +88,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
             outcome, t_over = "overturned", t
             done = done or stop_at_overturn
         if t >= next_out or done:
-            rec(t, q, v, K, V, W, D, float(at(t)), geo.gap, thick)
+            rec(t, q, v, K, V, W_ground, D, float(at(t)), geo.gap, thick)
             next_out = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
             if progress is not None:
                 progress(t)
@@ -173,14 +168,14 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
                 geo.gap = geo.gap + con.apply(geo.rows, dq).reshape(J, 3)[:, :2]   # to O(|dq|^2)
                 stale = True                 # rows, slips: of q_new before dq (re-evaluated at an impact)
                 drift += g * float(m @ dq[:-1, 1]) + a_g * g * float(m @ dq[:-1, 0])
-        W += float(-a_g * g * (m @ (q_new[:-1, 0] - q[:-1, 0])))
+        W_ground += float(-a_g * g * (m @ (q_new[:-1, 0] - q[:-1, 0])))
         q, v = q_new, v_new
         t = t + h
         steps += 1
     if outcome is None:
-        outcome = "rest" if kinetic(v) < REST_ENERGY * E_unit else "survived"
+        outcome = "rest" if kinetic(v) < REST_KINETIC * E_unit else "survived"
     res.finish(outcome=outcome, t_end=t, t_overturn=t_over, peak_rotation=peak, t_peak=t_peak,
-               energy_balance_error=balance, dissipated=D, ground_work=W, projection_drift=drift, steps=steps,
+               energy_balance_error=balance, dissipated=D, ground_work=W_ground, projection_drift=drift, steps=steps,
                cut_steps=cuts, pivots=pivots, time=time.perf_counter() - clock)
     return res
 

@@ -74,11 +74,11 @@ class SimulationResult:
     q_end: np.ndarray | None = None                 # (n + 1, 3) positions and velocities at t_end (the last
     v_end: np.ndarray | None = None                 # row the ground's zeros): a later run may start from them
 
-    def record(self, t, q, v, K, V, W, D, a_g, gap, thickness) -> None:
+    def record(self, t, q, v, K, V, W_ground, D, a_g, gap, thickness) -> None:
         """Append one history row (``gap`` ``(J, 2)`` and ``thickness`` ``(J, 1)``, m)."""
         opened = gap > 1e-6 * thickness
         k = opened.sum(axis=1)
-        row = (t, K, V, W, D, a_g, int(np.sum(k == 1)), int(np.sum(k == 2)), float(np.max(np.abs(q[:-1, 2]))))
+        row = (t, K, V, W_ground, D, a_g, int(np.sum(k == 1)), int(np.sum(k == 2)), float(np.max(np.abs(q[:-1, 2]))))
         for key, x in zip(HISTORY_COLUMNS, row):
             self.history[key].append(float(x) if key not in ("hinges", "separated") else x)
         self.positions.append(q[:-1].copy())

@@ -25,12 +25,14 @@ and its velocities ``(vx, vy, omega)``.  In the ground's frame every body carrie
    and zero slip at their joints: the drift of the hinges is removed without an artificial
    restitution.
 
-Energy bookkeeping (J per unit depth): ``K``, ``V = g sum m (y - y_0)``, the ground's work ``W``
-(the inertia force times the displacements), the dissipation ``D`` (``K_- - K_+`` of the impacts of
-step 1); ``K + V = E_0 + W - D`` up to the discretisation error of the smooth phases (their
-projections, step 4, and the position projections, step 5), reported as ``energy_balance_error``;
-``projection_drift`` is what the position projections add to ``V - W`` (minus the loads' work on
-them).
+Energy bookkeeping (J per unit depth): ``K``, ``V = g sum m (y - y_0)``, the ground's work
+``W_ground`` (the inertia force times the displacements), the dissipation ``D`` (``K_- - K_+`` of the
+impacts of step 1); ``K + V = E_0 + W_ground - D`` up to the discretisation error of the smooth
+phases (their projections, step 4, and the position projections, step 5), reported as
+``energy_balance_error``; ``projection_drift`` is what the position projections add to
+``V - W_ground`` (minus the loads' work on them).  (``W`` alone is the Delassus operator
+``H M^-1 H^T`` of :mod:`.contacts`.)  The member is at rest at the end when ``K`` is below
+``REST_KINETIC`` times ``m g L``.
 
 With Coulomb friction ``mu`` the sliding rows of step 4 are no longer equalities: each joint with a
 closed corner obeys ``|P_t| <= mu N`` (:mod:`.kernel`), the slip it accumulates is carried by
@@ -43,6 +45,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 
 import numpy as np
 
@@ -55,7 +58,7 @@ from .bodies import Bodies
 from .contacts import Contacts
 from .result import SimulationResult
 
-__all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_ENERGY",
+__all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_KINETIC",
            "check_dt", "check_friction"]
 
 DT_RANGE = (1e-6, 0.05)     # s: admitted time steps
@@ -63,7 +66,7 @@ MAX_STEPS = 10_000_000      # (t_end - t_0) / dt above this: InputError
 GAP_TOL = 1e-7              # corner closed: gap <= GAP_TOL * thickness
 OPEN_TOL = 1e-6             # hinge count: a corner open by more than OPEN_TOL * thickness
 MIN_STEP = 1e-6             # shortest step cut at a landing, relative to dt
-REST_ENERGY = 1e-12         # at rest: K below this fraction of m g L (L: the member's length)
+REST_KINETIC = 1e-12        # at rest: K / (m g L) below this (L: the member's length)
 IMPACT_PIVOTS = 2           # block pivots tried on an impact (its many locked joints at rest are degenerate
                             # rows: the pivots seldom converge, the interior point does)
 BLOCK_PIVOTS = 8            # block pivots tried on a smooth step
@@ -73,9 +76,22 @@ MU_RANGE = (1e-3, 1e3)      # admitted friction coefficients
 PEAK_TOL = 1e-12            # rad: a smaller peak rotation is round-off (no time reported for it)
 KKT_TOL = 1e-8              # KKT residual of a step's contact problem, relative to its scales
 COULOMB_TOL = 1e-5          # residual of Coulomb's law at a step with sliding (same scales)
+
+
 _SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite",
                   4: "with friction was not solved (Tresca fixed point, semi-smooth Newton, non-smooth "
                      "Gauss-Seidel; smallest Coulomb residual reached)"}
+
+
+def __getattr__(name: str):
+    """``REST_ENERGY``, the former name of :data:`REST_KINETIC`, still answers (with a
+    DeprecationWarning): ``fembeam.dynamics.rocking.REST_ENERGY`` is another threshold, a
+    fraction of the energy barrier."""
+    if name == "REST_ENERGY":
+        warnings.warn("fembeam.simulation.stepper.REST_ENERGY is now REST_KINETIC (a fraction of m g L)",
+                      DeprecationWarning, stacklevel=2)
+        return REST_KINETIC
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 class Simulator:
@@ -290,7 +306,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     code = int(ist[K.I_OUTCOME])
     kin = float(0.5 * np.sum(mv * v * v))
     outcome = ("overturned" if code == K.OVERTURNED else "collapsed_by_sliding" if code == K.SLID_OUT
-               else "rest" if kin < REST_ENERGY * E_unit else "survived")
+               else "rest" if kin < REST_KINETIC * E_unit else "survived")
 
     def opt(x):
         return None if not math.isfinite(x) else float(x)
@@ -298,7 +314,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     jr, js = int(ist[K.I_JRATIO]), int(ist[K.I_JSLIP])
     res.finish(outcome=outcome, t_end=float(fs[K.F_T]), t_overturn=opt(fs[K.F_TOVER]),
                peak_rotation=float(fs[K.F_PEAK]), t_peak=opt(fs[K.F_TPEAK]) if fs[K.F_PEAK] > PEAK_TOL else None,
-               energy_balance_error=float(fs[K.F_BAL]), dissipated=float(fs[K.F_D]), ground_work=float(fs[K.F_W]),
+               energy_balance_error=float(fs[K.F_BAL]), dissipated=float(fs[K.F_D]), ground_work=float(fs[K.F_W_GROUND]),
                projection_drift=float(fs[K.F_DRIFT]), steps=int(ist[K.I_STEPS]), cut_steps=int(ist[K.I_CUTS]),
                pivots=int(ist[K.I_PIVOTS]), V_min=float(fs[K.F_VMIN]),
                friction_ratio=float(fs[K.F_RATIO]), t_friction=opt(fs[K.F_TRATIO]),

@@ -8,6 +8,7 @@ import os
 import numpy as np
 
 from ...analysis import THRESHOLDS
+from ...mechanisms.hinge import side_of
 from ..files import atomic, atomic_group
 from .checks import _PAPER_TOL, REFERENCES, SECTION_TITLES, SECTIONS, TOLERANCES, Check, Report
 from .sections import KKT_FIGURES
@@ -152,7 +153,7 @@ def markdown(rep: Report, command: str) -> str:
               "(`fembeam.mechanisms.restricted`), the classical model is `fembeam.mechanisms.classical`.", ""] + checks_of("paper")
 
         def hs(lst):
-            return " ".join(f"{h['angle_deg']:.2f}{h['side'][0]}" for h in lst)
+            return " ".join(f"{h['angle_deg']:.2f}{side_of(h['side']).initial}" for h in lst)
         rows = []
         for key, lab in (("oppenheim_150", "Oppenheim 150"), ("oppenheim_157.5", "Oppenheim 157.5")):
             o = p[key]

@@ -11,6 +11,7 @@ import numpy as np
 from ...analysis import THRESHOLDS, analyze, minimum_thickness
 from ...geometry import CircularArch
 from ...errors import FembeamError
+from ...mechanisms.hinge import side_of
 from .checks import (SECTIONS, TOLERANCES, Check, Report, ReportSettings, _against, _at_least, _at_most, _close,
                      _holds, _info)
 
@@ -139,7 +140,7 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
                _against(S, "Oppenheim 150: classical model r", o["classical"].r, "oppenheim150.r"),
                _holds(S, "Oppenheim 150: best new hinges = points C-bar opposite u's = mirror of u's",
                       _same(c, o["best"].after, fb.opposite()) and _same(c, fb.opposite(), fb.mirrored()),
-                      " ".join(f"{h['angle_deg']:.2f}{h['side'][0]}" for h in o["best"].after.to_list()),
+                      " ".join(f"{h['angle_deg']:.2f}{side_of(h['side']).initial}" for h in o["best"].after.to_list()),
                       "opposite = mirrored", "paper Sect. 6.1, Fig. 10 caption")]
 
     say("paper: Oppenheim's arch, 157.5 deg")
@@ -178,14 +179,14 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
     starts = [Mechanism.from_hinges(c, qh)] if len(qh) == 4 else []
     best = best_four_hinge_continuous(pre, starts=starts)
     adm = four_hinge_impulse_line(pre, best.after, np.linspace(0.0, c.length, 721)).admissibility()
-    data["continuous_157.5"] = {"elements": res.elements, "A_L": res.A_L, "r_max": res.r,
+    data["continuous_157.5"] = {"elements": res.n, "A_L": res.A_L, "r_max": res.r,
                                 "hinges_before": [h.to_dict() for h in res.hinges_before],
                                 "hinges_after_qp": [h.to_dict() for h in qh], "r_4hinge": best.r,
                                 "hinges_after_4hinge": best.after.to_list(),
                                 "four_hinge_line": {k: v for k, v in adm.items() if k != "failures"},
                                 "qp_impulse_line_outside": res.verification["impact"]["impulse_line_outside"]}
-    checks += [_against(S, f"continuous 157.5: A_L ({res.elements} el., hinges refined)", res.A_L, "continuous157.A_L"),
-               _against(S, f"continuous 157.5: r_max (QP, {res.elements} el.)", res.r, "continuous157.r"),
+    checks += [_against(S, f"continuous 157.5: A_L ({res.n} el., hinges refined)", res.A_L, "continuous157.A_L"),
+               _against(S, f"continuous 157.5: r_max (QP, {res.n} el.)", res.r, "continuous157.r"),
                _against(S, "continuous 157.5: best four-hinge r (smooth restricted problem)", best.r, "continuous157.r"),
                _at_least(S, "continuous 157.5: r_max - r_4hinge", res.r - best.r, 0.0,
                          "the general QP maximises r over all compatible fields, four-hinge ones included"),

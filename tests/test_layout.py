@@ -1,0 +1,61 @@
+"""The module layout of docs/architecture.md: the analysis modules import each other only at the
+top of a module, never a private name, and without a cycle; the other import paths of the moved
+names still answer."""
+import ast
+import pathlib
+import warnings
+
+import pytest
+
+ANALYSIS = pathlib.Path(__file__).resolve().parents[1] / "fembeam" / "analysis"
+
+
+def _imports():
+    """``{module: [(imported module, name, at top level), ...]}`` of the relative imports."""
+    out = {}
+    for path in sorted(ANALYSIS.glob("*.py")):
+        tree = ast.parse(path.read_text())
+        top = {id(node) for node in tree.body}
+        found = []
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                for alias in node.names:
+                    mod = node.module.split(".")[0] if node.module else alias.name
+                    found.append((mod, alias.name, id(node) in top))
+        out[path.stem] = found
+    return out
+
+
+def test_analysis_modules_form_layers():
+    imports = _imports()
+    bad = [(m, mod, name) for m, found in imports.items() for mod, name, top in found
+           if not top or name.startswith("_")]
+    assert not bad, f"imports inside functions or of private names: {bad}"
+    graph = {m: {mod for mod, _, _ in found} for m, found in imports.items() if m != "__init__"}
+    done: set = set()
+
+    def visit(m, path):
+        assert m not in path, f"import cycle {' -> '.join(path + [m])}"
+        if m not in done:
+            for d in graph.get(m, ()):
+                visit(d, path + [m])
+            done.add(m)
+
+    for m in graph:
+        visit(m, [])
+    assert graph["rows"] <= {"lp", "statics"} and "friction" not in graph["limit"]
+
+
+def test_moved_names_still_answer():
+    from fembeam.analysis import friction, limit, pipeline, rows, sizes
+    from fembeam.mechanisms import hinge
+    from fembeam.simulation import stepper
+
+    assert limit.joint_rows is rows.joint_rows and limit.STAND_TOL is rows.STAND_TOL
+    assert friction.check_friction is rows.check_friction and friction.hinges_and_slides is hinge.hinges_and_slides
+    assert pipeline.DEFAULT_ELEMENTS == sizes.DEFAULT_ELEMENTS
+    with pytest.warns(DeprecationWarning, match="REST_KINETIC"):
+        assert stepper.REST_ENERGY == stepper.REST_KINETIC
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert not hasattr(stepper, "NO_SUCH_NAME")
