@@ -14,7 +14,7 @@ The multi-block model (every voussoir or element a rigid body in unilateral cont
   before the impact for an impact's friction) is mapped onto the bodies and handed over.
 * **simulate** (:class:`~fembeam.simulation.Simulator`, steps ``dt``, Coulomb friction ``mu`` when
   given), advanced in windows of ``WINDOW`` s.  At the end of a window the state is handed back to
-  the one-mechanism model when the member is at rest (kinetic energy below ``REST_ENERGY m g L``,
+  the one-mechanism model when the member is at rest (kinetic energy below ``REST_KINETIC m g L``,
   every joint closed, none slid) or moves on a mechanism of the member (:func:`.manifold.mechanism_of`:
   its hinges and no other joint open, positions within ``POSITION_TOL`` of the thickness, velocities
   within ``VELOCITY_TOL`` of the mechanism's field in the kinetic-energy norm; the energy the
@@ -42,12 +42,12 @@ from ..fem import nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from .manifold import bodies_state, mechanism_of
 
-__all__ = ["AutoModel", "AutoResult", "Segment", "WINDOW", "REST_ENERGY", "POSITION_TOL", "VELOCITY_TOL",
+__all__ = ["AutoModel", "AutoResult", "Segment", "WINDOW", "REST_KINETIC", "POSITION_TOL", "VELOCITY_TOL",
            "MAX_SEGMENTS", "DT"]
 
 DT = 1e-3               # s: default time step of the simulation segments (that of fembeam simulate)
 WINDOW = 0.1            # s: a simulation segment is advanced this long between two hand-back checks
-REST_ENERGY = 1e-12     # at rest: kinetic energy below this fraction of m g L
+REST_KINETIC = 1e-12    # at rest: kinetic energy below this fraction of m g L (as fembeam simulate)
 POSITION_TOL = 1e-5     # hand-back: positions rebuilt from theta within this fraction of the thickness
 VELOCITY_TOL = 1e-3     # hand-back: kinetic energy off the mechanism's field below this fraction
 MAX_SEGMENTS = 10_000   # bound on the segments of one run
@@ -98,7 +98,7 @@ class AutoResult:
     ground: GroundMotion
     A_L: dict
     mode: str
-    elements: int
+    n: int                                              # voussoirs or elements of rock
     friction: float | None
     dt: float
     outcome: str = "rest"
@@ -130,7 +130,7 @@ class AutoResult:
             "outcome": self.outcome,
             "geometry": self.curve.describe() if hasattr(self.curve, "describe") else {},
             "mode": self.mode,
-            "elements": self.elements,
+            "elements": self.n,
             "ground_motion": {"name": self.ground.name, "duration_s": self.ground.duration, "pga_g": self.ground.pga},
             "dt": self.dt,
             "t_end": self.t_end,
@@ -333,7 +333,7 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
         if end in ("overturned", "collapsed_by_sliding") or t >= t_end:
             if end == "end":
                 K = sim.bodies.kinetic_energy(v)
-                out.outcome = "rest" if K < REST_ENERGY * E_unit else "survived"
+                out.outcome = "rest" if K < REST_KINETIC * E_unit else "survived"
             break
         why, rock_state, dropped = handback
         mode = "rock"
@@ -351,7 +351,7 @@ def _handback(am: AutoModel, sim, q, v, E_unit):
     K = sim.bodies.kinetic_energy(v)
     geo = sim.contacts.evaluate(q)
     t = sim.bodies.thickness[:, None]
-    if K < REST_ENERGY * E_unit:
+    if K < REST_KINETIC * E_unit:
         slip = geo.slip[np.arange(t.size), geo.contact]
         if np.all(geo.gap <= POSITION_TOL * t) and np.all(np.abs(slip) <= POSITION_TOL * t[:, 0]):
             return "rest", None, K

@@ -185,7 +185,7 @@ def summary(res: RockingResult, max_impacts: int = 12) -> str:
     else:
         head = (f"{geo.get('shape', 'member')} arch, embrace {geo.get('embrace_deg', 0):g} deg, "
                 f"t/R = {geo.get('t_over_R', 0):g}, R = {geo.get('radius', 0):g} m" if "embrace_deg" in geo
-                else arch_title(geo)) + (f"; {res.mode}, {res.elements} "
+                else arch_title(geo)) + (f"; {res.mode}, {res.n} "
                                          f"{'voussoirs' if res.mode == 'voussoirs' else 'elements'}")
     lines = [f"fembeam rock: {head}",
              f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g), simulated to t = {res.t_end:.4g} s"]
@@ -340,7 +340,7 @@ def auto_summary(res) -> str:
     """The text page of ``rock --model auto``."""
     geo = res.to_dict()["geometry"]
     head = (f"block {geo['width']:g} m x {geo['height']:g} m on a rigid base" if geo.get("shape") == "block"
-            else arch_title(geo) + f"; {res.mode}, {res.elements} {'voussoirs' if res.mode == 'voussoirs' else 'elements'}")
+            else arch_title(geo) + f"; {res.mode}, {res.n} {'voussoirs' if res.mode == 'voussoirs' else 'elements'}")
     mu = "joints never slide" if res.friction is None else f"Coulomb friction mu = {res.friction:g}"
     lines = [f"fembeam rock --model auto: {head}",
              f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g), simulated to t = {res.t_end:.4g} s",

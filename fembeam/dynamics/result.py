@@ -75,8 +75,13 @@ class RockingResult:
     unstable_rotation: list[float] = field(default_factory=list)   # per mechanism: V' = 0 (rad, signed)
     overturn_rotation: list[float] = field(default_factory=list)   # per mechanism: overturned there (rad, signed)
     mode: str = "continuous"
-    elements: int = 0
+    n: int = 0                              # pieces of the discretisation: voussoirs or elements
     timings: dict = field(default_factory=dict)
+
+    @property
+    def elements(self) -> int:
+        """:attr:`n` (the JSON's ``elements``: voussoirs or elements, as ``mode`` says)."""
+        return self.n
 
     def to_dict(self, history: bool = False) -> dict:
         """The JSON of ``fembeam rock`` (no NaN or infinity: null where undefined)."""
@@ -89,7 +94,7 @@ class RockingResult:
             "outcome": self.outcome,
             "geometry": desc,
             "mode": self.mode,
-            "elements": self.elements,
+            "elements": self.n,
             "ground_motion": {"name": self.ground.name, "duration_s": self.ground.duration,
                               "pga_g": self.ground.pga},
             "t_end": self.t_end,

@@ -13,7 +13,7 @@
 * **impact**: the member returns to ``theta = 0``; the mechanism after it and its rate come from
   the impact model (:class:`~fembeam.dynamics.transitions.ImpactModel`, computed once per
   mechanism); an impact that arrests the member (r = 0), or a post-impact kinetic energy below
-  ``REST_ENERGY`` of the energy barrier (the accumulation of infinitely many impacts in finite
+  ``REST_BARRIER_FRACTION`` of the energy barrier (the accumulation of infinitely many impacts in finite
   time, whose times form a geometric series), ends the episode at rest;
 * **overturning** (the rule shared with ``fembeam simulate``, :mod:`.outcomes`): the potential
   energy falls below ``-0.1 m g t`` (the member's centroid a tenth of its mean thickness below its
@@ -51,9 +51,9 @@ from .outcomes import OUTCOMES, overturn_level, overturning
 from .result import ImpactEvent, RockingResult, Track
 from .transitions import ImpactModel, Transition
 
-__all__ = ["rock", "Rocker", "RockingResult", "ImpactEvent", "onset_time", "REST_ENERGY", "OUTCOMES"]
+__all__ = ["rock", "Rocker", "RockingResult", "ImpactEvent", "onset_time", "REST_BARRIER_FRACTION", "OUTCOMES"]
 
-REST_ENERGY = 1e-12     # post-impact K / energy barrier below which the member is at rest
+REST_BARRIER_FRACTION = 1e-12   # post-impact K / energy barrier below which the member is at rest
 MAX_EPISODES = 100_000  # bound on the number of episodes (impacts + onsets) of one run
 MAX_OUTPUT_STEPS = 10_000_000   # history rows (about 0.5 GB)
 
@@ -188,7 +188,7 @@ class Rocker:
         with ``E`` below the barrier, returns to ``theta = 0`` with ``K = E``, while one heading
         out with ``E`` above the barrier reaches the overturning angle.  Each impact leads to a
         fixed mechanism (the impact model's, solved once) with ``K' = r K``.  This map is
-        iterated until ``r = 0`` or ``K`` falls below ``REST_ENERGY`` of the barrier (True), or an
+        iterated until ``r = 0`` or ``K`` falls below ``REST_BARRIER_FRACTION`` of the barrier (True), or an
         energy heading out comes within ``margin`` of its barrier (False: only the integration
         can tell; so too a member past the unstable equilibrium)."""
         eq = self.equations[k]
@@ -199,7 +199,7 @@ class Rocker:
             return False
         for _ in range(MAX_EPISODES):       # an impact with K = E on mechanism k
             tr = self.model(self.mechanisms[k])
-            if tr.after is None or tr.r * E < REST_ENERGY * self.barrier(k):
+            if tr.after is None or tr.r * E < REST_BARRIER_FRACTION * self.barrier(k):
                 return True
             k, E = self.index(tr.after), tr.r * E
             if not E < self.barrier(k) * (1.0 - margin):
@@ -256,7 +256,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     A, start, model, mechs, eqs = rk.A, rk.start, rk.model, rk.mechanisms, rk.equations
     mech_index = rk.index
     if not rk.stands:
-        out = RockingResult(curve, ground, "cannot_stand", t_end, dict(A), mode=rk.mode, elements=rk.n,
+        out = RockingResult(curve, ground, "cannot_stand", t_end, dict(A), mode=rk.mode, n=rk.n,
                             friction=friction)
         out.timings = {"setup": rk.setup_time, "total": time.perf_counter() - clock}
         return out
@@ -267,7 +267,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
     track = Track(np.arange(t0, t_end + 0.5 * dt_out, dt_out) if history else np.empty(0), thrust_check)
     sig = Signal(ground)
     t_quiet = float(ground.t[-1])   # the ground is still from then on
-    out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, elements=rk.n, friction=friction)
+    out = RockingResult(curve, ground, "rest", t_end, dict(A), mode=rk.mode, n=rk.n, friction=friction)
     t, state = t0, None         # state: (mechanism index, theta, rate) while moving
     if state0 is not None:
         m0, th0, w0 = state0
@@ -350,7 +350,7 @@ def _run(rk: Rocker, ground, t_end, dt_out, thrust_check, progress, history=True
         K_out = 0.5 * eqs[k2].coefficients(0.0)[0] * rate2 * rate2
         if abs(K_out - tr.r * K_in) > 1e-9 * K_in:
             raise SolverError(f"impact at t = {t:g} s: K'/K = {K_out / K_in:.12g} differs from r = {tr.r:.12g}")
-        at_rest = K_out < REST_ENERGY * barrier
+        at_rest = K_out < REST_BARRIER_FRACTION * barrier
         out.impacts.append(ImpactEvent(t, k, k2, rate, 0.0 if at_rest else rate2, tr.r, tr.r_qp, at_rest))
         out.dissipated += K_in - (0.0 if at_rest else K_out)      # at rest: what is left is lost too
         state = None if at_rest else (k2, 0.0, rate2)
