@@ -253,7 +253,7 @@ def test_block_unstable_equilibrium_and_impact():
 def test_block_motion_is_housners(amplitude, period):
     """The whole motion of the block against Housner's equation integrated here
     (:func:`housner_motion`): the onset at ``T/(2 pi) asin(tan alpha / A)``, every impact's time
-    and incoming rate, every turning point, the overturning time (measured: 2e-11 s, 1e-12 rad)."""
+    and incoming rate, every turning point, the overturning time (measured: 2e-11 s, 1e-11 rad)."""
     ref = housner_motion(0.5, 2.0, sine_pulse(amplitude, period), period, 3.0)
     res = rock(block(), GroundMotion.sine(amplitude, period), voussoirs=1, t_end=3.0, thrust_check=False)
     assert res.outcome == ("overturned" if ref["t_overturn"] is not None else "survived")
