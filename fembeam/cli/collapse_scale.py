@@ -80,8 +80,8 @@ def run(args: argparse.Namespace) -> int:
 def summary(res: dict) -> str:
     A = res["A_L"]
     lines = [f"fembeam collapse-scale: {res['record']} (PGA {res['pga']:.4g} g), sign {res['sign']:+d}"]
-    if res.get("model") == "simulate":
-        lines.append("  " + model_line(res["dt"], res["friction"]))
+    if res.get("model") in ("simulate", "auto"):
+        lines.append("  " + model_line(res["dt"], res["friction"], res["model"]))
     lines += [f"  A_L = {A['+1']:.6g} g (+1), {A['-1']:.6g} g (-1); the record first moves the member at factor "
              f"{res['onset_factor']:.6g}",
              f"  factors: {len(res['factors'])} from {res['factors'][0]:.4g} to {res['factors'][-1]:.4g}"]

@@ -21,8 +21,9 @@ from .args import finite_float, float_list
 from .rock import add_member, member_from
 
 MODEL_HELP = ("rock: one mechanism between impacts (default); simulate: the voussoirs, rigid elements or block "
-              "as rigid bodies in contact (fembeam simulate, hinges anywhere), much slower; a run collapses when "
-              "it overturns or, with --friction, collapses by sliding")
+              "as rigid bodies in contact (fembeam simulate, hinges anywhere), about 10x slower; auto: rock while its "
+              "mechanism is admissible, simulate from the first violation (fembeam rock --model auto); a run "
+              "collapses when it overturns or, with --friction, collapses by sliding")
 
 
 def add_model(p) -> None:
@@ -30,9 +31,10 @@ def add_model(p) -> None:
     g = p.add_argument_group("model of each run")
     g.add_argument("--model", choices=MODELS, default="rock", help=MODEL_HELP)
     g.add_argument("--dt", type=finite_float, default=None, metavar="S",
-                   help=f"--model simulate: time step (s; default {DT:g}, in [1e-6, 0.05], at most 1e7 steps a run)")
+                   help=f"--model simulate or auto: time step (s; default {DT:g}, in [1e-6, 0.05], at most 1e7 steps "
+                        f"a run)")
     g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
-                   help="--model simulate: Coulomb coefficient at every joint, the springings included (default: "
+                   help="--model simulate or auto: Coulomb coefficient at every joint, the springings included (default: "
                         "joints never slide); collapse by sliding then counts as overturning, and amplitudes "
                         "(factors) below the onset at A_L are run too")
 
@@ -147,8 +149,8 @@ def table(res: SpectrumResult) -> str:
     A0, amps = res.onset, res.amplitudes
     col = "duration" if res.kind == "rect" else "period"
     out = [f"fembeam spectrum: {head}; {res.kind} pulses, sign {res.sign:+d}"]
-    if res.model == "simulate":
-        out.append("  " + model_line(res.settings["dt"], res.settings["friction"]))
+    if res.model != "rock":
+        out.append("  " + model_line(res.settings["dt"], res.settings["friction"], res.model))
     out += [f"  A_L = {res.A_L[1]:.6g} g (+1), {res.A_L[-1]:.6g} g (-1); onset amplitude {A0:.6g} g",
            f"  amplitudes: {len(amps)} from {amps[0]:.4g} to {amps[-1]:.4g} g ({res.settings['grid']}); "
            f"runs to pulse end + {res.settings['t_end_factor']:g} sqrt(L/g)",
@@ -179,9 +181,11 @@ def table(res: SpectrumResult) -> str:
     return "\n".join(out)
 
 
-def model_line(dt: float, friction: float | None) -> str:
-    """The line naming ``--model simulate`` and what counts as collapse."""
+def model_line(dt: float, friction: float | None, model: str = "simulate") -> str:
+    """The line naming ``--model simulate`` (or ``auto``) and what counts as collapse."""
+    name = "simulate (rigid bodies in contact" if model == "simulate" else \
+        "auto (rock while its mechanism is admissible, then rigid bodies in contact"
     if friction is None:
-        return f"model: simulate (rigid bodies in contact, dt = {dt:g} s, joints never slide); collapse = overturned"
-    return (f"model: simulate (rigid bodies in contact, dt = {dt:g} s, Coulomb friction mu = {friction:g}); "
+        return f"model: {name}, dt = {dt:g} s, joints never slide); collapse = overturned"
+    return (f"model: {name}, dt = {dt:g} s, Coulomb friction mu = {friction:g}); "
             f"collapse = overturned or collapsed by sliding")
