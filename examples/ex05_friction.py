@@ -125,3 +125,27 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+
+
+# %%
+# The minimum thickness against the friction coefficient
+# -------------------------------------------------------
+# Between ``mu_min`` and the coefficient at which no joint slides at the limit, friction
+# governs: the arch needs more thickness than its hinges alone ask for.
+def figure():
+    import matplotlib.pyplot as plt
+
+    mus = np.linspace(0.31, 0.45, 15)
+    t = [t_min(HEYMAN, ELEMENTS, mu) for mu in mus]
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot(mus, t, "o-", ms=3.5, label=f"fembeam, weight on the mid-curve ({ELEMENTS} elements)")
+    ax.plot([0.309215], [0.200637], "kx", ms=8, label="Cocchetti & Rizzi (2020): at mu_min")
+    ax.axhline(0.107426, color="k", lw=0.8, ls=":", label="Cocchetti & Rizzi (2020): no sliding")
+    ax.set_xlabel("friction coefficient mu"), ax.set_ylabel("minimum thickness t / r")
+    ax.legend(fontsize=8), ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+if __name__ == "__main__":
+    figure().savefig("ex05.png", dpi=110)

@@ -146,3 +146,4 @@ def test_ex05_friction(tmp_path, monkeypatch, capsys):
                 d = len(ref.strip(" |").split(".")[1])
                 assert abs(float(got) - float(ref.strip(" |"))) <= 1.5 * 10.0 ** -min(d, len(got.split(".")[1]))
     assert "mu_min = 0.309215" in out
+    assert is_png(tmp_path / "ex05.png")
