@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import os
 import re
-import shutil
 import sys
 from pathlib import Path
 
@@ -22,8 +21,9 @@ ROOT = DOCS.parent
 sys.path.insert(0, str(ROOT))          # document the checkout, not an installed copy
 sys.path.insert(0, str(DOCS))
 
-import fembeam  # noqa: E402
-from gallery_support import FileScraper, copy_sources  # noqa: E402
+from gallery_support import FileScraper, copy_sources
+
+import fembeam
 
 project = "fembeam"
 author = "the fembeam authors"
@@ -44,7 +44,7 @@ extensions = [
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "**/GALLERY_HEADER.rst", "tutorial_scripts", "**.ipynb"]
+exclude_patterns = ["_build", "**/GALLERY_HEADER.rst", "tutorial_scripts"]
 templates_path = ["_templates"]
 
 # ------------------------------------------------------------------ Markdown pages
@@ -65,7 +65,7 @@ numpydoc_xref_param_type = False
 GALLERY_MODE = os.environ.get("FEMBEAM_DOCS_GALLERY", "full")
 if GALLERY_MODE not in ("fast", "full"):
     raise SystemExit(f"FEMBEAM_DOCS_GALLERY must be 'fast' or 'full', got {GALLERY_MODE!r}")
-# the scripts that run in the fast build (CI): a few seconds each
+# the scripts that run in the fast build (CI): the quick examples (1-3 s each) and the tutorial
 FAST = ["ex01_paper_arch", "ex02_oppenheim", "ex03_housner", "ex07_convergence", "will_my_arch_survive"]
 
 GALLERY_SOURCES = copy_sources({ROOT / "examples": "examples", DOCS / "tutorial_scripts": "tutorials"},
@@ -104,7 +104,8 @@ html_show_sourcelink = False
 
 
 # ------------------------------------------------------------------ command output
-# ``command-output`` blocks run fembeam from this checkout, with the Python that builds the site
+# ``command-output`` blocks and the tutorial's commands run fembeam from this checkout, with the
+# Python that builds the site
 os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
 os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
 programoutput_use_ansi = False

@@ -5,7 +5,6 @@ import re
 
 import numpy as np
 import pytest
-
 from test_examples import is_png, run_script
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"

@@ -47,7 +47,7 @@ def fembeam(command: str, json_to: str | None = None, last: int | None = None) -
     saved to that file of the record and returned as a dict instead of printed."""
     args = shlex.split(command) + (["--json"] if json_to else [])
     print("$ fembeam " + command + (f" --json > {RECORD / json_to}" if json_to else ""))
-    done = subprocess.run([sys.executable, "-m", "fembeam", *args], capture_output=True, text=True)
+    done = subprocess.run([sys.executable, "-m", "fembeam", *args], capture_output=True, text=True, check=False)
     if done.returncode != 0:
         raise SystemExit(f"fembeam {args[0]} exited with {done.returncode}: {done.stderr.strip()}")
     if json_to is None:
@@ -191,13 +191,13 @@ for model in ("rock", "simulate"):
 design_pga = 0.5
 governing = min(margins, key=lambda m: margins[m]["pga_at_first_overturning"])
 rows = [
-    ("incipient rocking acceleration A_L (g)", f"{margins['rock']['A_L']['+1']:.4f} (+x), "
-                                               f"{margins['rock']['A_L']['-1']:.4f} (-x)"),
+    ("incipient rocking acceleration A_L (g)", (f"{margins['rock']['A_L']['+1']:.4f} (+x), "
+                                                f"{margins['rock']['A_L']['-1']:.4f} (-x)")),
     ("geometric factor of safety", f"{thickness['geometric_safety_factor']:.3f}"),
     (f"El Centro at {design_pga:g} g, rock", f"{rock['outcome']}, peak rotation {rock['peak_rotation']:.4g} rad"),
     (f"El Centro at {design_pga:g} g, simulate", f"{sim['outcome']}, peak rotation {sim['peak_rotation']:.4g} rad"),
-    (f"El Centro at {design_pga:g} g, simulate, mu = 0.6", f"{slide['outcome']}, "
-                                                          f"largest slip {slide['sliding']['max_slip'] * 1e3:.2f} mm"),
+    (f"El Centro at {design_pga:g} g, simulate, mu = 0.6",
+     f"{slide['outcome']}, largest slip {slide['sliding']['max_slip'] * 1e3:.2f} mm"),
 ]
 rows += [(f"PGA that first overturns it, {m}", f"{margins[m]['pga_at_first_overturning']:.3f} g")
          for m in margins]
