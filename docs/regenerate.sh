@@ -43,7 +43,7 @@ benchmarks() {
 }
 
 simulation() {
-    python docs/simulate_figure.py
+    (cd docs/figures && python ../../examples/ex09_rock_vs_simulate.py)
     python docs/compare_rock_simulate.py
 }
 

@@ -1,8 +1,15 @@
-"""Minimum thickness of the semicircular arch with Coulomb friction at radial joints,
-against Cocchetti & Rizzi (2020), who put the weight of each voussoir on the mid-curve
-(Heyman's simplification); then the same arch with the true centroids of the voussoirs.
+"""
+Friction: the minimum thickness of the semicircular arch
+========================================================
 
-Run: ``python examples/ex05_friction.py``; the table is the one of docs/friction.md.
+The minimum thickness of the semicircular arch with Coulomb friction at radial joints, against
+Cocchetti & Rizzi (2020), who put the weight of each voussoir on the mid-curve (Heyman's
+simplification); then the same arch with the true centroids of the voussoirs. Below the
+smallest friction coefficient ``mu_min`` no thickness stands: the joints near the springings
+slide before any hinge forms.
+
+Run as a script: ``python examples/ex05_friction.py``; the table is the one of the
+documentation's friction page.
 """
 import numpy as np
 
@@ -14,6 +21,11 @@ from fembeam.analysis.statics import section_force_rows, statics
 from fembeam.analysis.thickness import stands_on, thickness_on
 from fembeam.fem import discretize, uniform_nodes
 
+# %%
+# The arches and the meshes
+# -------------------------
+# Friction is imposed at the joints of the rigid elements; the fibres (no tension) at every
+# section. ``HEYMAN`` carries each element's weight on the mid-curve, ``TRUE`` at its centroid.
 ELEMENTS = 400
 FINE = 3200
 CONVERGENCE = (400, 800, 1600)
@@ -21,6 +33,13 @@ HEYMAN = mass_on_midcurve(CircularArch.from_ratio(180.0, 0.15))
 TRUE = CircularArch.from_ratio(180.0, 0.15)
 
 
+# %%
+# The smallest friction coefficient, the state at the limit, the minimum thickness
+# ---------------------------------------------------------------------------------
+# With the weight on the mid-curve the loads do not depend on the thickness, so the smallest
+# ``mu`` at which a very thick arch stands is the smallest at which any does (a bisection on
+# ``mu``). At the minimum thickness, the most central admissible state gives the thrust
+# ``h = H / (w r)``, the intrados hinge and the section that needs the most friction.
 def mu_min(curve, n: int, tol: float = 1e-9) -> float:
     """Smallest friction coefficient at which a very thick arch stands (with the weight on
     the mid-curve the loads do not depend on the thickness, so no thinner arch does)."""
@@ -61,6 +80,11 @@ def t_min(curve, n: int, mu=None, tol: float = 1e-10) -> float:
     return thickness_on(curve, uniform_nodes(curve, n), True, tol, friction=mu).t_over_R
 
 
+# %%
+# The table
+# ---------
+# Each row against Cocchetti & Rizzi's value where they give one (``ref.``); the last line is
+# the convergence of ``mu_min`` with the mesh.
 def table(n: int = ELEMENTS, n_fine: int = FINE) -> list[tuple]:
     """Rows ``(case, fembeam t/r, reference t/r, fembeam h, reference h, hinge, ref., slide, ref.)``.
     The limiting ``mu`` is governed by a section between the joints, so it is found on the
@@ -101,3 +125,27 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+
+
+# %%
+# The minimum thickness against the friction coefficient
+# -------------------------------------------------------
+# Between ``mu_min`` and the coefficient at which no joint slides at the limit, friction
+# governs: the arch needs more thickness than its hinges alone ask for.
+def figure():
+    import matplotlib.pyplot as plt
+
+    mus = np.linspace(0.31, 0.45, 15)
+    t = [t_min(HEYMAN, ELEMENTS, mu) for mu in mus]
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot(mus, t, "o-", ms=3.5, label=f"fembeam, weight on the mid-curve ({ELEMENTS} elements)")
+    ax.plot([0.309215], [0.200637], "kx", ms=8, label="Cocchetti & Rizzi (2020): at mu_min")
+    ax.axhline(0.107426, color="k", lw=0.8, ls=":", label="Cocchetti & Rizzi (2020): no sliding")
+    ax.set_xlabel("friction coefficient mu"), ax.set_ylabel("minimum thickness t / r")
+    ax.legend(fontsize=8), ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+if __name__ == "__main__":
+    figure().savefig("ex05.png", dpi=110)

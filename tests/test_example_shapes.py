@@ -17,6 +17,7 @@
 """
 import itertools
 import math
+import pathlib
 import re
 import runpy
 
@@ -25,7 +26,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import minimize
 
-from test_examples import EXAMPLES
+from test_examples import EXAMPLES, is_png
 from test_min_thickness import MILANKOVITCH, _symmetric_tmin
 from test_pointed_crown import limit_lp
 from test_shapes import _radial_stereotomy_tmin
@@ -155,14 +156,21 @@ def left_half(curve):
 
 # ---------------------------------------------------------------------------- the example
 @pytest.fixture(scope="module")
-def ex06():
-    """The example run as a script: its printed lines and its results."""
+def ex06(tmp_path_factory):
+    """The example run as a script (in a directory of its own, where it writes its figure): its
+    printed lines and its results."""
     import contextlib
     import io
+    import os
 
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        g = runpy.run_path(str(EXAMPLES / "ex06_shapes.py"), run_name="__main__")
+    out, here = io.StringIO(), os.getcwd()
+    os.chdir(tmp_path_factory.mktemp("ex06"))
+    try:
+        with contextlib.redirect_stdout(out):
+            g = runpy.run_path(str(EXAMPLES / "ex06_shapes.py"), run_name="__main__")
+        assert is_png(pathlib.Path("ex06_pointed.png"))
+    finally:
+        os.chdir(here)
     return out.getvalue(), g
 
 

@@ -19,11 +19,17 @@ def load(name):
     return mod
 
 
-def run_script(name, tmp_path, monkeypatch, capsys):
-    """Run the example as ``python examples/NAME.py`` would (in tmp_path) and return its stdout."""
+def run_script(name, tmp_path, monkeypatch, capsys, namespace=False):
+    """Run the example as ``python examples/NAME.py`` would (in tmp_path) and return its stdout
+    (and, with ``namespace``, its globals)."""
     monkeypatch.chdir(tmp_path)
-    runpy.run_path(str(EXAMPLES / f"{name}.py"), run_name="__main__")
-    return capsys.readouterr().out
+    ns = runpy.run_path(str(EXAMPLES / f"{name}.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    return (out, ns) if namespace else out
+
+
+def is_png(path):
+    return path.stat().st_size > 10_000 and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_ex01_paper_arch_prints(tmp_path, monkeypatch, capsys):
@@ -33,8 +39,7 @@ def test_ex01_paper_arch_prints(tmp_path, monkeypatch, capsys):
         "hinges before: [(1.51, 'intrados'), (59.29, 'extrados'), (117.06, 'intrados'), (157.5, 'extrados')]",
         "hinges after:  [(0.0, 'extrados'), (49.92, 'intrados'), (111.4, 'extrados'), (157.5, 'intrados')]",
     ]
-    png = tmp_path / "ex01.png"
-    assert png.stat().st_size > 10_000 and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert is_png(tmp_path / "ex01.png") and is_png(tmp_path / "ex01_arch.png")
 
 
 def test_ex01_paper_arch_numbers_and_figure(tmp_path):
@@ -78,7 +83,10 @@ def test_ex02_oppenheim(tmp_path, monkeypatch, capsys):
     assert out.splitlines() == [
         "beta = 150.0 deg: A_L = 0.4442 g, r_max = 0.5322, 5 hinges after the impact",
         "beta = 157.5 deg: A_L = 0.3700 g, r_max = 0.5592, 5 hinges after the impact",
+        "before: [(0.0, 'intrados'), (67.5, 'extrados'), (112.5, 'intrados'), (157.5, 'extrados')]",
+        "after:  [(0.0, 'extrados'), (45.0, 'intrados'), (67.5, 'intrados'), (112.5, 'extrados'), (157.5, 'intrados')]",
     ]
+    assert is_png(tmp_path / "ex02.png")
     ex = load("ex02_oppenheim")
     # the printed figures, to their 4 digits
     assert ex.table[150.0] == (pytest.approx(0.4442, abs=5e-5), pytest.approx(0.5322, abs=5e-5), 5)
@@ -107,6 +115,7 @@ def test_ex03_housner(tmp_path, monkeypatch, capsys):
     ex = load("ex03_housner")
     exact = (1 - 1.5 * np.sin(np.arctan(ex.slenderness)) ** 2) ** 2
     assert np.max(np.abs(ex.r_model - exact)) < 1e-9
+    assert is_png(tmp_path / "ex03.png")
 
 
 def test_ex04_el_centro_rocking(tmp_path, monkeypatch, capsys):
@@ -117,8 +126,11 @@ def test_ex04_el_centro_rocking(tmp_path, monkeypatch, capsys):
     assert "\n".join(out.splitlines()) in doc
     lines = out.splitlines()[1:]
     assert [ln.split(":")[1].split(";")[0].split()[0] for ln in lines] == ["rest", "rest", "rest", "overturned"]
-    png = tmp_path / "ex04.png"
-    assert png.stat().st_size > 10_000 and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert is_png(tmp_path / "ex04.png")
+    from PIL import Image
+
+    with Image.open(tmp_path / "ex04.gif") as gif:        # the animation of the overturning run
+        assert gif.format == "GIF" and gif.n_frames == 80
 
 
 def test_ex05_friction(tmp_path, monkeypatch, capsys):
@@ -134,3 +146,4 @@ def test_ex05_friction(tmp_path, monkeypatch, capsys):
                 d = len(ref.strip(" |").split(".")[1])
                 assert abs(float(got) - float(ref.strip(" |"))) <= 1.5 * 10.0 ** -min(d, len(got.split(".")[1]))
     assert "mu_min = 0.309215" in out
+    assert is_png(tmp_path / "ex05.png")

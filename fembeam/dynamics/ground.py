@@ -136,7 +136,7 @@ class GroundMotion:
 
     @property
     def pga(self) -> float:
-        """Peak ground acceleration (g), the largest |a|."""
+        """Peak ground acceleration (g), the largest ``|a|``."""
         return float(np.max(np.abs(self.a)))
 
     @property
@@ -180,7 +180,7 @@ class GroundMotion:
     @classmethod
     def ricker(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
         """Ricker wavelet ``amplitude (1 - 2 u^2) exp(-u^2)``, ``u = pi (t - t0) / period``,
-        centred at ``t0 = 1.5 period`` and cut at ``3 period`` (|a| < 1e-8 amplitude there)."""
+        centred at ``t0 = 1.5 period`` and cut at ``3 period`` (``|a| < 1e-8`` amplitude there)."""
         period = _positive("the wavelet period", period)
         t = np.linspace(0.0, 3.0 * period, samples)
         u2 = (np.pi * (t - 1.5 * period) / period) ** 2

@@ -1,0 +1,111 @@
+"""Sphinx configuration of the fembeam documentation site.
+
+Build (from the repository root; warnings are errors, every internal reference checked):
+
+    python -m pip install -e ".[docs]"
+    python -m sphinx -W --keep-going -n -b html docs docs/_build/html
+
+The gallery runs every script of ``examples/`` and every tutorial of ``docs/tutorial_scripts/``
+while the site is built; ``FEMBEAM_DOCS_GALLERY=fast`` runs only the quick ones (the others are
+shown without their output), which is what ``.ci/docs`` builds.
+"""
+from __future__ import annotations
+
+import os
+import re
+import sys
+from pathlib import Path
+
+DOCS = Path(__file__).resolve().parent
+ROOT = DOCS.parent
+sys.path.insert(0, str(ROOT))          # document the checkout, not an installed copy
+sys.path.insert(0, str(DOCS))
+
+from gallery_support import FileScraper, copy_sources
+
+import fembeam
+
+project = "fembeam"
+author = "the fembeam authors"
+copyright = "the fembeam authors"
+release = version = fembeam.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "numpydoc",
+    "myst_parser",
+    "sphinx_gallery.gen_gallery",
+    "sphinx_design",
+    "sphinxcontrib.programoutput",
+    "xref",
+]
+
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+root_doc = "index"
+exclude_patterns = ["_build", "**/GALLERY_HEADER.rst", "tutorial_scripts"]
+templates_path = ["_templates"]
+
+# ------------------------------------------------------------------ Markdown pages
+# The pages of docs/ are Markdown, read as they are on a code host; headings up to ### get
+# anchors so that links like shapes.md#the-crown-of-a-pointed-arch resolve.
+myst_heading_anchors = 3
+myst_enable_extensions = ["colon_fence"]
+
+# ------------------------------------------------------------------ API reference
+autosummary_generate = True
+autodoc_default_options = {"members": True, "member-order": "bysource"}
+autodoc_typehints = "none"             # the signatures stay readable; types are in the docstrings
+numpydoc_show_class_members = False    # autosummary lists the members
+numpydoc_validation_checks: set[str] = set()
+numpydoc_xref_param_type = False
+
+# ------------------------------------------------------------------ gallery
+GALLERY_MODE = os.environ.get("FEMBEAM_DOCS_GALLERY", "full")
+if GALLERY_MODE not in ("fast", "full"):
+    raise SystemExit(f"FEMBEAM_DOCS_GALLERY must be 'fast' or 'full', got {GALLERY_MODE!r}")
+# the scripts that run in the fast build (CI): the quick examples (1-3 s each) and the tutorial
+FAST = ["ex01_paper_arch", "ex02_oppenheim", "ex03_housner", "ex07_convergence", "will_my_arch_survive"]
+
+GALLERY_SOURCES = copy_sources({ROOT / "examples": "examples", DOCS / "tutorial_scripts": "tutorials"},
+                               DOCS / "_build" / "gallery_src")
+
+sphinx_gallery_conf = {
+    "examples_dirs": [str(GALLERY_SOURCES / "examples"), str(GALLERY_SOURCES / "tutorials")],
+    "gallery_dirs": ["gallery", "tutorials"],
+    "filename_pattern": (r"/(" + "|".join(map(re.escape, FAST)) + r")\.py$") if GALLERY_MODE == "fast" else r"\.py$",
+    "ignore_pattern": r"__init__\.py",
+    "within_subsection_order": "FileNameSortKey",
+    "image_scrapers": (FileScraper(GALLERY_SOURCES),),
+    "download_all_examples": False,
+    "show_memory": False,
+    "remove_config_comments": True,
+    "abort_on_example_error": True,
+    "only_warn_on_example_error": False,
+    "capture_repr": (),
+    "min_reported_time": 1e9,          # no timings in the pages (they vary from run to run)
+    "show_signature": False,
+    "write_computation_times": False,
+}
+
+# ------------------------------------------------------------------ HTML
+html_theme = "pydata_sphinx_theme"
+html_title = f"fembeam {version}"
+html_static_path = ["_static"]
+html_css_files = ["fembeam.css"]
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "header_links_before_dropdown": 7,
+    "secondary_sidebar_items": ["page-toc"],
+}
+html_show_sourcelink = False
+
+
+# ------------------------------------------------------------------ command output
+# ``command-output`` blocks and the tutorial's commands run fembeam from this checkout, with the
+# Python that builds the site
+os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
+os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+programoutput_use_ansi = False
