@@ -218,3 +218,17 @@ def test_friction_options(capsys):
     assert d["slides"] and d["slides"][0]["angle_deg"] in (0.0, 180.0) and len(d["hinges"]) >= 3
     code, out, _ = _run(capsys, "--embrace", "180", "--elements", "40", "--friction", "0.3")
     assert code == 0 and "never stands" in out and "|S| <= 0.3 N" in out
+
+
+@pytest.mark.parametrize("width, height", [(0.4, 1.6), (5.0, 1.0), (2e-9, 1.0)])
+def test_block_stands_at_any_width(width, height):
+    """A block on a rigid base carries its weight through the middle of its base at any width:
+    no minimum thickness (the search stops at the thinnest block it checks, width 1/2000 of the
+    height or the smallest admitted width, without building a narrower one)."""
+    from fembeam import StraightMember
+    b = StraightMember(height=height, width=width)
+    th = minimum_thickness(b, voussoirs=1)
+    assert th.outcome == "stands_at_any_thickness" and th.scale == 0.0
+    thinnest = b.with_thickness_scaled(b.min_thickness_scale)
+    assert thinnest.width == pytest.approx(5e-4 * height, rel=1e-12)
+    assert _stands(thinnest, uniform_nodes(thinnest, 1), False)

@@ -6,9 +6,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .base import MidCurve, density_value, length_value, thickness_value
+from .base import THICKNESS_RANGE, MidCurve, density_value, length_value, thickness_value
 
-__all__ = ["StraightMember"]
+__all__ = ["StraightMember", "MIN_WIDTH_OVER_HEIGHT"]
+
+MIN_WIDTH_OVER_HEIGHT = 5e-4    # thinnest block a minimum-thickness search checks (as the arches' 1/2000 of the span)
 
 
 @dataclass(frozen=True)
@@ -47,6 +49,12 @@ class StraightMember(MidCurve):
 
     def thickness_at(self, s):
         return np.full(np.shape(s), self.width)
+
+    @property
+    def min_thickness_scale(self) -> float:
+        """Smallest width factor checked: the width stays above ``MIN_WIDTH_OVER_HEIGHT`` of the
+        height and inside ``THICKNESS_RANGE`` (a block on its base stands at any width)."""
+        return max(MIN_WIDTH_OVER_HEIGHT * self.height, THICKNESS_RANGE[0]) / self.width
 
     def with_thickness_scaled(self, factor: float) -> "StraightMember":
         return dataclasses.replace(self, width=self.width * factor)
