@@ -27,6 +27,7 @@ COMMANDS = {
     "spectrum": ("spectrum", "overturning amplitude against pulse period (safe regions above it too)"),
     "collapse-scale": ("collapse_scale", "smallest scale factor of a record that overturns the member"),
     "simulate": ("simulate", "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"),
+    "assess": ("assess", "one page: A_L, minimum thickness, friction needed, auto verdict and margin"),
 }
 
 

@@ -24,8 +24,9 @@ REASONS = {"below_rest": "centroid a tenth of the thickness below its height at 
            "linkage_locked": "the four-bar linkage locks"}
 
 
-def add_member(p: argparse.ArgumentParser) -> None:
-    """Arch options of ``analyze``, ``--voussoirs``/``--elements``, or ``--block``."""
+def add_member(p: argparse.ArgumentParser, solver: bool = True) -> None:
+    """Arch options of ``analyze``, ``--voussoirs``/``--elements``, or ``--block``; ``solver``:
+    also ``--backend`` and ``--no-qp`` (the general QP at each impact)."""
     add_arch(p)
     g = p.add_argument_group("discretisation")
     m = g.add_mutually_exclusive_group()
@@ -35,12 +36,14 @@ def add_member(p: argparse.ArgumentParser) -> None:
                    help="continuous arch: rigid elements of the limit analysis and the general QP (default 200)")
     m.add_argument("--block", type=finite_float, nargs=2, default=None, metavar=("WIDTH", "HEIGHT"),
                    help="instead of an arch: a rectangular block WIDTH x HEIGHT (m) rocking on a rigid base")
-    g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel", help="QP solver of the general QP")
-    g.add_argument("--no-qp", action="store_true", help="skip the general QP's r_qp at each impact")
+    if solver:
+        g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel", help="QP solver of the general QP")
+        g.add_argument("--no-qp", action="store_true", help="skip the general QP's r_qp at each impact")
 
 
-def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False) -> None:
-    """``--pulse`` with ``--amplitude``/``--duration``/``--period``, or ``--record``."""
+def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False):
+    """``--pulse`` with ``--amplitude``/``--duration``/``--period``, or ``--record``; returns the
+    (required) group of mutually exclusive sources, to which a command may add its own."""
     g = p.add_argument_group("ground motion (accelerations in g, positive along +x)")
     w = g.add_mutually_exclusive_group(required=True)
     w.add_argument("--pulse", choices=PULSES, help="rectangular, one-sine or Ricker pulse")
@@ -55,6 +58,7 @@ def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False) -> None
         s = g.add_mutually_exclusive_group()
         s.add_argument("--scale", type=finite_float, metavar="F", help="record: multiply by F")
         s.add_argument("--pga", type=finite_float, metavar="A", help="record: scale to a peak of A g")
+    return w
 
 
 def member_from(args):

@@ -1,0 +1,296 @@
+"""One page for a member and its ground motions: static answers, the dynamic verdict, the margin.
+
+* **statics** (:func:`fembeam.analysis.analyze` both ways, :func:`fembeam.analysis.minimum_thickness`):
+  ``A_L(+1)``, ``A_L(-1)`` (g) and their hinges; the minimum thickness and the geometric factor of
+  safety ``t / t_min`` (the inverse of the smallest thickness factor that stands); the friction
+  the limit state needs, ``max |S| / N`` over the joints at ``A_L`` (either way): with a larger
+  Coulomb coefficient the rocking mechanism governs, with a smaller one the joints slide first.
+* **verdict** (:class:`fembeam.auto.AutoModel`) under each ground motion: survives, overturns or
+  collapses by sliding; the peak rotation (rad, of any piece or body), the first time the
+  one-mechanism model failed and why, the time spent in each model.
+* **margin** (:func:`fembeam.studies.spectrum.collapse_scale`): the smallest scale factor of the
+  motion that overturns the member by ``auto``, beside ``rock``'s (what the one-mechanism model
+  alone would claim) and their ratio ``auto / rock`` (below 1: the one-mechanism model overstates
+  the margin).
+
+Units: accelerations in g (positive along +x; ``A_L(+1)`` is the threshold of an inertia load to
+the right, i.e. of ``a_g < 0``), times in s, rotations in rad, thicknesses in m.
+"""
+from __future__ import annotations
+
+import inspect
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from ..analysis import analyze, minimum_thickness
+from ..dynamics.ground import GroundMotion
+from ..errors import InputError
+from ..geometry import MidCurve
+from . import spectrum
+
+__all__ = ["assess", "AssessResult", "Snapshot", "VERDICTS"]
+
+VERDICTS = {"rest": "survives", "survived": "survives", "overturned": "overturns",
+            "collapsed_by_sliding": "collapsed_by_sliding", "cannot_stand": "cannot_stand"}
+_THICKNESS_KEYS = ("thickness", "thickness_springing", "thickness_crown", "width")
+_VERDICT_KEYS = ("outcome", "t_end", "t_overturn", "overturn_reason", "peak_rotation", "t_peak", "first_failure",
+                 "handovers", "time_in", "n_impacts", "friction_demand", "segments")
+
+
+@dataclass
+class Snapshot:
+    """The member at time ``t`` (s) of a verdict's motion, as the model in use (``model``) had it:
+    ``polygons`` (each ``(2, k)``, m: one per rigid body, or one outline of a mechanism's pieces),
+    ``pivots`` ``(2, n)`` (m, the hinges of a mechanism; none for the bodies) and the largest
+    rotation of a piece or body ``max_rotation`` (rad)."""
+
+    t: float
+    model: str
+    polygons: list
+    pivots: np.ndarray
+    max_rotation: float
+
+    def to_dict(self) -> dict:
+        return {"t": float(self.t), "model": self.model, "max_rotation": float(self.max_rotation)}
+
+
+@dataclass
+class AssessResult:
+    """What :func:`assess` found: ``static`` and one entry per ground motion in ``motions`` (JSON
+    of :meth:`to_dict`); ``analyses`` (the :class:`~fembeam.analysis.AnalysisResult` of each load
+    direction), ``runs`` (the :class:`~fembeam.auto.AutoResult` of each motion) and ``snapshots``
+    (the member at the peak or at overturning of each motion, or None) are kept for the figures."""
+
+    curve: MidCurve
+    mode: str
+    elements: int
+    settings: dict
+    static: dict
+    motions: list = field(default_factory=list)
+    analyses: dict = field(default_factory=dict)
+    grounds: list = field(default_factory=list)
+    runs: list = field(default_factory=list)
+    snapshots: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """Strict JSON (null for undefined or non-finite numbers)."""
+        geo = self.curve.describe() if hasattr(self.curve, "describe") else {}
+        return _finite({"command": "assess", "geometry": geo, "mode": self.mode,
+                        "elements": self.elements, "settings": self.settings, "static": self.static,
+                        "motions": self.motions,
+                        "timings_s": {k: round(v, 4) for k, v in self.timings.items()}})
+
+
+def _finite(x):
+    """``x`` with numpy scalars as Python numbers and non-finite floats as None (strict JSON)."""
+    if isinstance(x, dict):
+        return {str(k): _finite(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple, np.ndarray)):
+        return [_finite(v) for v in x]
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    return x
+
+
+# --------------------------------------------------------------------------- statics
+def static_answers(curve: MidCurve, voussoirs: int | None, elements: int, friction: float | None = None,
+                   tol: float = 1e-6) -> tuple[dict, dict]:
+    """``(answers, analyses)``: A_L, hinges and the friction needed each way, the minimum
+    thickness and the geometric factor of safety (see the module docstring); ``friction``: the
+    joints' coefficient, flagged when the limit state needs more."""
+    n = None if voussoirs is not None else elements
+    res = {d: analyze(curve, elements=n, voussoirs=voussoirs, direction=d) for d in (1, -1)}
+    key = {1: "+1", -1: "-1"}
+    out: dict = {"outcome": {key[d]: r.outcome for d, r in res.items()},
+                 "A_L": {key[d]: r.A_L for d, r in res.items()},
+                 "hinges": {key[d]: [h.to_dict() for h in r.hinges_before] for d, r in res.items()}}
+    need = {key[d]: r.required_friction(friction)["limit"] for d, r in res.items()}
+    both = [x["max"] for x in need.values()]
+    need["max"] = None if None in both else max(both)
+    need["friction"] = friction
+    need["sliding_risk"] = None if friction is None or need["max"] is None else bool(need["max"] > friction)
+    out["friction_needed"] = need
+    th = minimum_thickness(curve, elements=n, voussoirs=voussoirs, tol=tol)
+    mt = th.to_dict()
+    if th.outcome == "ok":
+        thin = th.curve.with_thickness_scaled(th.scale).describe()
+        mt["thickness_min"] = {k: thin[k] for k in _THICKNESS_KEYS if isinstance(thin.get(k), (int, float))}
+        mt["geometric_safety_factor"] = 1.0 / th.scale
+    else:
+        mt["thickness_min"] = 0.0 if th.outcome == "stands_at_any_thickness" else None
+        mt["geometric_safety_factor"] = None        # infinite (stands at any thickness) or none (never stands)
+    out["minimum_thickness"] = mt
+    return out, res
+
+
+# --------------------------------------------------------------------------- the verdict's states
+class _Tap:
+    """``obj`` with its ``run`` results appended to ``runs`` as ``(model, result)``."""
+
+    def __init__(self, obj, model: str, runs: list):
+        self._obj, self._model, self._runs = obj, model, runs
+
+    def __getattr__(self, name):
+        return getattr(self._obj, name)
+
+    def run(self, *a, **kw):
+        out = self._obj.run(*a, **kw)
+        self._runs.append((self._model, out))
+        return out
+
+
+def _tapped(model) -> list:
+    """Record every run the auto model ``model`` makes (its one-mechanism runs and simulation
+    windows, in order): the states of a verdict's motion, to draw the member at any time."""
+    runs: list = []
+    model.rocker = _Tap(model.rocker, "rock", runs)
+    make = model.simulator
+    model.simulator = lambda mechanism=None: _Tap(make(mechanism), "simulate", runs)
+    return runs
+
+
+def snapshot(runs: list, segments, t: float) -> Snapshot | None:
+    """The member at the history row nearest ``t`` (s) of the last recorded run of the model in use
+    at ``t`` (by ``segments``) whose history covers it; None if none does."""
+    from ..output.motion import outline
+    seg = [s for s in segments if s.t_start <= t <= s.t_end]
+    if not seg:
+        return None
+    model = seg[-1].model
+    for kind, r in reversed(runs):
+        h = r.history
+        ts = np.asarray(h.get("t", ()), float)
+        if kind != model or ts.size == 0 or not ts[0] - 1e-12 <= t <= ts[-1] + 1e-12:
+            continue
+        i = int(np.argmin(np.abs(ts - t)))
+        if kind == "rock":
+            k, theta = int(h["mechanism"][i]), float(h["theta"][i])
+            m = r.mechanisms[k] if k >= 0 else None
+            conf = m.configuration(theta) if m is not None else None
+            pivots = conf.hinge_points() if conf is not None else np.zeros((2, 0))
+            rot = float(np.max(np.abs(conf.rotation))) if conf is not None else 0.0
+            return Snapshot(float(ts[i]), kind, [outline(r, m, theta)], pivots, rot)
+        q = np.asarray(r.positions[i], float)
+        polys = []
+        for (x, y, phi), poly in zip(q, r.bodies.outlines()):
+            c, s = math.cos(phi), math.sin(phi)
+            polys.append(np.array([x + c * poly[0] - s * poly[1], y + s * poly[0] + c * poly[1]]))
+        return Snapshot(float(ts[i]), kind, polys, np.zeros((2, 0)), float(np.max(np.abs(q[:, 2]))))
+    return None
+
+
+# --------------------------------------------------------------------------- margin
+def _collapse_scale(curve, ground, **kw) -> dict:
+    """:func:`~fembeam.studies.spectrum.collapse_scale` with the options its signature takes
+    (``factors`` and ``bisect_tol`` only when given)."""
+    params = inspect.signature(spectrum.collapse_scale).parameters
+    for name in ("factors", "bisect_tol"):
+        if kw.get(name) is None:
+            kw.pop(name, None)
+        elif name not in params:
+            raise InputError(f"this fembeam's margin search (collapse_scale) takes no {name}")
+    return spectrum.collapse_scale(curve, ground, **kw)
+
+
+def _margin_entry(res: dict) -> dict:
+    """The margin of one model from a collapse_scale dict (keys read defensively)."""
+    f = res.get("first_overturning")
+    safe_above = res.get("safe_factors_above", res.get("safe_amplitudes_above", []))
+    return {"factor": f, "pga_g": res.get("pga_at_first_overturning"), "bracket": res.get("bracket"),
+            "converged": res.get("converged"), "collapse": res.get("collapse"), "safe_above": res.get("safe_above"),
+            "safe_factors_above": safe_above, "runs": res.get("runs"), "errors": res.get("errors", [])}
+
+
+def margin(curve: MidCurve, ground: GroundMotion, A: dict, *, voussoirs: int | None, elements: int,
+           friction: float | None, dt: float, t_end: float | None, factors: Sequence[float] | None,
+           bisect_tol: float | None, progress: Callable | None = None) -> dict:
+    """Smallest overturning scale factor of ``ground`` by ``auto`` and by ``rock`` and their ratio
+    (``auto / rock``; None unless both are found).  ``A``: ``A_L`` both ways (g), to tell a motion
+    that no factor sets moving (``skipped`` says why)."""
+    out = {"auto": None, "rock": None, "ratio": None, "skipped": None}
+    if not math.isfinite(spectrum.onset_amplitude(A, ground)):
+        out["skipped"] = ("no scale factor sets the member moving (the motion is zero, or A_L is infinite in "
+                          "the direction it loads)")
+        return out
+    common = {"voussoirs": voussoirs, "elements": elements, "t_end": t_end, "factors": factors,
+              "bisect_tol": bisect_tol}
+    for model in ("auto", "rock"):
+        extra = {"dt": dt, "friction": friction} if model == "auto" else {}
+        cb = (lambda a, o, m=model: progress(f"margin ({m}): factor {a:.4g} {o}")) if progress else None
+        out[model] = _margin_entry(_collapse_scale(curve, ground, model=model, progress=cb, **common, **extra))
+    fa, fr = out["auto"]["factor"], out["rock"]["factor"]
+    out["ratio"] = fa / fr if fa is not None and fr is not None else None
+    return out
+
+
+# --------------------------------------------------------------------------- the page
+def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, voussoirs: int | None = None,
+           elements: int = 200, friction: float | None = None, dt: float | None = None, t_end: float | None = None,
+           margin_search: bool = True, factors: Sequence[float] | None = None, bisect_tol: float | None = None,
+           sources: Sequence[str] | None = None, progress: Callable[[str], None] | None = None) -> AssessResult:
+    """Static answers, the ``auto`` verdict and the margin of ``curve`` (``voussoirs``, or the
+    continuous member with ``elements``) under each ground motion of ``grounds``.  ``friction``:
+    Coulomb coefficient of the joints in ``auto`` (None: they never slide); ``dt`` (s): its
+    simulation step (default :data:`fembeam.auto.model.DT`); ``t_end`` (s): end of every run
+    (default: end of the motion + ``20 sqrt(L/g)``); ``margin_search=False`` skips the margins;
+    ``factors``, ``bisect_tol``: the margin search's grid and tolerance (defaults of
+    :func:`~fembeam.studies.spectrum.collapse_scale`); ``sources``: where each motion came from
+    (reported); ``progress(message)`` at each stage and margin run."""
+    from ..auto import AutoModel
+    from ..auto.model import DT
+
+    clock = time.perf_counter()
+    grounds = [grounds] if isinstance(grounds, GroundMotion) else list(grounds)
+    if not grounds or not all(isinstance(g, GroundMotion) for g in grounds):
+        raise InputError("assess needs one or more ground motions (GroundMotion)")
+    if sources is not None and len(sources) != len(grounds):
+        raise InputError("sources: one per ground motion")
+    dt = DT if dt is None else dt
+    say = progress or (lambda message: None)
+    say("statics: limit analysis both ways, minimum thickness")
+    am = AutoModel(curve, voussoirs=voussoirs, elements=elements, friction=friction, dt=dt)   # checks dt, friction
+    static, analyses = static_answers(curve, voussoirs, elements, friction)
+    mode = "voussoirs" if voussoirs is not None else "continuous"
+    settings = {"friction": friction, "dt": am.dt, "t_end": t_end, "margin": bool(margin_search),
+                "factors": None if factors is None else [float(f) for f in factors], "bisect_tol": bisect_tol,
+                "sim_elements": None if voussoirs is not None else am.sim_elements}
+    out = AssessResult(curve, mode, voussoirs if voussoirs is not None else elements, settings, static,
+                       analyses=analyses, grounds=grounds)
+    out.timings["statics"] = time.perf_counter() - clock
+    runs = _tapped(am)
+    for k, ground in enumerate(grounds):
+        tick = time.perf_counter()
+        say(f"motion {k + 1}/{len(grounds)} ({ground.name}): auto run")
+        runs.clear()
+        res = am.run(ground, t_end=t_end)
+        d = res.to_dict()
+        entry = {"name": ground.name, "source": None if sources is None else sources[k], "pga_g": ground.pga,
+                 "duration_s": ground.duration, "verdict": VERDICTS.get(res.outcome, res.outcome),
+                 **{key: d[key] for key in _VERDICT_KEYS if key in d}}
+        t_shown = res.t_overturn if res.t_overturn is not None else res.t_peak
+        snap = snapshot(runs, res.segments, t_shown) if t_shown is not None else None
+        entry["configuration"] = None if snap is None else {**snap.to_dict(),
+                                                            "at": "overturning" if res.t_overturn is not None
+                                                            else "peak rotation"}
+        runs.clear()
+        if margin_search and res.outcome != "cannot_stand":
+            entry["margin"] = margin(curve, ground, am.A, voussoirs=voussoirs, elements=elements, friction=friction,
+                                     dt=am.dt, t_end=t_end, factors=factors, bisect_tol=bisect_tol, progress=progress)
+        else:
+            entry["margin"] = {"auto": None, "rock": None, "ratio": None,
+                               "skipped": "not searched" if not margin_search else "the member cannot stand"}
+        entry["time_s"] = time.perf_counter() - tick
+        out.motions.append(entry)
+        out.runs.append(res)
+        out.snapshots.append(snap)
+    out.timings["total"] = time.perf_counter() - clock
+    return out
