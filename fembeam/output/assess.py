@@ -30,7 +30,9 @@ VERDICT_WORDS = {"survives": "SURVIVES", "overturns": "OVERTURNS", "collapsed_by
 
 
 # --------------------------------------------------------------------------- text
-def _hinges(hs: list) -> str:
+def _hinges(hs: list, block: bool = False) -> str:
+    if block:       # the base of a block: its right face is the intrados (normal +x)
+        return ", ".join(f"{'right' if h['side'] == 'intrados' else 'left'} corner of the base" for h in hs) or "none"
     return ", ".join(f"{h['angle_deg']:.2f} deg {h['side']}" for h in hs) or "none"
 
 
@@ -50,7 +52,7 @@ def static_lines(d: dict) -> list[str]:
             return f"{A[k]:.6f} g" if A[k] is not None else oc[k].replace("_", " ")
         lines.append(f"  A_L = {a('+1')} (+1: inertia to the right, a_g < 0), {a('-1')} (-1: to the left, a_g > 0)")
         for k in ("+1", "-1"):
-            lines.append(f"    hinges at A_L ({k}): {_hinges(st['hinges'][k])}")
+            lines.append(f"    hinges at A_L ({k}): {_hinges(st['hinges'][k], d['geometry'].get('shape') == 'block')}")
     mt = st["minimum_thickness"]
     if mt["outcome"] == "ok":
         size = ", ".join(f"{k.replace('_', ' ')} {v:.6g} m" for k, v in mt["thickness_min"].items())
@@ -70,7 +72,7 @@ def static_lines(d: dict) -> list[str]:
                      "before the member rocks")
         if fn["friction"] is not None:
             lines.append(f"    mu = {fn['friction']:g}: " + ("SLIDING RISK (below the friction needed)"
-                                                             if fn["sliding_risk"] else "enough"))
+                                                             if fn["sliding_risk"] else "enough (above it)"))
     return lines
 
 
