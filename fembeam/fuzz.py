@@ -66,6 +66,8 @@ BASE = {"sweep": ["--embrace", "90", "--t-over-r", "0.2", "--elements", "8", "--
         "report": ["--quick", "--only", "exact"],
         "spectrum": ["--voussoirs", "7", "--periods", "0.3"],
         "collapse-scale": ["--voussoirs", "7", "--t-end", "3"],
+        "assess": ["--voussoirs", "7", "--t-end", "3", "--factors", "1,2,4", "--pulse", "sine", "--amplitude", "0.5",
+                   "--period", "0.3"],
         "convergence": ["--elements", "8,16"]}
 
 
