@@ -170,6 +170,7 @@ def test_block_against_housner(b, amplitude):
         assert st["A_L"][key] == pytest.approx(b / h, rel=1e-14)
         assert st["friction_needed"][key]["max"] == pytest.approx(b / h, rel=1e-14)
     assert st["minimum_thickness"]["outcome"] == "stands_at_any_thickness"
+    assert st["minimum_thickness"]["thickness_min"] == {"width": 0.0}
     assert m["first_failure"] is None and m["handovers"] == 0
     mg = m["margin"]
     assert mg["auto"]["factor"] == pytest.approx(mg["rock"]["factor"], rel=1e-12) and mg["ratio"] == pytest.approx(1)

@@ -231,4 +231,4 @@ def test_block_stands_at_any_width(width, height):
     assert th.outcome == "stands_at_any_thickness" and th.scale == 0.0
     thinnest = b.with_thickness_scaled(b.min_thickness_scale)
     assert thinnest.width == pytest.approx(5e-4 * height, rel=1e-12)
-    assert _stands(thinnest, uniform_nodes(thinnest, 1), False)
+    assert stands_on(thinnest, uniform_nodes(thinnest, 1), False)

@@ -56,8 +56,10 @@ def static_lines(d: dict) -> list[str]:
     mt = st["minimum_thickness"]
     if mt["outcome"] == "ok":
         size = ", ".join(f"{k.replace('_', ' ')} {v:.6g} m" for k, v in mt["thickness_min"].items())
-        tr = f", t/R = {mt['t_min_over_R']:.6f}" if mt.get("t_min_over_R") is not None else ""
-        lines.append(f"  minimum thickness: {mt['thickness_scale']:.6f} x the given ({size}{tr}); "
+        if mt.get("t_min_over_R") is not None:
+            size += f", t/R = {mt['t_min_over_R']:.6f}"
+        size = f" ({size.lstrip(', ')})" if size else ""
+        lines.append(f"  minimum thickness: {mt['thickness_scale']:.6f} x the given{size}; "
                      f"geometric factor of safety t / t_min = {mt['geometric_safety_factor']:.4f}")
     elif mt["outcome"] == "stands_at_any_thickness":
         lines.append("  minimum thickness: 0 (stands at any thickness); geometric factor of safety infinite")

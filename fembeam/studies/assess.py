@@ -121,12 +121,13 @@ def static_answers(curve: MidCurve, voussoirs: int | None, elements: int, fricti
     out["friction_needed"] = need
     th = minimum_thickness(curve, elements=n, voussoirs=voussoirs, tol=tol)
     mt = th.to_dict()
+    law = curve.describe() if hasattr(curve, "describe") else {}
+    law = {k: float(law[k]) for k in _THICKNESS_KEYS if isinstance(law.get(k), (int, float))}
     if th.outcome == "ok":
-        thin = th.curve.with_thickness_scaled(th.scale).describe()
-        mt["thickness_min"] = {k: thin[k] for k in _THICKNESS_KEYS if isinstance(thin.get(k), (int, float))}
+        mt["thickness_min"] = {k: th.scale * v for k, v in law.items()}
         mt["geometric_safety_factor"] = 1.0 / th.scale
     else:
-        mt["thickness_min"] = 0.0 if th.outcome == "stands_at_any_thickness" else None
+        mt["thickness_min"] = {k: 0.0 for k in law} if th.outcome == "stands_at_any_thickness" else None
         mt["geometric_safety_factor"] = None        # infinite (stands at any thickness) or none (never stands)
     out["minimum_thickness"] = mt
     return out, res
