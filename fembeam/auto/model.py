@@ -113,6 +113,8 @@ class AutoResult:
     friction_ratio: tuple = (0.0, None, None, None)    # (largest |S|/N or |P_t|/P_n, t, s, at)
     history: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
+    runs: list = field(default_factory=list)           # with the history: ("rock" | "simulate", result) of
+                                                       # every run made, in order (to draw the member at any time)
 
     @property
     def handovers(self) -> int:
@@ -262,6 +264,8 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
             r = rk.run(ground, t_end=t_end, dt_out=dt_out, t_start=t, state=rock_state, friction=mu,
                        rest_limit=am.rest_limit, progress=progress, history=keep, stop_at_violation=True)
             timing["rock"] += time.perf_counter() - tick
+            if keep:
+                out.runs.append(("rock", r))
             bad = r.violation
             if bad is not None and sim_state is not None and bad[0] <= t + am.dt:
                 # the state handed back fails at once (within a step): the simulation goes on
@@ -306,6 +310,7 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
             res = sim.run(ground, dt=am.dt, t_end=t1, dt_out=dt_out, q0=q, v0=v, t_start=t)
             if keep:
                 _sim_rows(rows, res)
+                out.runs.append(("simulate", res))
             for ti, _, _ in res.impacts:
                 out.impacts.append((float(ti), "simulate"))
             n_imp += len(res.impacts)

@@ -134,31 +134,6 @@ def static_answers(curve: MidCurve, voussoirs: int | None, elements: int, fricti
 
 
 # --------------------------------------------------------------------------- the verdict's states
-class _Tap:
-    """``obj`` with its ``run`` results appended to ``runs`` as ``(model, result)``."""
-
-    def __init__(self, obj, model: str, runs: list):
-        self._obj, self._model, self._runs = obj, model, runs
-
-    def __getattr__(self, name):
-        return getattr(self._obj, name)
-
-    def run(self, *a, **kw):
-        out = self._obj.run(*a, **kw)
-        self._runs.append((self._model, out))
-        return out
-
-
-def _tapped(model) -> list:
-    """Record every run the auto model ``model`` makes (its one-mechanism runs and simulation
-    windows, in order): the states of a verdict's motion, to draw the member at any time."""
-    runs: list = []
-    model.rocker = _Tap(model.rocker, "rock", runs)
-    make = model.simulator
-    model.simulator = lambda mechanism=None: _Tap(make(mechanism), "simulate", runs)
-    return runs
-
-
 def snapshot(runs: list, segments, t: float) -> Snapshot | None:
     """The member at the history row nearest ``t`` (s) of the last recorded run of the model in use
     at ``t`` (by ``segments``) whose history covers it; None if none does."""
@@ -267,22 +242,19 @@ def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, v
     out = AssessResult(curve, mode, voussoirs if voussoirs is not None else elements, settings, static,
                        analyses=analyses, grounds=grounds)
     out.timings["statics"] = time.perf_counter() - clock
-    runs = _tapped(am)
     for k, ground in enumerate(grounds):
         tick = time.perf_counter()
         say(f"motion {k + 1}/{len(grounds)} ({ground.name}): auto run")
-        runs.clear()
         res = am.run(ground, t_end=t_end)
         d = res.to_dict()
         entry = {"name": ground.name, "source": None if sources is None else sources[k], "pga_g": ground.pga,
                  "duration_s": ground.duration, "verdict": VERDICTS.get(res.outcome, res.outcome),
                  **{key: d[key] for key in _VERDICT_KEYS if key in d}}
         t_shown = res.t_overturn if res.t_overturn is not None else res.t_peak
-        snap = snapshot(runs, res.segments, t_shown) if t_shown is not None else None
+        snap = snapshot(res.runs, res.segments, t_shown) if t_shown is not None else None
         entry["configuration"] = None if snap is None else {**snap.to_dict(),
                                                             "at": "overturning" if res.t_overturn is not None
                                                             else "peak rotation"}
-        runs.clear()
         if margin_search and res.outcome != "cannot_stand":
             entry["margin"] = margin(curve, ground, am.A, voussoirs=voussoirs, elements=elements, friction=friction,
                                      dt=am.dt, t_end=t_end, factors=factors, bisect_tol=bisect_tol, progress=progress)
