@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from ..dynamics.equation import EquationOfMotion
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from ..mechanisms import Mechanism
 from ..simulation.bodies import Bodies
 from ..simulation.contacts import Contacts
@@ -132,7 +132,7 @@ def mechanism_of(bodies: Bodies, contacts: Contacts, q: np.ndarray, v: np.ndarra
     try:
         mech = Mechanism(curve, tuple(float(s) for s in bodies.joint_s[hinge]), sides)
         eq = EquationOfMotion(mech, g)
-    except Exception:           # not a compatible mechanism of this member: not on its manifold
+    except (InputError, SolverError):      # not a compatible mechanism of this member: not on its manifold
         return None
     piece = _pieces(mech, bodies)
     first = np.flatnonzero(piece == np.flatnonzero(mech.moving)[0])

@@ -148,6 +148,7 @@ class AutoResult:
             "time_in": {m: float(sum(sg.t_end - sg.t_start for sg in self.segments if sg.model == m))
                         for m in ("rock", "simulate")},
             "n_impacts": len(self.impacts),
+            "impacts_by_model": {m: sum(1 for _, k in self.impacts if k == m) for m in ("rock", "simulate")},
             "friction_demand": friction_demand(ratio, t, s, at, self.friction),
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
@@ -181,12 +182,15 @@ class AutoModel:
         self.sim_elements = int(sim_elements)
         self._sims: dict = {}
         self.rest_limit = None          # with friction: the inertia load each way the joints carry at rest
+        self.slides_at_rest = False     # with friction: the joints cannot carry even the weight alone
         if self.friction is not None and self.rocker.stands:
             from ..analysis import analyze
             self.rest_limit = {}
             for d in (1, -1):
                 res = analyze(curve, elements=None if voussoirs is not None else elements, voussoirs=voussoirs,
                               direction=d, backend=backend, friction=self.friction)
+                if res.outcome == "cannot_stand":
+                    self.slides_at_rest = True
                 self.rest_limit[d] = res.A_L if res.outcome == "sliding" else math.inf
 
     @property
@@ -244,6 +248,9 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
     dt_out = (t_end - t0) / 4000.0 if dt_out is None else float(dt_out)
     if not (math.isfinite(dt_out) and dt_out > 0):
         raise InputError(f"dt_out must be a positive number of seconds, got {dt_out!r}")
+    from ..simulation.stepper import MIN_STEP, check_dt
+    check_dt(am.dt, t0, t_end)           # the simulation's bound on the steps, over the whole run
+    done = t_end - MIN_STEP * am.dt      # a simulation step cannot be shorter: the run is over from here
     keep = history
     if not history:
         dt_out = max(dt_out, WINDOW)      # the simulation's rows: one a window
@@ -256,21 +263,25 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
     t, rock_state, sim_state, dropped = t0, None, None, 0.0
     mode, resume = "rock", False
     timing = {"rock": 0.0, "simulate": 0.0}
+    if am.slides_at_rest:       # the joints slide under the weight alone: the simulation from the start
+        out.first_failure = (t0, "friction_rest")
+        sim = am.simulator()
+        sim_state, mode = (sim, sim.bodies.rest_state(), np.zeros((sim.bodies.n + 1, 3))), "simulate"
     for _ in range(MAX_SEGMENTS):
-        if t >= t_end:
+        if t >= done:
             break
         if mode == "rock":
             tick = time.perf_counter()
             r = rk.run(ground, t_end=t_end, dt_out=dt_out, t_start=t, state=rock_state, friction=mu,
                        rest_limit=am.rest_limit, progress=progress, history=keep, stop_at_violation=True)
             timing["rock"] += time.perf_counter() - tick
-            if keep:
-                out.runs.append(("rock", r))
             bad = r.violation
             if bad is not None and sim_state is not None and bad[0] <= t + am.dt:
                 # the state handed back fails at once (within a step): the simulation goes on
                 mode, resume, dropped = "simulate", True, 0.0
                 continue
+            if keep:
+                out.runs.append(("rock", r))
             if bad is None:
                 _rock_segment(out, rows if keep else None, rk, r, t, dropped,
                               "overturned" if r.outcome == "overturned" else "end")
@@ -305,12 +316,15 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
         sim, q, v = sim_state
         E_unit = sim.bodies.mass * am.g * curve.length
         handback = None
-        while t < t_end:
+        while t < done:
             t1 = min(t + WINDOW, t_end)
             res = sim.run(ground, dt=am.dt, t_end=t1, dt_out=dt_out, q0=q, v0=v, t_start=t)
             if keep:
                 _sim_rows(rows, res)
                 out.runs.append(("simulate", res))
+            if not float(res.t_end) > t:        # no step left before t_end
+                t = t_end
+                break
             for ti, _, _ in res.impacts:
                 out.impacts.append((float(ti), "simulate"))
             n_imp += len(res.impacts)
@@ -325,9 +339,9 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
                 out.outcome, out.t_overturn = res.outcome, res.t_overturn
                 out.overturn_reason = "below_rest" if res.outcome == "overturned" else "slid_out"
                 break
-            if t >= t_end:
+            if t >= done:
                 break
-            handback = _handback(am, sim, q, v, E_unit)
+            handback = None if am.slides_at_rest else _handback(am, sim, q, v, E_unit)
             if handback is not None:
                 end = handback[0]
                 break
@@ -335,7 +349,7 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
         out.segments.append(Segment("simulate", seg_start, t, end, peak, t_peak, n_imp, drop0))
         _peak(out, peak, t_peak)
         sim_state = (sim, q, v)
-        if end in ("overturned", "collapsed_by_sliding") or t >= t_end:
+        if end in ("overturned", "collapsed_by_sliding") or t >= done:
             if end == "end":
                 K = sim.bodies.kinetic_energy(v)
                 out.outcome = "rest" if K < REST_KINETIC * E_unit else "survived"
@@ -402,9 +416,12 @@ def _rock_segment(out: AutoResult, rows: dict | None, rk: Rocker, r, t_start: fl
 
 
 def _sim_rows(rows: dict, res) -> None:
+    """Append the history of a simulation window (its first row dropped when the previous window
+    ended at that time: one row per time)."""
     h = res.history
-    n = len(h["t"])
-    rows["t"].extend(np.asarray(h["t"], float).tolist())
+    skip = 1 if rows["t"] and len(h["t"]) and rows["model"][-1] == 1.0 and float(h["t"][0]) == rows["t"][-1] else 0
+    n = len(h["t"]) - skip
+    rows["t"].extend(np.asarray(h["t"][skip:], float).tolist())
     rows["model"].extend([1.0] * n)
     for k in ("K", "V", "a_g", "max_rotation"):
-        rows[k].extend(np.asarray(h[k], float).tolist())
+        rows[k].extend(np.asarray(h[k][skip:], float).tolist())

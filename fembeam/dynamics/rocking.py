@@ -45,6 +45,7 @@ from ..mechanisms import Mechanism
 from .admissibility import impact_friction, thrust_scan
 from .episode import Signal, episode
 from .equation import GRAVITY, EquationOfMotion
+from .events import brentq
 from .ground import GroundMotion
 from .onset import below_time, onset_time
 from .outcomes import OUTCOMES, overturn_level, overturning
@@ -56,6 +57,7 @@ __all__ = ["rock", "Rocker", "RockingResult", "ImpactEvent", "onset_time", "REST
 REST_BARRIER_FRACTION = 1e-12   # post-impact K / energy barrier below which the member is at rest
 MAX_EPISODES = 100_000  # bound on the number of episodes (impacts + onsets) of one run
 MAX_OUTPUT_STEPS = 10_000_000   # history rows (about 0.5 GB)
+IMPACT_GAP = 1e-5       # stop_at_violation: an impact whose friction fails is handed over at this theta (rad)
 
 
 def _check_inputs(curve, ground, t_end):
@@ -419,7 +421,16 @@ def _episode_violation(rk: Rocker, track: Track, ground, dt_out: float, mu, ev: 
     if not cands and mu is not None and ev == "impact":
         tr = rk.model(rk.mechanisms[k])
         if tr.after is not None and rk.impact_friction(k, rk.index(tr.after), rate)[0] > mu:
-            cands = [(max(ta, tb - 1e-9 * max(1.0, abs(tb))), "friction_impact")]
+            # hand over before the impact, where the hinges are still open by IMPACT_GAP of the
+            # thickness (theta = IMPACT_GAP: a joint turning about one corner opens the other by
+            # theta t), so that the simulation finds the landing and computes the impact itself
+            sg = rk.equations[k].sign
+            top = max((p[0] for p in track.peaks if ta <= p[0] <= tb), default=ta)     # the last turning point
+            if sg * sol(top)[0] <= IMPACT_GAP:
+                cands = [(top, "friction_impact")]
+            else:
+                cands = [(brentq(lambda x: sg * sol(x)[0] - IMPACT_GAP, top, tb, xtol=1e-12 * max(1.0, tb)),
+                          "friction_impact")]
     return min(cands) if cands else None
 
 
