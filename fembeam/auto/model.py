@@ -13,8 +13,8 @@ The multi-block model (every voussoir or element a rigid body in unilateral cont
   At the first violation the exact state of the mechanism (``theta``, ``theta'`` at that time; just
   before the impact for an impact's friction) is mapped onto the bodies and handed over.
 * **simulate** (:class:`~fembeam.simulation.Simulator`, steps ``dt``, Coulomb friction ``mu`` when
-  given), advanced in windows of ``WINDOW`` s.  At the end of a window the state is handed back to
-  the one-mechanism model when the member is at rest (kinetic energy below ``REST_KINETIC m g L``,
+  given), advanced in windows of ``WINDOW`` s.  One step after the first impact of a window, and at
+  the end of a window, the state is handed back to the one-mechanism model when the member is at rest (kinetic energy below ``REST_KINETIC m g L``,
   every joint closed, none slid) or moves on a mechanism of the member (:func:`.manifold.mechanism_of`:
   its hinges and no other joint open, positions within ``POSITION_TOL`` of the thickness, velocities
   within ``VELOCITY_TOL`` of the mechanism's field in the kinetic-energy norm; the energy the
@@ -319,6 +319,15 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
         while t < done:
             t1 = min(t + WINDOW, t_end)
             res = sim.run(ground, dt=am.dt, t_end=t1, dt_out=dt_out, q0=q, v0=v, t_start=t)
+            if res.impacts and res.outcome not in ("overturned", "collapsed_by_sliding") and not am.slides_at_rest:
+                # the first impact of the window: one step after it, is the motion on one mechanism?
+                # (the same steps again from the window's start, so the same state)
+                t_i = float(res.impacts[0][0]) + am.dt
+                if t_i < float(res.t_end):
+                    early = sim.run(ground, dt=am.dt, t_end=t_i, dt_out=dt_out, q0=q, v0=v, t_start=t)
+                    hb = _handback(am, sim, early.q_end, early.v_end, E_unit)
+                    if hb is not None and hb[0] == "mechanism":
+                        res, handback = early, hb
             if keep:
                 _sim_rows(rows, res)
                 out.runs.append(("simulate", res))
@@ -339,11 +348,12 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
                 out.outcome, out.t_overturn = res.outcome, res.t_overturn
                 out.overturn_reason = "below_rest" if res.outcome == "overturned" else "slid_out"
                 break
-            if t >= done:
-                break
-            handback = None if am.slides_at_rest else _handback(am, sim, q, v, E_unit)
+            if handback is None and t < done:
+                handback = None if am.slides_at_rest else _handback(am, sim, q, v, E_unit)
             if handback is not None:
                 end = handback[0]
+                break
+            if t >= done:
                 break
         timing["simulate"] += time.perf_counter() - tick
         out.segments.append(Segment("simulate", seg_start, t, end, peak, t_peak, n_imp, drop0))
