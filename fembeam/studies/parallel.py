@@ -336,13 +336,20 @@ def connect(scheduler: str):
     refused or unknown address, no answer within :data:`CONNECT_TIMEOUT_S`, or
     distributed's own IO loop not starting, which it reports as an AssertionError on a
     loaded machine)."""
+    import gc
+
     from distributed import Client
 
+    # a client that failed to connect earlier is finalised here, not by a garbage collection that
+    # happens to run inside the next Client's start-up: its __del__ then waits for the IO loop's
+    # lock that the start-up holds (a deadlock, seen with two refused addresses in one process)
+    gc.collect()
     try:
         return Client(scheduler, timeout=CONNECT_TIMEOUT_S)
     except Exception as e:     # noqa: BLE001  third-party client: every failure is "cannot connect"
         why = str(e) or type(e).__name__
-        raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {why}") from None
+    gc.collect()                # the half-built client, held by that traceback until here
+    raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {why}")
 
 
 def _run_dask(tasks: list[Task], scheduler, done) -> None:
