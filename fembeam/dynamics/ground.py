@@ -8,6 +8,8 @@ or two-column CSV (time, acceleration in g); they can be scaled by a factor or t
 """
 from __future__ import annotations
 
+import io
+import itertools
 import math
 import re
 from bisect import bisect_right
@@ -18,15 +20,20 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..readers import read_text
 
-__all__ = ["GroundMotion", "Pulse", "RECORDS"]
+__all__ = ["GroundMotion", "Pulse", "RECORDS", "check_record", "MAX_RECORD_SAMPLES", "MAX_RECORD_DURATION",
+           "RECORD_DT_RANGE", "PERIOD_RANGE"]
 
 RECORDS = {   # records shipped with fembeam (fembeam/data/ground_motions/README.md)
     "elcentro": "RSN6_IMPVALL.I_I-ELC180.AT2",
     "lomaprieta": "RSN753_LOMAP_CLS000.AT2",
     "elcentro_chopra": "elcentro_1940_ns_chopra.csv",
 }
-MAX_POINTS = 10_000_000   # 160 MB of samples: far beyond any record
+MAX_RECORD_SAMPLES = 1_000_000   # samples of a record (PEER records have up to ~10^5)
+MAX_RECORD_DURATION = 1e4         # s: the longest record, and the latest start of a CSV record
+RECORD_DT_RANGE = (1e-5, 1.0)     # s: the time step of a record (PEER: 0.001 to 0.02 s)
+MAX_RECORD_BYTES = 24 * 2 ** 20   # 24 MiB: 10^6 samples of an AT2 file take ~16 MB
 MAX_PGA = 100.0           # g: a ground acceleration above it is a unit mistake, not an earthquake
 
 
@@ -181,7 +188,7 @@ class GroundMotion:
     def ricker(cls, amplitude: float, period: float, samples: int = 20001) -> "GroundMotion":
         """Ricker wavelet ``amplitude (1 - 2 u^2) exp(-u^2)``, ``u = pi (t - t0) / period``,
         centred at ``t0 = 1.5 period`` and cut at ``3 period`` (``|a| < 1e-8`` amplitude there)."""
-        period = _positive("the wavelet period", period)
+        period = _period("the wavelet period", period)
         t = np.linspace(0.0, 3.0 * period, samples)
         u2 = (np.pi * (t - 1.5 * period) / period) ** 2
         return cls(t, float(amplitude) * (1 - 2 * u2) * np.exp(-u2), f"Ricker wavelet {amplitude:g} g, {period:g} s",
@@ -191,16 +198,19 @@ class GroundMotion:
     @classmethod
     def record(cls, path_or_name: str | Path) -> "GroundMotion":
         """A PEER ``.AT2`` file or a two-column CSV (time s, acceleration g); the names of
-        :data:`RECORDS` load the records shipped with fembeam."""
+        :data:`RECORDS` load the records shipped with fembeam.  The file is read by
+        :func:`fembeam.readers.read_text` (a regular file of at most :data:`MAX_RECORD_BYTES`);
+        the record is checked by :func:`check_record` before its samples are allocated."""
         key = str(path_or_name)
         if key in RECORDS:
             path = resources.files("fembeam") / "data" / "ground_motions" / RECORDS[key]
+            text = path.read_text(errors="replace")
         else:
             path = Path(key)
-            if not path.is_file():
+            if not path.exists():
                 raise InputError(f"no ground-motion file {key!r} (or one of the shipped records: "
                                  f"{', '.join(RECORDS)})")
-        text = path.read_text(errors="replace")
+            text = read_text(path, "the ground-motion file", MAX_RECORD_BYTES, errors="replace")
         name = Path(str(path)).name
         if name.lower().endswith(".at2"):
             return cls._from_at2(text, name)
@@ -208,30 +218,71 @@ class GroundMotion:
 
     @classmethod
     def _from_at2(cls, text: str, name: str) -> "GroundMotion":
-        lines = text.splitlines()
-        m = re.search(r"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([0-9.eE+-]+)", "\n".join(lines[:6]))
+        header = "".join(itertools.islice(io.StringIO(text), 6))
+        m = re.search(r"NPTS\s*=\s*(\S+?)\s*,?\s*DT\s*=\s*([^\s,]+)", header)
         if m is None:
             raise InputError(f"{name}: not a PEER AT2 file (no 'NPTS= n, DT= dt' in its header)")
-        npts, dt = int(m.group(1)), float(m.group(2))
-        if not (2 <= npts <= MAX_POINTS) or not (math.isfinite(dt) and dt > 0):
-            raise InputError(f"{name}: NPTS must be in [2, {MAX_POINTS}] and DT positive, got {npts}, {dt}")
-        head = next(i for i, line in enumerate(lines) if m.group(0).split()[0] in line) + 1
         try:
-            values = np.array(" ".join(lines[head:]).split(), dtype=float)
+            npts = int(m.group(1))
+            dt = float(m.group(2))
+        except ValueError:
+            raise InputError(f"{name}: the header's NPTS must be an integer and DT a number of seconds, got "
+                             f"{m.group(1)!r} and {m.group(2)!r}") from None
+        check_record(npts, dt, (npts - 1) * dt if npts > 1 else 0.0, name)
+        body = text[text.index(m.group(0)):]
+        body = body[body.find("\n") + 1:] if "\n" in body else ""
+        words = list(itertools.islice(re.finditer(r"\S+", body), npts))    # the values, no more
+        if len(words) < npts:
+            raise InputError(f"{name}: the header announces {npts} values, the file has {len(words)}")
+        try:
+            values = np.array([w.group(0) for w in words], dtype=float)
         except ValueError:
             raise InputError(f"{name}: the values after the header are not all numbers") from None
-        if values.size < npts:
-            raise InputError(f"{name}: the header announces {npts} values, the file has {values.size}")
-        return cls(dt * np.arange(npts), values[:npts], name)
+        return cls(dt * np.arange(npts), values, name)
 
     @classmethod
     def _from_csv(cls, text: str, name: str) -> "GroundMotion":
-        rows = [r for r in (line.strip() for line in text.splitlines()) if r and not r.startswith("#")]
-        try:
-            data = np.array([[float(x) for x in r.split(",")[:2]] for r in rows
-                             if r[0].isdigit() or r[0] in "+-."], dtype=float)
-        except ValueError:
-            raise InputError(f"{name}: every data line must be 'time,acceleration' (s, g)") from None
-        if data.ndim != 2 or data.shape[1] != 2:
-            raise InputError(f"{name}: expected two columns 'time,acceleration' (s, g)")
-        return cls(data[:, 0], data[:, 1], name)
+        lines = (line.strip() for line in io.StringIO(text))
+        rows = list(itertools.islice((r for r in lines if r and (r[0].isdigit() or r[0] in "+-.")),
+                                     MAX_RECORD_SAMPLES + 1))     # '#' comments and a header skipped
+        if len(rows) > MAX_RECORD_SAMPLES:
+            raise InputError(f"{name}: more than {MAX_RECORD_SAMPLES} samples; a record has at most "
+                             f"{MAX_RECORD_SAMPLES}")
+        data = np.empty((len(rows), 2))
+        for i, r in enumerate(rows):
+            cells = r.split(",")
+            try:
+                if len(cells) < 2:
+                    raise ValueError
+                data[i] = float(cells[0]), float(cells[1])
+            except ValueError:
+                raise InputError(f"{name}: every data line must be 'time,acceleration' (s, g), got "
+                                 f"{r[:40]!r}") from None
+        if len(rows) < 2:
+            raise InputError(f"{name}: expected at least two lines 'time,acceleration' (s, g)")
+        t = data[:, 0]
+        if not np.all(np.isfinite(data)):
+            raise InputError(f"{name}: times and accelerations must be finite numbers")
+        steps = np.diff(t)
+        if np.any(steps <= 0):
+            raise InputError(f"{name}: times must be strictly increasing")
+        check_record(len(rows), (float(np.min(steps)), float(np.max(steps))), float(t[-1] - t[0]), name,
+                     start=float(t[0]))
+        return cls(t, data[:, 1], name)
+
+
+def check_record(npts: int, dt, duration: float, name: str, start: float = 0.0) -> None:
+    """A record of ``npts`` samples ``dt`` (s; or the (smallest, largest) interval of an
+    uneven record) apart, lasting ``duration`` (s) from ``start`` (s): InputError unless
+    ``2 <= npts <= MAX_RECORD_SAMPLES``, the intervals lie in :data:`RECORD_DT_RANGE`, the
+    duration is at most :data:`MAX_RECORD_DURATION` and ``|start|`` too."""
+    lo, hi = RECORD_DT_RANGE
+    dmin, dmax = (dt, dt) if isinstance(dt, (int, float)) else dt
+    if not 2 <= npts <= MAX_RECORD_SAMPLES:
+        raise InputError(f"{name}: a record has from 2 to {MAX_RECORD_SAMPLES} samples, got {npts}")
+    if not (math.isfinite(dmin) and math.isfinite(dmax) and lo <= dmin and dmax <= hi):
+        what = f"{dmin:g} s" if dmin == dmax else f"from {dmin:g} to {dmax:g} s"
+        raise InputError(f"{name}: the time step of a record must be in [{lo:g}, {hi:g}] s, got {what}")
+    if not (duration <= MAX_RECORD_DURATION and abs(start) <= MAX_RECORD_DURATION):
+        raise InputError(f"{name}: a record starts and ends within {MAX_RECORD_DURATION:g} s of t = 0, got "
+                         f"{start:g} to {start + duration:g} s")

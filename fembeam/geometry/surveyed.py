@@ -12,7 +12,7 @@ points its end conditions overshoot (below ~12 points a cubic does better).  A
 chord-length parameter (not ``x``) lets the curve be vertical or overhang at the
 springings.  The spline's knots are :attr:`breaks`: Gauss rules never span them.
 
-**Input** (:class:`~fembeam.errors.InputError` otherwise): at least 4 points, finite,
+**Input** (:class:`~fembeam.errors.InputError` otherwise): 4 to 5000 points, finite,
 consecutive points distinct, the polyline of the points without self-intersection and
 the spline without loops or reversals between points (its tangent makes less than 90
 degrees with each chord and turns by less than 90 degrees between two points).  Points
@@ -40,30 +40,39 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..readers import read_text
 from .arch import ShapedArch
 from .base import LENGTH_RANGE, THICKNESS_RANGE, density_value, finite_positive
 from .parametric import ParametricCurve
 from .thickness import thickness_law
 
-__all__ = ["SurveyedArch", "QUINTIC_FROM", "read_midcurve_csv"]
+__all__ = ["SurveyedArch", "QUINTIC_FROM", "MAX_POINTS", "read_midcurve_csv"]
 
 QUINTIC_FROM = 12
 MIN_POINTS = 4
+MAX_POINTS = 5000                # the self-intersection check is quadratic: 5000 points build in ~2 s
+MAX_FILE_BYTES = 16 * 2 ** 20    # 16 MiB: 5000 rows of numbers with room for comments
 
 
 def read_midcurve_csv(path) -> dict:
     """Columns ``x,y`` and optionally ``t`` (m) of a CSV file, with a header naming them
     (any order, case-insensitive; other columns ignored) or without a header (two or
     three numeric columns in the order x, y, t).  Blank lines and lines starting with
-    ``#`` are skipped.  Returns ``{"x": [...], "y": [...], "t": [...] or None}``."""
+    ``#`` are skipped.  Returns ``{"x": [...], "y": [...], "t": [...] or None}``.
+
+    The file is read by :func:`fembeam.readers.read_text`: a regular UTF-8 file of at most
+    :data:`MAX_FILE_BYTES`, with at most :data:`MAX_POINTS` points (counted before any is
+    parsed)."""
+    expect = "columns x,y and optionally t, in metres"
+    text = read_text(path, "the mid-curve file", MAX_FILE_BYTES, kind="CSV", expect=expect)
+    lines = [line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+    if len(lines) > MAX_POINTS + 1:                  # + 1: a header
+        raise InputError(f"the mid-curve file {str(path)!r} has {len(lines)} lines of data; a surveyed mid-curve "
+                         f"has at most {MAX_POINTS} points (keep every k-th point)")
     try:
-        with open(path, newline="") as f:
-            rows = [r for r in csv.reader(line for line in f if line.strip() and not line.lstrip().startswith("#"))]
-    except OSError as err:
-        raise InputError(f"cannot read the mid-curve file {str(path)!r}: {err.strerror or err}") from None
-    except (UnicodeDecodeError, csv.Error):
-        raise InputError(f"the mid-curve file {str(path)!r} is not a text CSV file "
-                         "(expected columns x,y and optionally t, in metres)") from None
+        rows = list(csv.reader(lines))
+    except csv.Error:
+        raise InputError(f"the mid-curve file {str(path)!r} is not a text CSV file (expected {expect})") from None
     if not rows:
         raise InputError(f"the mid-curve file {str(path)!r} is empty: expected columns x,y (and optionally t)")
 
@@ -147,8 +156,9 @@ class SurveyedArch(ParametricCurve, ShapedArch):
         if x.size != y.size or (t is not None and t.size != x.size):
             raise InputError(f"the columns x, y{', t' if t is not None else ''} must have as many values, got "
                              f"{x.size}, {y.size}{', ' + str(t.size) if t is not None else ''}")
-        if x.size < MIN_POINTS:
-            raise InputError(f"a surveyed mid-curve needs at least {MIN_POINTS} points, got {x.size}")
+        if not MIN_POINTS <= x.size <= MAX_POINTS:
+            raise InputError(f"a surveyed mid-curve needs at least {MIN_POINTS} points and has at most {MAX_POINTS}, "
+                             f"got {x.size}")
         if x[-1] < x[0]:                       # given from right to left: run from the left springing
             x, y, t = x[::-1], y[::-1], (None if t is None else t[::-1])
         object.__setattr__(self, "x", tuple(map(float, x)))
