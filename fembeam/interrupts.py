@@ -1,4 +1,4 @@
-"""Ctrl-C and SIGTERM as exceptions that cannot be lost.
+"""Ctrl-C, SIGTERM and SIGHUP as exceptions that cannot be lost.
 
 A signal handler's exception is raised wherever the main thread happens to be.  When that
 is a callback whose errors Python ignores (the at-fork hooks run when a worker process is
@@ -18,13 +18,17 @@ import sys
 import threading
 from contextlib import contextmanager
 
-__all__ = ["Terminated", "handled", "check", "reset", "deferred"]
+__all__ = ["Terminated", "HungUp", "handled", "check", "reset", "deferred"]
 
-_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+_SIGNALS = (signal.SIGINT, signal.SIGTERM) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
 
 
 class Terminated(BaseException):
     """SIGTERM, turned into an exception so that open outputs are cleaned up."""
+
+
+class HungUp(Terminated):
+    """SIGHUP (the terminal went away), handled as a termination."""
 
 
 _pending: type[BaseException] | None = None
@@ -33,7 +37,9 @@ _deferred = 0
 
 
 def _exception(signum: int) -> type[BaseException]:
-    return KeyboardInterrupt if signum == signal.SIGINT else Terminated
+    if signum == signal.SIGINT:
+        return KeyboardInterrupt
+    return Terminated if signum == signal.SIGTERM else HungUp
 
 
 def _handler(signum, frame):
@@ -51,9 +57,9 @@ def _unraisable(info) -> None:
 
 @contextmanager
 def handled():
-    """SIGINT and SIGTERM raise KeyboardInterrupt and :class:`Terminated` inside the block
-    (enter it from the main thread).  On leaving, the previous handlers are restored with
-    the two signals blocked, and one that arrived meanwhile is raised after the restore
+    """SIGINT, SIGTERM and SIGHUP raise KeyboardInterrupt, :class:`Terminated` and
+    :class:`HungUp` inside the block (enter it from the main thread).  On leaving, the previous handlers are restored with
+    the signals blocked, and one that arrived meanwhile is raised after the restore
     (so it is never lost, and never left to a handler of this module)."""
     global _active
     reset()

@@ -1,4 +1,10 @@
-"""The parser and the entry point: one sub-command per module of this package."""
+"""The parser and the entry point: one sub-command per module of this package.
+
+This module imports only the standard library (and fembeam's light :mod:`~fembeam.errors`
+and :mod:`~fembeam.interrupts`), so that :func:`main` installs its signal handlers a few
+milliseconds after the interpreter starts, before NumPy and the command's modules load:
+a Ctrl-C or SIGTERM from then on exits 130 or 143 with one line, never a traceback.
+"""
 from __future__ import annotations
 
 import argparse
@@ -7,11 +13,9 @@ import sys
 import threading
 import warnings
 
-import numpy as np
-
 from .. import interrupts
 from ..errors import FembeamError, InputError
-from ..interrupts import Terminated
+from ..interrupts import HungUp, Terminated
 
 # sub-command -> (module of fembeam.cli, one-line help); a module is imported only when its
 # command runs (or for a full parser), so that ``fembeam --help`` stays quick
@@ -77,34 +81,79 @@ def main(argv: list[str] | None = None) -> int:
     * 0: done (physical outcomes such as "cannot stand" included);
     * 1: the reader of stdout went away (``fembeam analyze | head``): stop quietly;
     * 2: bad input (argparse errors raise ``SystemExit(2)``), or the output cannot be
-      written (stdout on a full device, an unwritable file): it is the invocation that
-      asks for an impossible output, nothing was computed wrongly;
+      written (stdout closed or on a full device, an unwritable file): it is the invocation
+      that asks for an impossible output, nothing was computed wrongly;
     * 3: a solve failed or failed its verification;
-    * 130 / 143: interrupted (Ctrl-C) / terminated (SIGTERM).
+    * 130 / 143 / 129: interrupted (Ctrl-C) / terminated (SIGTERM) / hung up (SIGHUP).
 
     Every error is one line on stderr.  Warnings (numpy RuntimeWarnings, scipy's,
     scikit-fem's) are never shown: every result is verified independently, so a silenced
-    overflow that matters still ends as a verification failure (exit 3)."""
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        return _run(argv)
-
-
-def _run(argv: list[str] | None) -> int:
+    overflow that matters still ends as a verification failure (exit 3).  The signal
+    handlers come first, then the checks of the standard streams, then everything else."""
     try:
         if threading.current_thread() is not threading.main_thread():   # no signals there
-            return _command(argv)
+            return _guarded(argv)
         with interrupts.handled():
-            return _command(argv)
+            try:
+                return _guarded(argv)
+            except BaseException:
+                interrupts.check()      # a signal that another exception hid (NumPy's import makes it an ImportError)
+                raise
     except (KeyboardInterrupt, Terminated) as e:    # during the command, or while it returned
         return _interrupted(e)
 
 
+def _guarded(argv: list[str] | None) -> int:
+    closed = _standard_streams()
+    if closed:
+        print(f"fembeam: error: {closed} is closed: the output cannot be written (redirect it to a file or "
+              "/dev/null)", file=sys.stderr)
+        return 2
+    import numpy as np
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        return _command(argv)
+
+
+def _standard_streams() -> str | None:
+    """Make the standard streams safe to use: a closed descriptor 0, 1 or 2 is opened on
+    /dev/null (else the first file fembeam opens would take its number, and whatever is
+    printed would land in it); stdout and stderr escape what their encoding cannot show
+    (an ASCII locale and a non-ASCII file name).  Returns "stdout" when it was closed
+    (nothing could be printed), else None."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            try:
+                os.open(os.devnull, os.O_RDWR)      # the lowest free descriptor: this one
+            except OSError:
+                pass
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w")
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.reconfigure(errors="backslashreplace")
+        except (AttributeError, ValueError, OSError):    # not a text stream of a file (a test's capture)
+            pass
+    return "stdout" if sys.stdout is None else None
+
+
 def _interrupted(e: BaseException) -> int:
     """One line (with what a study kept: its journal, from the exception's notes) and 130
-    for Ctrl-C, 143 for SIGTERM."""
-    what, code = ("interrupted", 130) if isinstance(e, KeyboardInterrupt) else ("terminated", 143)
-    print(f"fembeam: {what}" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
+    for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP."""
+    what, code = (("interrupted", 130) if isinstance(e, KeyboardInterrupt) else
+                  ("hung up", 129) if isinstance(e, HungUp) else ("terminated", 143))
+    # CPython remembers a KeyboardInterrupt that escaped code run from a string (exec or eval:
+    # a dataclass being defined during an import), even when it was caught later, and then kills
+    # itself with SIGINT at exit (-2 instead of 130); any later exec of a string clears that mark
+    exec("pass")
+    if sys.stderr is not None:
+        try:
+            print(f"fembeam: {what}" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
+        except (OSError, ValueError):
+            pass
     return code
 
 
@@ -121,15 +170,19 @@ def _command(argv: list[str] | None) -> int:
             raise code
         return code
     except InputError as e:
+        interrupts.check()   # (here and below) an error caused by a signal is the signal's
         print(f"fembeam: error: {one_line(e)}", file=sys.stderr)
         return 2
     except FembeamError as e:
+        interrupts.check()
         print(f"fembeam: {type(e).__name__}: {one_line(e)}", file=sys.stderr)
         return 3
     except BrokenPipeError:  # e.g. `fembeam analyze | head`: stop quietly
+        interrupts.check()
         _drop_stdout()
         return 1
     except OSError as e:     # e.g. `fembeam analyze > /dev/full`
+        interrupts.check()
         _drop_stdout()
         what = "the output" if e.filename is None else repr(str(e.filename))
         print(f"fembeam: error: cannot write {what}: {one_line(e.strerror or e)}", file=sys.stderr)
