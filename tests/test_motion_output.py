@@ -350,13 +350,13 @@ def test_failures_leave_no_files(block_res, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
     monkeypatch.setattr(meshio, "write", real)
 
-    from matplotlib.animation import PillowWriter
+    from PIL import Image
 
-    def broken(self):
-        open(self.outfile, "wb").write(b"GIF89a partial")
+    def broken(self, fp, *a, **k):
+        open(fp, "wb").write(b"GIF89a partial")
         raise RuntimeError("encoder failed")
 
-    monkeypatch.setattr(PillowWriter, "finish", broken)
+    monkeypatch.setattr(Image.Image, "save", broken)
     with pytest.raises(RuntimeError, match="encoder failed"):
         write_gif(block_res, tmp_path / "x.gif", frames=3, sections=5)
     assert list(tmp_path.iterdir()) == []

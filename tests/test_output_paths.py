@@ -115,3 +115,75 @@ def test_report_output_in_the_way_fails_before_computing(tmp_path, capsys):
     (tmp_path / "paper.png").mkdir()
     code, out = _exit(capsys, ["report", "--out-dir", str(tmp_path), "--quick"])
     assert code == 2 and "paper.png" in out.err and "is a directory" in out.err and out.out == ""
+
+
+# ------------------------------------------------------------------ names, links, sets
+ROCK = ["rock", "--voussoirs", "7", "--pulse", "sine", "--amplitude", "0.45", "--period", "1"]
+
+
+def test_a_name_the_file_system_takes_is_written_one_it_refuses_is_refused_first(afile, capsys):
+    """The temporary name is short whatever the target's length: a 255-byte name is
+    written; a 256-byte one, or a ParaView series whose frame names would exceed 255 bytes,
+    is refused before computing."""
+    longest = "b" * 251 + ".csv"
+    code, out = _exit(capsys, ROCK + ["--csv", longest])
+    assert code == 0 and sorted(os.listdir(afile)) == ["adir", "afile", longest]
+    for argv, words in ((["--csv", "c" * 252 + ".csv"], "has 256 bytes; at most 255"),
+                        (["--vtk", "v" * 247 + ".pvd"], "_0199.vtu' has 256 bytes"),
+                        (["--vtk", "v" * 246 + ".pvd", "--frames", "20000"], "_19999.vtu' has 256 bytes")):
+        code, out = _exit(capsys, ROCK + argv)
+        assert code == 2 and words in out.err and len(out.err.strip().splitlines()) == 1 and out.out == ""
+    assert sorted(os.listdir(afile)) == ["adir", "afile", longest]
+
+
+def test_an_output_link_is_written_through_and_stays_a_link(afile, capsys):
+    os.symlink("data/h.csv", "h.csv")
+    os.mkdir("data")
+    code, out = _exit(capsys, ROCK + ["--csv", "h.csv"])
+    assert code == 0 and os.path.islink("h.csv") and (afile / "data" / "h.csv").read_text().startswith("t,")
+    assert os.listdir(afile / "data") == ["h.csv"]
+
+
+@pytest.mark.parametrize("argv", [
+    ROCK + ["--csv", "link.csv", "--plot", "real.png"],
+    ["analyze", "--png", "a.png", "--figure", "a.png"],
+    ["spectrum", "--voussoirs", "7", "--pulse", "sine", "--periods", "0.3", "--csv", "link.csv", "--plot", "real.png"],
+    ["sweep", "--csv", "link.csv", "--plot", "real.png", "--embrace", "90", "--t-over-r", "0.2"],
+])
+def test_two_outputs_naming_one_file_are_refused(afile, capsys, argv):
+    (afile / "real.png").write_bytes(b"")
+    os.symlink("real.png", "link.csv")
+    code, out = _exit(capsys, argv)
+    assert code == 2 and "name the same file" in out.err and len(out.err.strip().splitlines()) == 1, out.err
+    assert (afile / "real.png").read_bytes() == b""
+
+
+def test_a_rerun_interrupted_leaves_the_previous_series_whole(afile, capsys, monkeypatch):
+    """Re-running ``rock --vtk`` over a complete series and interrupting it while the new
+    frames are written leaves the old index and every file it names; a finished re-run with
+    fewer frames removes the old frames it does not list."""
+    import re
+
+    import meshio
+
+    code, _ = _exit(capsys, ROCK + ["--vtk", "r.pvd", "--frames", "30"])
+    assert code == 0
+    before = {f: (afile / f).read_bytes() for f in os.listdir(afile) if f.startswith("r")}
+    assert len(before) == 31
+    real, calls = meshio.write, []
+
+    def interrupted(path, mesh, *a, **k):
+        calls.append(path)
+        if len(calls) == 7:
+            raise KeyboardInterrupt
+        return real(path, mesh, *a, **k)
+
+    monkeypatch.setattr(meshio, "write", interrupted)
+    code, out = _exit(capsys, ROCK + ["--vtk", "r.pvd", "--frames", "12", "--amplitude", "0.5"])
+    assert code == 130 and len(calls) == 7
+    assert {f: (afile / f).read_bytes() for f in os.listdir(afile) if f.startswith(("r", ".r"))} == before
+    monkeypatch.setattr(meshio, "write", real)
+    code, _ = _exit(capsys, ROCK + ["--vtk", "r.pvd", "--frames", "12"])
+    names = re.findall(r'file="([^"]+)"', (afile / "r.pvd").read_text())
+    assert code == 0 and sorted(f for f in os.listdir(afile) if f.startswith("r")) == sorted(names + ["r.pvd"])
+    assert len(names) == 12

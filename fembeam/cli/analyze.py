@@ -61,14 +61,21 @@ def add_picture_options(p) -> None:
 def check_picture_options(args) -> None:
     """Reject bad output paths before any computation (exit 2): suffix, a directory, a
     missing or read-only parent (:func:`~fembeam.output.files.check_output`)."""
-    from ..output.files import check_output
+    from ..output.files import check_distinct, check_name, check_output
 
-    check_output(getattr(args, "vtk", None), "--vtk", (".vtu",))
+    vtk = check_output(getattr(args, "vtk", None), "--vtk", (".vtu",))
     check_output(getattr(args, "png", None), "--png", (".png",))
     if getattr(args, "figure", None) is not None:
         from matplotlib.figure import Figure
         ok = sorted(Figure().canvas.get_supported_filetypes())
         check_output(args.figure, "--figure", tuple(f".{x}" for x in ok))
+    outputs = {"--png": getattr(args, "png", None), "--figure": getattr(args, "figure", None)}
+    if vtk is not None:
+        from ..output.export import output_paths
+        for part, path in output_paths(vtk).items():        # the files the export derives from the name
+            check_name(path, "--vtk")
+            outputs[f"--vtk ({part})"] = path
+    check_distinct(outputs)
 
 
 def write_pictures(res, args) -> list[str]:

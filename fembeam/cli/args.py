@@ -228,14 +228,17 @@ def arch_title(geometry: dict) -> str:
 
 def check_outputs(args, stem: str) -> None:
     """Reject the files of :func:`write_outputs` before any computation (exit 2)."""
-    from ..output.files import PLOT_SUFFIXES, check_dir, check_output
+    from ..output.files import PLOT_SUFFIXES, check_dir, check_distinct, check_output
 
     check_output(args.csv, "--csv", (".csv",))
     check_output(args.plot, "--plot", PLOT_SUFFIXES)
+    outputs = {"--csv": args.csv, "--plot": args.plot}
     if check_dir(args.out_dir, "--out-dir") is not None:
         for name in (f"{stem}.csv", f"{stem}.json", f"{stem}.png"):
             if os.path.isdir(os.path.join(args.out_dir, name)):
                 raise InputError(f"--out-dir: {os.path.join(args.out_dir, name)!r} is a directory")
+        outputs[f"--out-dir ({stem}.json)"] = os.path.join(args.out_dir, f"{stem}.json")
+    check_distinct(outputs)
 
 
 def study_journal(args, command: str):

@@ -16,7 +16,7 @@ from ..dynamics.ground import RECORDS, GroundMotion
 from ..dynamics.rocking import Rocker, RockingResult
 from ..errors import InputError
 from ..geometry import StraightMember
-from ..output.files import atomic, check_output
+from ..output.files import atomic, check_distinct, check_name, check_output
 from .args import add_arch, arch_from, arch_title, finite_float
 
 PULSES = ("rect", "sine", "ricker")
@@ -247,6 +247,10 @@ def motion_outputs(args) -> dict:
                "gif": check_output(args.gif, "--gif", (".gif",))}
     if args.frames is not None and not 2 <= args.frames <= 100_000:
         raise InputError(f"--frames must be in [2, 100000], got {args.frames}")
+    if outputs["vtk"] is not None:            # the longest frame name the series will have
+        n = args.frames or 200
+        check_name(outputs["vtk"].with_name(f"{outputs['vtk'].stem}_{n - 1:04d}.vtu"), "--vtk")
+    check_distinct({"--csv": args.csv, "--plot": args.plot, "--vtk": args.vtk, "--gif": args.gif})
     if args.history and not args.json:
         raise InputError("--history adds the history to --json output; give --json too")
     return outputs

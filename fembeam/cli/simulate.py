@@ -114,15 +114,16 @@ def placed(res, i: int, outlines) -> list[np.ndarray]:
 
 def write_pvd(res, path: Path, frames: int = 200) -> int:
     """``path`` (.pvd) and one ``.vtu`` per frame next to it (polygons of the bodies, cell data
-    ``body``), written as one atomic group.  Returns the number of frames."""
+    ``body``), replacing the series there as a whole (:func:`~fembeam.output.files.atomic_group`).
+    Returns the number of frames."""
     import meshio
 
-    from ..output.motion import _pvd_text
+    from ..output.motion import _pvd_text, previous_series
     rows = _frames(res, frames)
     outlines = res.bodies.outlines()
     width = max(4, len(str(rows.size - 1)))
     names = [path.with_name(f"{path.stem}_{j:0{width}d}.vtu") for j in range(rows.size)]
-    with atomic_group(names + [path]) as tmps:
+    with atomic_group(names + [path], replaces=previous_series(path)) as tmps:
         for j, i in enumerate(rows):
             polys = placed(res, int(i), outlines)
             pts = np.hstack(polys).T
@@ -175,8 +176,9 @@ def plot_history(res, path) -> None:
 
 def write_gif(res, path, frames: int = 120, fps: int = 20) -> None:
     """Animation of the bodies' polygons (matplotlib's Pillow writer, headless)."""
-    from matplotlib.animation import FuncAnimation, PillowWriter
     from matplotlib.patches import Polygon
+
+    from ..output.animation import save_gif
 
     from ..output.motion import _pyplot
     plt = _pyplot()
@@ -201,9 +203,7 @@ def write_gif(res, path, frames: int = 120, fps: int = 20) -> None:
             text.set_text(f"t = {res.history['t'][rows[j]]:.3f} s   a_g = {res.history['a_g'][rows[j]]:+.3f} g")
             return patches
 
-        anim = FuncAnimation(fig, draw, frames=len(rows), blit=False, repeat=False)
-        with atomic(path) as tmp:
-            anim.save(tmp, writer=PillowWriter(fps=fps), dpi=80)
+        save_gif(fig, draw, len(rows), path, fps, 80)
     finally:
         plt.close(fig)
 

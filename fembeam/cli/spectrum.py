@@ -13,7 +13,7 @@ import csv
 import json
 
 from ..errors import InputError
-from ..output.files import atomic, check_output
+from ..output.files import atomic, check_distinct, check_output
 from ..studies.parallel import journal_for
 from ..studies.spectrum import (AMPLITUDE_SPAN, DT, MODELS, N_GRID, PULSES, T_END_FACTOR, SpectrumResult,
                                 check_model, plot_spectrum, spectrum)
@@ -83,6 +83,7 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     csv_path = check_output(args.csv, "--csv", (".csv",))
     plot_path = check_output(args.plot, "--plot", (".png", ".pdf", ".svg"))
+    check_distinct({"--csv": csv_path, "--plot": plot_path})
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.elements is not None and args.elements < 4:

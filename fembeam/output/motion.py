@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import MidCurve
 from ..mechanisms.mechanism import Configuration, Mechanism
-from .files import atomic, check_output
+from .files import atomic, atomic_group, check_output, target
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dynamics.result import RockingResult
@@ -326,8 +326,10 @@ def write_pvd(result: "RockingResult", path: str | Path, frames: int = 200,
     sections plus the hinges of every mechanism of the result, each sampled on both sides,
     so all frames have the same points and cells.  Point data ``displacement`` (m), cell
     data ``piece`` (-1 at rest).  The ``.pvd`` (``timestep`` = history time, s) is written
-    last; each file atomically.  On a failure the files already written are removed.
-    Returns the files written (the ``.vtu`` files in time order, then the ``.pvd``)."""
+    last.  The series replaces the one there as a whole (:func:`~.files.atomic_group`): on a
+    failure or an interrupt nothing is touched; after it, frames of the previous series that
+    this one lacks are removed.  Returns the files written (the ``.vtu`` files in time
+    order, then the ``.pvd``)."""
     import meshio
 
     p = check_output(path, "write_pvd", (".pvd",))
@@ -337,28 +339,31 @@ def write_pvd(result: "RockingResult", path: str | Path, frames: int = 200,
     hinges = np.concatenate([np.asarray(m.s, float) for m in mechs]) if mechs else np.zeros(0)
     layout = section_layout(curve, hinges, sections)
     width = max(4, len(str(rows.size - 1)))
-    written: list[Path] = []
-    entries = []
-    try:
+    names = [p.with_name(f"{p.stem}_{j:0{width}d}.vtu") for j in range(rows.size)]
+    with atomic_group(names + [p], replaces=previous_series(p)) as tmps:
+        entries = []
         for j, i in enumerate(rows):
             k = int(h["mechanism"][i])
             mesh = frame_mesh(curve, mechs[k] if k >= 0 else None, float(h["theta"][i]), layout)
-            f = p.with_name(f"{p.stem}_{j:0{width}d}.vtu")
-            with atomic(f) as tmp:
-                meshio.write(tmp, mesh, file_format="vtu")
-            written.append(f)
-            entries.append((float(h["t"][i]), f.name))
-        with atomic(p) as tmp:
-            Path(tmp).write_text(_pvd_text(entries), encoding="utf-8")
-        written.append(p)
-    except BaseException:
-        for f in written:
-            try:
-                f.unlink()
-            except OSError:
-                pass
-        raise
-    return written
+            meshio.write(tmps[j], mesh, file_format="vtu")
+            entries.append((float(h["t"][i]), names[j].name))
+        Path(tmps[-1]).write_text(_pvd_text(entries), encoding="utf-8")
+    return names + [p]
+
+
+def previous_series(path) -> list[Path]:
+    """The frames ``<stem>_NNNN.vtu`` next to ``path`` that an existing ``.pvd`` there lists
+    (the set a new series replaces as a whole); none if it cannot be read."""
+    import re
+
+    from ..readers import read_text
+    p = target(path)
+    try:
+        text = read_text(p, "the ParaView series", 16 * 2 ** 20) if p.exists() else ""
+    except InputError:
+        return []
+    pattern = re.compile(r'file="(' + re.escape(Path(path).stem) + r'_[0-9]+\.vtu)"')
+    return [p.with_name(n) for n in dict.fromkeys(pattern.findall(text))]
 
 
 # --------------------------------------------------------------------------- animation
@@ -400,7 +405,7 @@ def write_gif(result: "RockingResult", path: str | Path, frames: int = 120, fps:
               key=lambda x: abs(np.log(x / span)))
 
     plt = _pyplot()
-    from matplotlib.animation import FuncAnimation, PillowWriter
+    from .animation import save_gif
 
     fig, ax = plt.subplots(figsize=(6.0, 4.5))
     try:
@@ -429,8 +434,6 @@ def write_gif(result: "RockingResult", path: str | Path, frames: int = 120, fps:
             text.set_text(f"t = {h['t'][i]:.4f} s    a_g = {h['a_g'][i]:+.3f} g")
             return body, dots, text
 
-        anim = FuncAnimation(fig, draw, frames=len(rows), blit=False, repeat=False)
-        with atomic(p) as tmp:
-            anim.save(tmp, writer=PillowWriter(fps=fps), dpi=dpi)
+        save_gif(fig, draw, len(rows), p, fps, dpi)
     finally:
         plt.close(fig)
