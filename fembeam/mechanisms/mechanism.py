@@ -32,7 +32,9 @@ from ..geometry import MidCurve
 from .hinge import HINGE_REL_TOL, ROCKING_SIDES, Hinge, find_hinges, merge_adjacent, opening_signs, \
     pivot_fractions, side_of
 
-__all__ = ["Mechanism", "Configuration"]
+__all__ = ["Mechanism", "Configuration", "END_TOL"]
+
+END_TOL = 1e-10     # relative to the member's length: a hinge this close past an end is at the end
 
 
 def _rot(theta: float) -> np.ndarray:
@@ -55,6 +57,8 @@ class Mechanism:
     moving with free-parameter rate ``alpha`` (rad/s, ``Omega`` of the first moving piece).
 
     Four hinges when both ends of ``curve`` are joints, one hinge when one end is free.
+    A hinge past an end of the member by at most :data:`END_TOL` of its length (round-off:
+    the end's arc length computed along the other direction) is put at that end.
     """
 
     curve: MidCurve
@@ -76,8 +80,11 @@ class Mechanism:
             raise InputError(f"hinge positions must be finite numbers, got s = {self.s}")
         if np.any(np.diff(s) < 0):
             raise InputError(f"the hinges must be in increasing order along the member, got s = {self.s}")
-        if np.any(s < 0) or np.any(s > self.curve.length):
-            raise InputError(f"hinges must lie on the member, s in [0, {self.curve.length:g}] m, got {self.s}")
+        L = float(self.curve.length)
+        if np.any(s < -END_TOL * L) or np.any(s > (1 + END_TOL) * L):
+            raise InputError(f"hinges must lie on the member, s in [0, {L:g}] m, got {self.s}")
+        if np.any(s < 0) or np.any(s > L):        # past an end by round-off (a length summed another way)
+            object.__setattr__(self, "s", tuple(float(x) for x in np.clip(s, 0.0, L)))
 
     # ------------------------------------------------------------------ construction
     @staticmethod
@@ -96,7 +103,10 @@ class Mechanism:
         hinges = list(hinges)
         n = cls.n_hinges_expected(curve)
         if len(hinges) != n:
-            raise InputError(f"expected a {n}-hinge mechanism, got {len(hinges)} hinges")
+            raise InputError(f"expected a {n}-hinge mechanism, got {len(hinges)} hinges: the mechanisms followed here "
+                             f"have {n} distinct hinges, and this member's collapse mechanism has fewer (hinges "
+                             "merged: an arch of 2 voussoirs, or so thick, t/R near 2, that hinges meet; fembeam "
+                             f"analyze shows them); give a member whose collapse mechanism has {n}")
         return cls(curve, tuple(float(h.s) for h in hinges), tuple(h.side for h in hinges), alpha)
 
     @classmethod
