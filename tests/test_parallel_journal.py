@@ -391,3 +391,63 @@ def test_a_client_that_cannot_start_is_an_input_error(monkeypatch):
     with pytest.raises(InputError, match="cannot connect to the Dask scheduler at 'tcp://x:1': AssertionError"):
         connect("tcp://x:1")
     assert main(["sweep", "--embrace", "90", "--t-over-r", "0.2", "--scheduler", "tcp://x:1", "--quiet"]) == 2
+
+
+# ------------------------------------------------------------------ corrupt journals
+def _corrupt(path, kind: str, good: bytes) -> None:
+    """Replace the journal at ``path`` by a corrupt one of ``kind`` (``good``: a valid line)."""
+    import json
+    import random
+
+    if kind == "random":
+        path.write_bytes(random.Random(1).randbytes(5000) + b"\n" + good)
+    elif kind == "latin-1":
+        path.write_bytes("caf\u00e9 au lait\n".encode("latin-1") + good)
+    elif kind == "sparse":
+        with open(path, "wb") as f:
+            f.truncate(5 * 2 ** 30)
+    elif kind == "wrong type":           # the right key, a result of another type, no valid check
+        rec = json.loads(good)
+        rec["result"] = "not a number"
+        path.write_bytes(json.dumps(rec).encode() + b"\n" + good)
+    elif kind == "cut":
+        path.write_bytes(good[:-10] + b"\n" + good)
+    elif kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "dir":
+        path.mkdir()
+
+
+@pytest.mark.parametrize("kind, ignored", [("random", "lines of the journal"), ("latin-1", "1 line of the journal"),
+                                           ("sparse", "it is ignored and started afresh"),
+                                           ("wrong type", "1 line of the journal"), ("cut", "1 line of the journal"),
+                                           ("fifo", "not a regular file"), ("dir", "not a regular file")])
+def test_a_corrupt_journal_is_ignored_line_by_line_never_fatal(tmp_path, kind, ignored):
+    """Lines that do not parse or fail their check are ignored (their cases run again), a
+    journal too large is started afresh, a journal path that is not a file disables it: the
+    study's result is the same, and ``note`` says what was ignored in one line."""
+    j = journal_for(tmp_path / "s.csv", "test")
+    tasks = [(square, {"i": i}) for i in range(4)]
+    assert run_tasks(tasks, workers=1, progress=False, journal=j) == [0, 1, 4, 9]
+    good = j.path.read_bytes().splitlines(keepends=True)[2]            # the task i = 2
+    j.path.unlink()
+    _corrupt(j.path, kind, good)
+    again = Journal(j.path)
+    assert ignored in again.note and "\n" not in again.note
+    kept = [t for t in tasks if Journal.key(t) in again.done]
+    assert kept == ([tasks[2]] if kind not in ("sparse", "fifo", "dir") else [])
+    assert run_tasks(tasks, workers=1, progress=False, journal=again) == [0, 1, 4, 9]
+    again.remove()
+    assert j.path.exists() == (kind in ("fifo", "dir"))                  # never removes what is not its file
+
+
+def test_a_study_with_a_corrupt_journal_says_so_in_one_line(tmp_path, capsys):
+    from fembeam.cli.main import main
+
+    argv = ["sweep", "--embrace", "90", "--t-over-r", "0.2,0.3", "--elements", "8", "--tmin-elements", "8",
+            "--workers", "1", "--quiet", "--no-envelope", "--csv", str(tmp_path / "s.csv")]
+    (tmp_path / ".s.csv.sweep-journal.jsonl").write_bytes(b"\xff\xfe{\"key\": 1}\n\x00\x01")
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("fembeam: note: 2 lines of the journal") and "run again" in err
+    assert not (tmp_path / ".s.csv.sweep-journal.jsonl").exists()

@@ -116,11 +116,9 @@ def test_a_rock_journal_is_not_read_for_simulate(tmp_path):
     sim = spectrum(BLOCK, "rect", [0.5], workers=1, journal=Journal(j.path), model="simulate", dt=DT, **SMALL)
     other = spectrum(BLOCK, "rect", [0.5], workers=1, journal=Journal(j.path), model="simulate", dt=2 * DT, **SMALL)
     done = Journal(j.path).done
-    assert len(done) == 3                                   # each run computed its own period
+    # each run computed its own period: the keys are digests of the task, its model, dt and friction
+    assert len(done) == 3
     assert "steps" not in rock.rows[0] and sim.rows[0]["steps"] > 0 and other.settings["dt"] == 2 * DT
-    keys = [json.loads(k) for k in done]
-    models = sorted((k[3]["model"], k[3].get("dt"), k[3].get("friction", "-")) for k in keys)
-    assert models == [("rock", None, "-"), ("simulate", DT, None), ("simulate", 2 * DT, None)]
     again = spectrum(BLOCK, "rect", [0.5], workers=1, journal=Journal(j.path), model="simulate", dt=DT, **SMALL)
     assert len(Journal(j.path).done) == 3 and strip(again.rows) == strip(sim.rows)     # read, not recomputed
 

@@ -6,6 +6,7 @@ import csv
 import json
 import math
 import os
+import sys
 
 from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
@@ -248,8 +249,16 @@ def study_journal(args, command: str):
     from ..studies.parallel import journal_for
 
     if args.out_dir:
-        return journal_for(args.out_dir, command, directory=True)
-    return journal_for(args.csv or args.plot, command)
+        return noted(journal_for(args.out_dir, command, directory=True))
+    return noted(journal_for(args.csv or args.plot, command))
+
+
+def noted(journal):
+    """``journal``, its note (what of it was ignored) said in one line on stderr."""
+    if journal is not None and journal.note:
+        from .main import one_line
+        print(f"fembeam: note: {one_line(journal.note)}", file=sys.stderr)
+    return journal
 
 
 def write_outputs(result, args, stem: str, plot) -> None:

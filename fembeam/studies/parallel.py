@@ -21,6 +21,7 @@ Nothing finished is lost:
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import sys
@@ -35,6 +36,7 @@ from ..errors import InputError, SolverError
 __all__ = ["run_tasks", "default_workers", "Journal", "journal_for", "shared_pool", "connect"]
 
 Task = tuple[Callable[..., Any], dict]
+MAX_JOURNAL_BYTES = 256 * 2 ** 20     # a journal larger than this is ignored (10^4 periods of a spectrum: ~50 MB)
 
 
 def default_workers() -> int:
@@ -69,56 +71,140 @@ def _quiet_call(func, kwargs):
 _LIMITS = []
 
 
-def _single_threaded_worker() -> None:
+def _single_threaded_worker(parent: int | None = None) -> None:
     """Initialiser of a local worker process: BLAS on one thread for the process's life
-    (once, instead of around every task: 1.3 ms a task); Ctrl-C ignored (a terminal sends
-    it to the whole process group: the parent stops the workers) and SIGTERM back to its
-    default (a worker terminated is a lost worker, not an exception raised in it)."""
+    (once, instead of around every task: 1.3 ms a task); Ctrl-C and SIGHUP ignored (a
+    terminal sends them to the whole process group: the parent stops the workers) and
+    SIGTERM back to its default (a worker terminated is a lost worker, not an exception
+    raised in it); and the worker dies with its ``parent`` (:func:`_die_with_parent`)."""
     import signal
 
     from threadpoolctl import threadpool_limits
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "SIGHUP"):
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if parent is not None:
+        _die_with_parent(parent)
     _LIMITS.append(threadpool_limits(limits=1))
+
+
+def _die_with_parent(parent: int) -> None:
+    """End this worker when the process ``parent`` that started it dies, however it dies
+    (SIGKILL included: nothing runs in the parent then).  On Linux the kernel sends the
+    worker SIGKILL (``prctl(PR_SET_PDEATHSIG)``; the pool forks its workers from the thread
+    that runs the study); elsewhere a daemon thread checks the parent every 0.5 s.  A parent
+    already gone when this runs ends the worker at once."""
+    import signal
+
+    armed = False
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            libc = ctypes.CDLL(None, use_errno=True)
+            armed = libc.prctl(1, int(signal.SIGKILL), 0, 0, 0) == 0      # 1: PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            armed = False
+    if os.getppid() != parent:
+        os._exit(1)
+    if not armed:
+        def watch():
+            while os.getppid() == parent:
+                threading.Event().wait(0.5)
+            os._exit(1)
+        threading.Thread(target=watch, daemon=True, name="fembeam-parent-watch").start()
 
 
 def _new_pool(workers: int):
     from concurrent.futures import ProcessPoolExecutor
 
-    return ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker)
+    return ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker, initargs=(os.getpid(),))
 
 
 class Journal:
-    """Finished tasks of a study, one JSON line each (``{"key": ..., "result": ...}``),
-    appended as they finish; lines that do not parse (a write cut short) are ignored."""
+    """Finished tasks of a study, one JSON line each, appended as they finish:
+    ``{"key": K, "result": R, "check": C}`` with ``K`` the digest of the task
+    (:meth:`key`) and ``C`` the digest of ``K`` and ``R``.
+
+    Reading never fails: the file is read with a bound (:data:`MAX_JOURNAL_BYTES`,
+    :func:`fembeam.readers.read_bytes`); a line that is not UTF-8, not JSON, not an object
+    with a string key, or whose check digest does not match (a line cut short by a kill, a
+    corrupted or hand-edited one) is ignored, and so is the whole file when it is too large
+    (it is then started afresh); a path that is not a regular file (a FIFO, a directory)
+    disables the journal.  ``note`` says in one line what was ignored (None: nothing)."""
 
     def __init__(self, path: str | Path):
+        from ..readers import read_bytes
+
         self.path = Path(path)
         self.done: dict[str, Any] = {}
-        if self.path.is_file():
-            for line in self.path.read_text().splitlines():
-                try:
-                    rec = json.loads(line)
-                    self.done[rec["key"]] = rec["result"]
-                except (ValueError, KeyError, TypeError):
-                    continue
+        self.note: str | None = None
+        self.usable, self._fresh = True, False
+        if not self.path.exists() and not self.path.is_symlink():
+            return
+        if not self.path.is_file():
+            self.usable = False
+            self.note = f"{self.path} is not a regular file: finished cases are not kept"
+            return
+        try:
+            data = read_bytes(self.path, "the journal", MAX_JOURNAL_BYTES)
+        except InputError as e:
+            self._fresh = True
+            self.note = f"{e}; it is ignored and started afresh"
+            return
+        bad = 0
+        for line in data.split(b"\n"):
+            if not line.strip():
+                continue
+            rec = self._record(line)
+            if rec is None:
+                bad += 1
+            else:
+                self.done[rec[0]] = rec[1]
+        if bad:
+            self.note = (f"{bad} line{'s' if bad > 1 else ''} of the journal {self.path} did not parse or failed "
+                         "its check and {} ignored (those cases are run again)".format("were" if bad > 1 else "was"))
+
+    @staticmethod
+    def _record(line: bytes):
+        """``(key, result)`` of one line, or None if it does not parse or fails its check."""
+        try:
+            rec = json.loads(line.decode("utf-8"))
+            key, result, check = rec["key"], rec["result"], rec["check"]
+        except (ValueError, KeyError, TypeError, RecursionError):
+            return None
+        if not (isinstance(key, str) and isinstance(check, str) and check == Journal._check(key, result)):
+            return None
+        return key, result
+
+    @staticmethod
+    def _check(key: str, result: Any) -> str:
+        text = json.dumps([key, result], sort_keys=True, allow_nan=True)
+        return hashlib.sha256(text.encode()).hexdigest()[:32]
 
     @staticmethod
     def key(task: Task) -> str:
-        """fembeam's version, the function and its arguments; objects (a member) by their
-        full ``repr``, the dataclass fields that define them (arrays printed in full)."""
+        """The digest of fembeam's version, the function and its arguments; objects (a
+        member) by their full ``repr``, the dataclass fields that define them (arrays
+        printed in full)."""
         import numpy as np
 
         from .. import __version__
 
         f, kw = task
         with np.printoptions(threshold=sys.maxsize, precision=17):
-            return json.dumps([__version__, f.__module__, f.__qualname__, kw], sort_keys=True, default=repr)
+            text = json.dumps([__version__, f.__module__, f.__qualname__, kw], sort_keys=True, default=repr)
+        return hashlib.sha256(text.encode()).hexdigest()
 
     def add(self, key: str, result: Any) -> None:
+        if not self.usable:
+            self.done[key] = result
+            return
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        with open(self.path, "a+") as fh:
+        line = json.dumps({"key": key, "result": result, "check": self._check(key, result)}) + "\n"
+        with open(self.path, "w" if self._fresh else "a+") as fh:
+            self._fresh = False
             fh.seek(0, os.SEEK_END)
             if fh.tell():                      # a line cut short by a kill: start a new one
                 fh.seek(fh.tell() - 1)
@@ -126,24 +212,31 @@ class Journal:
                 fh.seek(0, os.SEEK_END)
                 if last != "\n":
                     fh.write("\n")
-            fh.write(json.dumps({"key": key, "result": result}) + "\n")
+            fh.write(line)
             fh.flush()
             os.fsync(fh.fileno())
         self.done[key] = result
 
     def remove(self) -> None:
-        self.path.unlink(missing_ok=True)
+        if self.usable and self.path.is_file():
+            self.path.unlink(missing_ok=True)
 
 
 def journal_for(output: str | Path | None, command: str, directory: bool = False) -> Journal | None:
     """The journal of ``command`` kept beside a study's ``output`` file, or in its output
-    ``directory`` (``DIR/.fembeam-COMMAND-journal.jsonl``, ``.NAME.COMMAND-journal.jsonl``;
-    None: no journal).  Nothing is created before the first task finishes."""
+    ``directory`` (``DIR/.fembeam-COMMAND-journal.jsonl``, ``.NAME.COMMAND-journal.jsonl``,
+    NAME cut to 100 bytes and followed by its digest when longer, so that the journal's name
+    is never too long where the output's fits; None: no journal).  Nothing is created before
+    the first task finishes."""
     if output is None:
         return None
     p = Path(output)
-    return Journal(p / f".fembeam-{command}-journal.jsonl" if directory else
-                   p.with_name(f".{p.name}.{command}-journal.jsonl"))
+    if directory:
+        return Journal(p / f".fembeam-{command}-journal.jsonl")
+    name = p.name
+    if len(os.fsencode(name)) > 100:
+        name = os.fsencode(name)[:80].decode(errors="ignore") + "-" + hashlib.sha256(os.fsencode(name)).hexdigest()[:16]
+    return Journal(p.with_name(f".{name}.{command}-journal.jsonl"))
 
 
 def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, progress: bool = True,
@@ -154,11 +247,13 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
     ``scheduler``: None (local), a Dask scheduler address (``"tcp://host:8786"``, or the
     ``inproc://`` address of an in-process ``LocalCluster``) or a ``distributed.Client``.
     ``workers``: local worker processes (default :func:`default_workers`; 1 runs in
-    this process, without a pool).  ``progress``: a tqdm bar on stderr.  ``journal``
+    this process, without a pool; a new pool never has more processes than tasks to run).  ``progress``: a tqdm bar on stderr.  ``journal``
     and ``lost``: see the module docstring.
     """
     from tqdm import tqdm
 
+    from ..limits import check_workers
+    check_workers(workers)
     keys = [Journal.key(t) for t in tasks] if journal is not None else []
     out: list = [None] * len(tasks)
     todo = list(range(len(tasks)))
@@ -212,8 +307,14 @@ class _Lost:
 
 
 def _kill(pool) -> None:
-    for proc in list((getattr(pool, "_processes", None) or {}).values()):
-        proc.kill()          # SIGKILL: the workers inherit our SIGTERM handler
+    """SIGKILL to the pool's workers (they inherit our SIGTERM handler), then wait until they
+    are gone (milliseconds; 5 s at most): an interrupted command exits without waiting for
+    anything else, and leaves no process behind."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    for proc in procs:
+        proc.kill()
+    for proc in procs:
+        proc.join(5.0)
     pool.shutdown(wait=False, cancel_futures=True)
 
 
@@ -225,7 +326,7 @@ def _run_pool(tasks: list[Task], workers: int, done) -> list[int]:
     from concurrent.futures.process import BrokenProcessPool
 
     shared = _shared_pools()
-    pool = shared.get(workers) or _new_pool(workers)
+    pool = shared.get(workers) or _new_pool(min(workers, len(tasks)))
     broken = []
     try:
         # the first submit forks the workers: a signal then is raised once the pool knows them all
