@@ -51,12 +51,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--bisect-tol must be in (0, 0.1], got {args.bisect_tol:g}")
     if args.factors is not None and not args.factors:
         raise InputError("--factors: give at least one factor")
-    if args.elements is not None and args.elements < 4:
-        raise InputError(f"--elements must be >= 4, got {args.elements}")
-    if args.voussoirs is not None and args.voussoirs < 1:
-        raise InputError(f"--voussoirs must be >= 1, got {args.voussoirs}")
     dt, friction = model_from(args)
-    curve, voussoirs, elements = member_from(args)
+    curve, voussoirs, elements = member_from(args, args.model)
     ground = GroundMotion.record(args.record)
     bar = None
     if not args.quiet and sys.stderr.isatty():
@@ -80,6 +76,9 @@ def run(args: argparse.Namespace) -> int:
 def summary(res: dict) -> str:
     A = res["A_L"]
     lines = [f"fembeam collapse-scale: {res['record']} (PGA {res['pga']:.4g} g), sign {res['sign']:+d}"]
+    if res.get("outcome") == "cannot_stand":
+        return "\n".join(lines + ["  outcome: cannot_stand (the member does not stand under its own weight: "
+                                  "fembeam analyze); no run was made"])
     if res.get("model") in ("simulate", "auto"):
         lines.append("  " + model_line(res["dt"], res["friction"], res["model"]))
     lines += [f"  A_L = {A['+1']:.6g} g (+1), {A['-1']:.6g} g (-1); the record first moves the member at factor "

@@ -7,7 +7,6 @@ computation is :class:`fembeam.dynamics.rocking.Rocker`; this module parses, pri
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import sys
@@ -16,7 +15,8 @@ from ..dynamics.ground import RECORDS, GroundMotion
 from ..dynamics.rocking import Rocker, RockingResult
 from ..errors import InputError
 from ..geometry import StraightMember
-from ..output.files import atomic, check_distinct, check_name, check_output
+from ..limits import check_block, check_discretisation, check_duration, check_history
+from ..output.files import check_distinct, check_name, check_output, write_table
 from .args import add_arch, arch_from, arch_title, finite_float
 
 PULSES = ("rect", "sine", "ricker")
@@ -61,12 +61,17 @@ def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False):
     return w
 
 
-def member_from(args):
-    """``(curve, voussoirs, elements)`` of the member options."""
+def member_from(args, model: str = "rock"):
+    """``(curve, voussoirs, elements)`` of the member options, within the bounds of ``model``
+    (``"rock"`` or ``"simulate"``: :func:`fembeam.limits.check_block`,
+    :func:`~fembeam.limits.check_discretisation`), checked before the member is built."""
     if args.block is not None:
         width, height = args.block
-        return StraightMember(height=height, width=width, density=args.density), 1, 200
+        curve = StraightMember(height=height, width=width, density=args.density)
+        check_block(curve.width, curve.height)
+        return curve, 1, 200
     from ..analysis.pipeline import DEFAULT_ELEMENTS
+    check_discretisation(model, args.voussoirs, args.elements)
     return arch_from(args), args.voussoirs, DEFAULT_ELEMENTS if args.elements is None else args.elements
 
 
@@ -231,11 +236,8 @@ def summary(res: RockingResult, max_impacts: int = 12) -> str:
 
 
 def write_csv(res: RockingResult, path) -> None:
-    rows = res.csv_rows()
-    with atomic(path) as tmp, open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(res.history))
-        w.writeheader()
-        w.writerows(rows)
+    """The history, streamed (:func:`~fembeam.output.files.write_table`)."""
+    write_table(path, res.history)
 
 
 def motion_outputs(args) -> dict:
@@ -256,6 +258,19 @@ def motion_outputs(args) -> dict:
     return outputs
 
 
+def run_end(args, curve, ground) -> float:
+    """``--t-end`` (s; default: the end of the ground motion plus ``20 sqrt(L/g)``), after the
+    start of the ground motion by at most :data:`~fembeam.limits.MAX_DURATION`."""
+    from ..dynamics.equation import GRAVITY
+
+    t0 = float(ground.t[0])
+    t_end = args.t_end if args.t_end is not None else float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / GRAVITY)
+    if not t_end > t0:
+        raise InputError(f"--t-end must be after the start of the ground motion ({t0:g} s), got {t_end:g}")
+    check_duration(t_end - t0)
+    return t_end
+
+
 def run(args) -> int:
     if args.model == "auto":
         return run_auto(args)
@@ -267,10 +282,11 @@ def run(args) -> int:
                          "check: drop --no-thrust-check")
     curve, voussoirs, elements = member_from(args)
     ground = ground_from(args)
+    end = run_end(args, curve, ground)
+    check_history(end - float(ground.t[0]), args.dt_out)
     rocker = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=args.backend, qp=not args.no_qp)
     t_end = args.t_end if args.t_end is not None else None
-    update, bar = _progress(t_end if t_end is not None else
-                            float(ground.t[-1]) + 20.0 * (curve.length / rocker.g) ** 0.5)
+    update, bar = _progress(end)
     try:
         res = rocker.run(ground, t_end=t_end, dt_out=args.dt_out, thrust_check=not args.no_thrust_check,
                          progress=update, friction=args.friction)

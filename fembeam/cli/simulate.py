@@ -6,7 +6,6 @@ parses, prints and writes.
 """
 from __future__ import annotations
 
-import csv
 import json
 import math
 import sys
@@ -15,9 +14,11 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..output.files import atomic, atomic_group
+from ..limits import bodies, check_history, check_steps
+from ..output.files import atomic, atomic_group, write_table
 from .args import arch_title
-from .rock import _progress, add_ground, add_member, coulomb, friction_line, ground_from, member_from, motion_outputs
+from .rock import (_progress, add_ground, add_member, coulomb, friction_line, ground_from, member_from, motion_outputs,
+                   run_end)
 
 HELP = "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"
 
@@ -91,10 +92,8 @@ def summary(res) -> str:
 
 
 def write_csv(res, path) -> None:
-    with atomic(path) as tmp, open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(res.history))
-        w.writeheader()
-        w.writerows(res.csv_rows())
+    """The history, streamed (:func:`~fembeam.output.files.write_table`)."""
+    write_table(path, res.history, integer=("hinges", "separated"))
 
 
 def _frames(res, frames: int) -> np.ndarray:
@@ -216,13 +215,13 @@ def run(args) -> int:
         x = getattr(args, name)
         if x is not None and not math.isfinite(x):
             raise InputError(f"--{name.replace('_', '-')} must be a finite number, got {x}")
-    curve, voussoirs, elements = member_from(args)
+    curve, voussoirs, elements = member_from(args, "simulate")
     ground = ground_from(args)
-    t0 = float(ground.t[0])
-    t_end = args.t_end if args.t_end is not None else float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / 9.81)
-    if not t_end > t0:
-        raise InputError(f"--t-end must be after the start of the ground motion ({t0:g} s), got {t_end:g}")
-    check_dt(args.dt, t0, t_end)
+    t_end = run_end(args, curve, ground)
+    check_dt(args.dt, float(ground.t[0]), t_end)
+    n = bodies(voussoirs, elements, args.block is not None)
+    check_steps(args.dt, t_end - float(ground.t[0]), n)
+    check_history(t_end - float(ground.t[0]), args.dt_out, n)
     kw = {"voussoirs": voussoirs} if voussoirs is not None else {"elements": elements}
     sim = Simulator(curve, friction=args.friction, **kw)
     update, bar = _progress(t_end)

@@ -13,11 +13,12 @@ import csv
 import json
 
 from ..errors import InputError
+from ..limits import MAX_WORKERS, check_workers
 from ..output.files import atomic, check_distinct, check_output
 from ..studies.parallel import journal_for
 from ..studies.spectrum import (AMPLITUDE_SPAN, DT, MODELS, N_GRID, PULSES, T_END_FACTOR, SpectrumResult,
                                 check_model, plot_spectrum, spectrum)
-from .args import finite_float, float_list
+from .args import finite_float, float_list, noted
 from .rock import add_member, member_from
 
 MODEL_HELP = ("rock: one mechanism between impacts (default); simulate: the voussoirs, rigid elements or block "
@@ -71,7 +72,8 @@ def register(sub) -> None:
     g.add_argument("--t-end-factor", type=finite_float, default=T_END_FACTOR, metavar="F",
                    help=f"each run lasts to the end of the pulse + F sqrt(L/g) (default {T_END_FACTOR:g})")
     x = p.add_argument_group("execution and output")
-    x.add_argument("--workers", type=int, default=None, metavar="N", help="local worker processes (default: all cores)")
+    x.add_argument("--workers", type=int, default=None, metavar="N",
+                   help=f"local worker processes (default: all cores; at most {MAX_WORKERS}, never more than periods)")
     x.add_argument("--scheduler", metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     x.add_argument("--json", action="store_true", help="print one JSON object on stdout instead of the table")
     x.add_argument("--csv", metavar="PATH.csv", help="one row per period")
@@ -84,20 +86,15 @@ def run(args: argparse.Namespace) -> int:
     csv_path = check_output(args.csv, "--csv", (".csv",))
     plot_path = check_output(args.plot, "--plot", (".png", ".pdf", ".svg"))
     check_distinct({"--csv": csv_path, "--plot": plot_path})
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers must be >= 1, got {args.workers}")
-    if args.elements is not None and args.elements < 4:
-        raise InputError(f"--elements must be >= 4, got {args.elements}")
-    if args.voussoirs is not None and args.voussoirs < 1:
-        raise InputError(f"--voussoirs must be >= 1, got {args.voussoirs}")
+    check_workers(args.workers)
     if args.scheduler:
         try:
             import distributed  # noqa: F401
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
     dt, friction = model_from(args)
-    curve, voussoirs, elements = member_from(args)
-    journal = journal_for(csv_path or plot_path, "spectrum")     # finished periods kept: a re-run resumes
+    curve, voussoirs, elements = member_from(args, args.model)
+    journal = noted(journal_for(csv_path or plot_path, "spectrum"))    # finished periods kept: a re-run resumes
     res = spectrum(curve, args.pulse, args.periods, voussoirs=voussoirs, elements=elements,
                    amplitudes=args.amplitudes, workers=args.workers, scheduler=args.scheduler,
                    progress=not args.quiet, bisect_tol=args.bisect_tol, t_end_factor=args.t_end_factor,
@@ -150,6 +147,9 @@ def table(res: SpectrumResult) -> str:
     A0, amps = res.onset, res.amplitudes
     col = "duration" if res.kind == "rect" else "period"
     out = [f"fembeam spectrum: {head}; {res.kind} pulses, sign {res.sign:+d}"]
+    if res.outcome == "cannot_stand":
+        return "\n".join(out + ["  outcome: cannot_stand (the member does not stand under its own weight: "
+                                "fembeam analyze); no pulse was run"])
     if res.model != "rock":
         out.append("  " + model_line(res.settings["dt"], res.settings["friction"], res.model))
     out += [f"  A_L = {res.A_L[1]:.6g} g (+1), {res.A_L[-1]:.6g} g (-1); onset amplitude {A0:.6g} g",

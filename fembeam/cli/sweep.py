@@ -6,6 +6,7 @@ import json
 
 from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
+from ..limits import MAX_WORKERS, check_workers
 from ..analysis.impact import IMPACT_BACKENDS
 from ..studies.sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, family, plot_sweep, sweep
 from .args import SHAPES, check_outputs, finite_float, float_list, study_journal, write_outputs
@@ -52,7 +53,8 @@ def register(sub) -> None:
     e.add_argument("--above", type=finite_float, default=1e-3, metavar="EPS",
                    help="envelope arch at t = t_min (1 + EPS) (default 1e-3)")
     x = p.add_argument_group("execution and output")
-    x.add_argument("--workers", type=int, default=None, metavar="N", help="local worker processes (default: all cores)")
+    x.add_argument("--workers", type=int, default=None, metavar="N",
+                   help=f"local worker processes (default: all cores; at most {MAX_WORKERS}, never more than cases)")
     x.add_argument("--scheduler", metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     x.add_argument("--json", action="store_true", help="print one JSON object on stdout instead of the tables")
     x.add_argument("--csv", metavar="PATH", help="write cases and envelope points as CSV (column kind)")
@@ -91,8 +93,7 @@ def run(args: argparse.Namespace) -> int:
     shape, a, b, env = grid(args)
     if args.elements < 4 or args.tmin_elements < 4:
         raise InputError(f"--elements and --tmin-elements must be >= 4, got {args.elements}, {args.tmin_elements}")
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers must be >= 1, got {args.workers}")
+    check_workers(args.workers)
     if not (0 < args.tmin_tol < 0.01) or not (0 < args.above < 1):
         raise InputError("--tmin-tol must be in (0, 0.01) and --above in (0, 1)")
     if args.scheduler:

@@ -54,6 +54,7 @@ from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import SLIDE_OUT, overturn_level
 from ..errors import InputError, SolverError
 from ..geometry import MidCurve
+from ..limits import MAX_STEPS      # (t_end - t_0) / dt above this: InputError
 from .bodies import Bodies
 from .contacts import Contacts
 from .result import SimulationResult
@@ -62,7 +63,6 @@ __all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STE
            "check_dt", "check_friction"]
 
 DT_RANGE = (1e-6, 0.05)     # s: admitted time steps
-MAX_STEPS = 10_000_000      # (t_end - t_0) / dt above this: InputError
 GAP_TOL = 1e-7              # corner closed: gap <= GAP_TOL * thickness
 OPEN_TOL = 1e-6             # hinge count: a corner open by more than OPEN_TOL * thickness
 MIN_STEP = 1e-6             # shortest step cut at a landing, relative to dt

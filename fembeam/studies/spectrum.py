@@ -171,13 +171,15 @@ def _check_friction(mu, name: str) -> float:
         raise InputError(f"{name}: {e}") from None
 
 
-def _check_steps(dt: float, t0: float, t_end: float, name: str = "dt") -> None:
-    """The simulation's own check of ``dt`` against the longest run (at most MAX_STEPS steps)."""
-    from ..simulation.stepper import check_dt
-    try:
-        check_dt(dt, t0, t_end)
-    except InputError as e:
-        raise InputError(f"{name}: {e}") from None
+def _check_runs(model: str, dt: float | None, duration: float, curve: MidCurve, voussoirs: int | None,
+                elements: int | None) -> None:
+    """The bounds of :mod:`fembeam.limits` on the longest run (``duration`` s of simulated
+    time): at most ``MAX_DURATION`` s; with ``model="simulate"`` its steps and body-steps too."""
+    from ..geometry import StraightMember
+    from ..limits import bodies, check_duration, check_steps
+    check_duration(duration, "t_end")
+    if model != "rock":
+        check_steps(dt, duration, bodies(voussoirs, elements, isinstance(curve, StraightMember)), "dt")
 
 
 def _simulator_has_friction() -> bool:
@@ -406,10 +408,12 @@ class SpectrumResult:
     wall_time: float = 0.0
     timing: dict = field(default_factory=dict)
     model: str = "rock"
+    outcome: str = "computed"     # or "cannot_stand": the member does not stand (rows without runs)
 
     def to_dict(self) -> dict:
         """JSON-safe (null for undefined or non-finite numbers)."""
-        return _json_safe({"study": "spectrum", "model": self.model, "collapse_outcomes": _collapse_outcomes(self.model),
+        return _json_safe({"study": "spectrum", "outcome": self.outcome, "model": self.model,
+                           "collapse_outcomes": _collapse_outcomes(self.model),
                            "pulse": self.kind, "sign": self.sign,
                            "abscissa": "duration_s" if self.kind == "rect" else "period_s",
                            "geometry": self.geometry, "A_L": {"+1": self.A_L[1], "-1": self.A_L[-1]},
@@ -428,6 +432,7 @@ class SpectrumResult:
                         "runs": r["runs"], "errors": len(r["errors"]), "time_s": round(r["time_s"], 4)})
             if self.model != "rock":
                 out[-1].update(collapse=r.get("collapse") or "", steps=r.get("steps", 0))
+            out[-1]["outcome"] = r.get("outcome") or ("overturns" if a is not None else "no_overturning")
         return out
 
 
@@ -476,7 +481,8 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     durations for rect).  Default grid: ``n_amplitudes`` geometric points from the onset
     amplitude (``A_L`` of the direction the pulse loads first) to ``span`` times it.  Each run
     lasts to the end of the pulse + ``t_end_factor sqrt(L/g)``.  Bad input raises
-    :class:`InputError` before any run; a member that cannot stand, :class:`CannotStandError`.
+    :class:`InputError` before any run; a member that cannot stand is an answer (``outcome``
+    ``"cannot_stand"``: a row per period, without runs).
     ``journal``: finished periods are kept there and taken from there (an interrupted
     spectrum resumes; :class:`~fembeam.studies.parallel.Journal`; the tasks' keys hold the model
     and its ``dt`` and ``friction``, so a journal of one model is never read for another).
@@ -488,10 +494,24 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     dt, friction = check_model(model, dt, friction)
     ps = _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign,
                          n_amplitudes, span)
+    _check_runs(model, dt, max(pulse_end(kind, p) for p in ps) + t_end_factor * math.sqrt(curve.length / GRAVITY),
+                curve, voussoirs, elements)
     clock = time.perf_counter()
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
-    if not rk.stands:
-        raise CannotStandError("the member does not stand under its own weight (fembeam analyze)")
+    settings = {"model": model, "voussoirs": voussoirs, "elements": elements if voussoirs is None else None,
+                "backend": backend, "bisect_tol": bisect_tol, "t_end_factor": t_end_factor,
+                "t_end": "pulse end + t_end_factor sqrt(L/g)",
+                "grid": "given" if amplitudes is not None else f"geometric, {n_amplitudes} points, onset to {span:g} x",
+                "executor": ("dask" if scheduler is not None else
+                             f"local ({min(workers or default_workers(), len(ps))} workers)")}
+    if model != "rock":
+        settings.update(dt=dt, friction=friction)
+    geo = curve.describe() if hasattr(curve, "describe") else {}
+    if not rk.stands:             # a physical outcome, the answer for every period
+        wall = time.perf_counter() - clock
+        return SpectrumResult(kind, sign, [_cannot_stand_row(p, model) for p in ps], dict(rk.A), math.nan, [], geo,
+                              settings, wall, {"wall": round(wall, 3), "cases_cpu": 0.0, "runs": 0}, model,
+                              "cannot_stand")
     onset = onset_amplitude(rk.A, pulse(kind, float(sign), 1.0))
     if not math.isfinite(onset):
         raise InputError("no pulse of this kind can set the member moving (no mechanism: A_L infinite)")
@@ -500,25 +520,25 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     common = {"curve": curve, "kind": kind, "amplitudes": grid, "voussoirs": voussoirs, "elements": elements,
               "backend": backend, "bisect_tol": bisect_tol, "sign": sign, "onset": onset, "model": model}
     if model != "rock":
-        _check_steps(dt, 0.0, max(pulse_end(kind, p) for p in ps) + free)
         common.update(dt=dt, friction=friction, thresholds=[rk.A[1], rk.A[-1]])
     rows = run_tasks([(spectrum_case, {**common, "period": p, "t_end": pulse_end(kind, p) + free}) for p in ps],
                      workers=workers, scheduler=scheduler, progress=progress,
                      desc=f"spectrum: {kind} pulses" + (f" ({model})" if model != "rock" else ""),
                      journal=journal, lost=_lost_period)
     wall = time.perf_counter() - clock
-    settings = {"model": model, "voussoirs": voussoirs, "elements": elements if voussoirs is None else None,
-                "backend": backend, "bisect_tol": bisect_tol, "t_end_factor": t_end_factor,
-                "t_end": "pulse end + t_end_factor sqrt(L/g)",
-                "grid": "given" if amplitudes is not None else f"geometric, {n_amplitudes} points, onset to {span:g} x",
-                "executor": "dask" if scheduler is not None else f"local ({workers or default_workers()} workers)"}
     timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
               "runs": sum(r["runs"] for r in rows)}
     if model != "rock":
-        settings.update(dt=dt, friction=friction)
         timing["steps"] = sum(r.get("steps", 0) for r in rows)
-    geo = curve.describe() if hasattr(curve, "describe") else {}
     return SpectrumResult(kind, sign, rows, dict(rk.A), onset, grid, geo, settings, wall, timing, model)
+
+
+def _cannot_stand_row(period: float, model: str) -> dict:
+    """The row of a period for a member that cannot stand: no run, no amplitude."""
+    return {"period": float(period), "outcome": "cannot_stand", "first_overturning": None, "bracket": [None, None],
+            "safe_above": False, "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": None,
+            "scan": [], "bisection": [], "runs": 0, "errors": [], "time_s": 0.0,
+            **({"steps": 0} if model != "rock" else {})}
 
 
 def _lost_period(task, message: str) -> dict:
@@ -542,6 +562,13 @@ def plot_spectrum(result: SpectrumResult, path) -> None:
     A0 = result.onset
     rows = sorted(result.rows, key=lambda r: r["period"])
     fig, ax = plt.subplots(figsize=(8.0, 5.0))
+    if result.outcome == "cannot_stand":
+        ax.text(0.5, 0.5, "the member does not stand under its own weight", ha="center", va="center",
+                transform=ax.transAxes)
+        ax.set_axis_off()
+        fig.savefig(path, dpi=130)
+        plt.close(fig)
+        return
     over = [(r["period"], s["amplitude"] / A0) for r in rows for s in r["scan"] if s["outcome"] == "overturned"]
     slid = [(r["period"], s["amplitude"] / A0) for r in rows for s in r["scan"]
             if s["outcome"] == "collapsed_by_sliding"]
@@ -587,9 +614,11 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     ``A_L``; ``A_L / PGA`` for a symmetric member) to ``span`` times it.  ``t_end`` (s):
     default the end of the record + ``20 sqrt(L/g)``.  Returns the search's dict with factors
     (``first_overturning``, ``bracket``, ``safe_factors_above``, ``scan``), plus
-    ``pga_at_first_overturning`` (g), the record's ``pga`` and ``A_L``.  ``model``, ``dt``,
-    ``friction``: as in :func:`spectrum` (``"simulate"``: the multi-block simulation, collapse by
-    sliding counted as overturning; ``collapse`` says which outcome the bracket's upper end had)."""
+    ``pga_at_first_overturning`` (g), the record's ``pga`` and ``A_L``; ``outcome``
+    ``"computed"``, or ``"cannot_stand"`` for a member that does not stand (no run, no
+    factor).  ``model``, ``dt``, ``friction``: as in :func:`spectrum` (``"simulate"``: the
+    multi-block simulation, collapse by sliding counted as overturning; ``collapse`` says which
+    outcome the bracket's upper end had)."""
     dt, friction = check_model(model, dt, friction)
     if not isinstance(ground, GroundMotion):
         raise InputError(f"collapse_scale needs a GroundMotion, got {type(ground).__name__}")
@@ -601,13 +630,22 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
         raise InputError(f"the default factor grid needs 2..{MAX_CASES} points and a span > 1")
     if t_end is not None and not (math.isfinite(t_end) and t_end > ground.t[0]):
         raise InputError(f"t_end must be finite and after the start of the record ({ground.t[0]:g} s), got {t_end}")
-    if model != "rock":
-        _check_steps(dt, float(ground.t[0]), t_end if t_end is not None else
-                     float(ground.t[-1]) + T_END_FACTOR * math.sqrt(curve.length / GRAVITY))
+    _check_runs(model, dt, (t_end if t_end is not None else
+                            float(ground.t[-1]) + T_END_FACTOR * math.sqrt(curve.length / GRAVITY)) - float(ground.t[0]),
+                curve, voussoirs, elements)
     clock = time.perf_counter()
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
-    if not rk.stands:
-        raise CannotStandError("the member does not stand under its own weight (fembeam analyze)")
+    common = dict(record=ground.name, pga=ground.pga, sign=sign, geometry=curve.describe() if hasattr(curve, "describe")
+                  else {}, voussoirs=voussoirs, elements=elements if voussoirs is None else None, t_end=t_end,
+                  model=model, collapse_outcomes=_collapse_outcomes(model))
+    if model != "rock":
+        common.update(dt=dt, friction=friction)
+    if not rk.stands:             # a physical outcome: the answer
+        return _json_safe({"outcome": "cannot_stand", **common, "A_L": {"+1": None, "-1": None}, "onset_factor": None,
+                           "factors": [], "first_overturning": None, "bracket": [None, None], "safe_above": False,
+                           "safe_factors_above": [], "converged": False, "collapse": None, "scan": [],
+                           "bisection": [], "errors": [], "runs": 0, "pga_at_first_overturning": None,
+                           "time_s": time.perf_counter() - clock, **({"steps": 0} if model != "rock" else {})})
     f0 = onset_amplitude(rk.A, ground.scaled(sign))
     if not math.isfinite(f0):
         raise InputError("no scale factor of this record can set the member moving (A_L infinite)")
@@ -620,12 +658,10 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     res["safe_factors_above"] = res.pop("safe_amplitudes_above")
     for key in ("scan", "bisection", "errors"):
         res[key] = [{("factor" if k == "amplitude" else k): v for k, v in s.items()} for s in res[key]]
-    res.update(record=ground.name, pga=ground.pga, sign=sign, onset_factor=f0, factors=grid,
+    res.update(outcome="computed", **common, onset_factor=f0, factors=grid,
                pga_at_first_overturning=None if f is None else f * ground.pga,
-               A_L={"+1": rk.A[1], "-1": rk.A[-1]}, geometry=curve.describe() if hasattr(curve, "describe") else {},
-               voussoirs=voussoirs, elements=elements if voussoirs is None else None,
-               t_end=t_end, model=model, collapse_outcomes=_collapse_outcomes(model), time_s=time.perf_counter() - clock)
+               A_L={"+1": rk.A[1], "-1": rk.A[-1]}, time_s=time.perf_counter() - clock)
     if model != "rock":
-        res.update(dt=dt, friction=friction, steps=member.steps)
+        res.update(steps=member.steps)
     res.pop("onset")
     return _json_safe(res)

@@ -264,6 +264,8 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
                          f"{MAX_CASES} (about 0.3 s of CPU each)")
     fam.check(list(embrace) + list(envelope_embrace or []), list(t_over_r))  # bad input fails here, once
     env_as = list(envelope_embrace or embrace) if envelope else []
+    # never more local workers than the tasks of the larger phase
+    workers = min(workers or default_workers(), max(len(env_as), len(embrace) * len(t_over_r), 1))
     common = {"elements": elements, "backend": backend, "direction": direction, "shape": shape}
     clock = time.perf_counter()
     client = None
@@ -292,8 +294,7 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
               "qp": round(sum(c.get("time_qp_s", 0.0) for c in cases), 3)}
     settings = {**fam.ident, "elements": elements, "backend": backend, "direction": direction,
                 "tmin_elements": tmin_elements, "tmin_tol": tmin_tol, "above": above,
-                "executor": ("dask" if scheduler is not None else
-                             f"local ({workers or default_workers()} workers)")}
+                "executor": ("dask" if scheduler is not None else f"local ({workers} workers)")}
     return SweepResult(list(embrace), list(t_over_r), cases, env, settings, wall, timing, shape)
 
 
