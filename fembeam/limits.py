@@ -30,13 +30,14 @@ import math
 from .errors import InputError
 
 __all__ = ["BLOCK_ASPECT_RANGE", "ROCK_VOUSSOIRS", "ROCK_MAX_ELEMENTS", "SIMULATE_MAX_BODIES", "MAX_BODY_STEPS",
-           "MAX_STEPS", "MAX_DURATION", "MAX_HISTORY_ROWS", "MAX_HISTORY_POSITIONS", "MAX_WORKERS", "check_block",
+           "MAX_STEPS", "DT_RANGE", "MAX_DURATION", "MAX_HISTORY_ROWS", "MAX_HISTORY_POSITIONS", "MAX_WORKERS", "check_block",
            "check_discretisation", "bodies", "check_steps", "check_duration", "check_history", "check_workers"]
 
 BLOCK_ASPECT_RANGE = (1e-3, 1e3)     # width / height of a rocking block
 ROCK_VOUSSOIRS = (3, 80)             # voussoirs of rock: 4 joints at least, 81 at most (the exhaustive search)
 ROCK_MAX_ELEMENTS = 20_000           # rigid elements of a continuous arch in rock
 SIMULATE_MAX_BODIES = 1000           # voussoirs or rigid elements of simulate
+DT_RANGE = (1e-6, 0.05)              # s: time steps of the multi-body simulation
 MAX_STEPS = 10_000_000               # time steps of one simulate run
 MAX_BODY_STEPS = 20_000_000          # time steps x bodies of one simulate run
 MAX_DURATION = 1e5                   # s: simulated time of one run (t_end - start of the ground motion)
@@ -55,8 +56,13 @@ def check_block(width: float, height: float) -> None:
 
 
 def check_discretisation(model: str, voussoirs: int | None, elements: int | None, block: bool = False) -> None:
-    """``--voussoirs`` / ``--elements`` within the bounds of ``model`` (``"rock"`` or ``"simulate"``)."""
+    """``--voussoirs`` / ``--elements`` within the bounds of ``model``: ``"rock"``,
+    ``"simulate"``, or ``"auto"`` (rock, then simulate: the bounds of both)."""
     if block:
+        return
+    if model == "auto":
+        check_discretisation("rock", voussoirs, elements)
+        check_discretisation("simulate", voussoirs, elements)
         return
     if model == "rock":
         lo, hi = ROCK_VOUSSOIRS
@@ -90,6 +96,9 @@ def check_steps(dt: float, duration: float, n_bodies: int, what: str = "--dt") -
     """The steps of one simulate run of ``duration`` s at ``dt`` s: at most :data:`MAX_STEPS`,
     and times ``n_bodies`` at most :data:`MAX_BODY_STEPS`.  Returns the number of steps."""
     check_duration(duration, "--t-end")
+    lo, hi = DT_RANGE
+    if not (math.isfinite(dt) and lo <= dt <= hi):
+        raise InputError(f"{what} must be in [{lo:g}, {hi:g}] s, got {dt:g}")
     steps = duration / dt
     if not steps <= MAX_STEPS:
         raise InputError(f"{what}: {steps:.3g} steps of {dt:g} s to simulate {duration:.4g} s; at most {MAX_STEPS:g} "

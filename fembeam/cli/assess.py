@@ -115,13 +115,29 @@ def _progress(quiet: bool):
     return say, lambda: say("")
 
 
+def _check_runs(args, curve, voussoirs, elements, grounds) -> None:
+    """Each run of the auto model within the bounds of :mod:`fembeam.limits` (the simulation
+    may take over from the start: its steps times its bodies)."""
+    import math
+
+    from ..auto.model import DT
+    from ..dynamics.equation import GRAVITY
+    from ..geometry import StraightMember
+    from ..limits import bodies, check_steps
+    n = bodies(voussoirs, elements, isinstance(curve, StraightMember))
+    for g in grounds:
+        end = args.t_end if args.t_end is not None else float(g.t[-1]) + 20.0 * math.sqrt(curve.length / GRAVITY)
+        check_steps(DT if args.dt is None else args.dt, end - float(g.t[0]), n)
+
+
 def run(args) -> int:
     from ..output.assess import check_report, page, write_report
     from ..studies.assess import assess
 
     _check(args)
-    curve, voussoirs, elements = member_from(args)
+    curve, voussoirs, elements = member_from(args, "auto")
     grounds, sources = grounds_from(args)
+    _check_runs(args, curve, voussoirs, elements, grounds)
     report = check_report(args.report, len(grounds)) if args.report is not None else None
     say, done = _progress(args.quiet)
     try:

@@ -15,7 +15,7 @@ from ..dynamics.ground import RECORDS, GroundMotion
 from ..dynamics.rocking import Rocker, RockingResult
 from ..errors import InputError
 from ..geometry import StraightMember
-from ..limits import check_block, check_discretisation, check_duration, check_history
+from ..limits import bodies, check_block, check_discretisation, check_duration, check_history, check_steps
 from ..output.files import check_distinct, check_name, check_output, write_table
 from .args import add_arch, arch_from, arch_title, finite_float
 
@@ -63,7 +63,7 @@ def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False):
 
 def member_from(args, model: str = "rock"):
     """``(curve, voussoirs, elements)`` of the member options, within the bounds of ``model``
-    (``"rock"`` or ``"simulate"``: :func:`fembeam.limits.check_block`,
+    (``"rock"``, ``"simulate"`` or ``"auto"``: :func:`fembeam.limits.check_block`,
     :func:`~fembeam.limits.check_discretisation`), checked before the member is built."""
     if args.block is not None:
         width, height = args.block
@@ -327,13 +327,17 @@ def run_auto(args) -> int:
                          "simulate for the multi-block motion")
     if args.no_thrust_check:
         raise InputError("--model auto checks the thrust line to decide when to hand over: drop --no-thrust-check")
-    curve, voussoirs, elements = member_from(args)
+    curve, voussoirs, elements = member_from(args, "auto")
     ground = ground_from(args)
-    model = AutoModel(curve, voussoirs=voussoirs, elements=elements, friction=args.friction,
-                      dt=DT if args.dt is None else args.dt, backend=args.backend)
+    end = run_end(args, curve, ground)
+    dt = DT if args.dt is None else args.dt
+    n = bodies(voussoirs, elements, args.block is not None)
+    check_steps(dt, end - float(ground.t[0]), n)      # the simulation may take over at the start
+    check_history(end - float(ground.t[0]), args.dt_out, n)
+    model = AutoModel(curve, voussoirs=voussoirs, elements=elements, friction=args.friction, dt=dt,
+                      backend=args.backend)
     t_end = args.t_end
-    update, bar = _progress(t_end if t_end is not None else
-                            float(ground.t[-1]) + 20.0 * (curve.length / model.g) ** 0.5)
+    update, bar = _progress(end)
     try:
         res = model.run(ground, t_end=t_end, dt_out=args.dt_out, progress=update)
     finally:
@@ -341,11 +345,7 @@ def run_auto(args) -> int:
             bar.close()
     written = []
     if outputs["csv"]:
-        rows = [dict(zip(res.history, row)) for row in zip(*res.history.values())]
-        with atomic(outputs["csv"]) as tmp, open(tmp, "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(res.history))
-            w.writeheader()
-            w.writerows(rows)
+        write_table(outputs["csv"], res.history)
         written.append(f"CSV: {outputs['csv']}")
     if outputs["plot"]:
         from ..output.motion import plot_auto

@@ -54,7 +54,7 @@ from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import SLIDE_OUT, overturn_level
 from ..errors import InputError, SolverError
 from ..geometry import MidCurve
-from ..limits import MAX_STEPS      # (t_end - t_0) / dt above this: InputError
+from ..limits import DT_RANGE, MAX_STEPS   # admitted time steps (s); (t_end - t_0) / dt above MAX_STEPS: InputError
 from .bodies import Bodies
 from .contacts import Contacts
 from .result import SimulationResult
@@ -62,7 +62,6 @@ from .result import SimulationResult
 __all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_KINETIC",
            "check_dt", "check_friction"]
 
-DT_RANGE = (1e-6, 0.05)     # s: admitted time steps
 GAP_TOL = 1e-7              # corner closed: gap <= GAP_TOL * thickness
 OPEN_TOL = 1e-6             # hinge count: a corner open by more than OPEN_TOL * thickness
 MIN_STEP = 1e-6             # shortest step cut at a landing, relative to dt
