@@ -90,26 +90,34 @@ def main(argv: list[str] | None = None) -> int:
     scikit-fem's) are never shown: every result is verified independently, so a silenced
     overflow that matters still ends as a verification failure (exit 3).  The signal
     handlers come first, then the checks of the standard streams, then everything else."""
-    try:
-        if threading.current_thread() is not threading.main_thread():   # no signals there
+    if threading.current_thread() is not threading.main_thread():   # no signals there
+        try:
             return _guarded(argv)
+        except (KeyboardInterrupt, Terminated) as e:
+            return _interrupted(e)
+    try:
         with interrupts.handled():
             try:
-                return _guarded(argv)
+                code = _guarded(argv)
+            except (KeyboardInterrupt, Terminated) as e:
+                code = _interrupted(e, argv is None)
             except BaseException:
                 interrupts.check()      # a signal that another exception hid (NumPy's import makes it an ImportError)
                 raise
-    except (KeyboardInterrupt, Terminated) as e:    # during the command, or while it returned
-        code = _interrupted(e)
-        if argv is None:      # the program itself: leave now (see _leave)
-            _leave(code)
-        return code
+            if argv is None:            # the program: done, leave with the handlers still in place
+                with interrupts.deferred():
+                    _leave(code)
+            return code
+    except (KeyboardInterrupt, Terminated) as e:    # while the handlers were put back
+        return _interrupted(e, argv is None)
 
 
 def _leave(code: int) -> None:
-    """Exit the process at once with ``code``: an interrupted command has cleaned up on its
-    way out (temporary files removed, worker processes killed), and the interpreter's own
-    finalisation, 0.3-0.7 s once matplotlib and numba are loaded, would only delay the exit."""
+    """Exit the process at once with ``code`` (the program itself, ``argv`` None).  Whatever
+    the command wrote is complete and closed, interrupted or not (temporary files removed,
+    worker processes killed and waited for); the interpreter's own finalisation would only
+    delay the exit (0.3-0.7 s once matplotlib and numba are loaded) and leave a window where
+    Ctrl-C, with the handlers put back, would print a traceback from a finaliser."""
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()
@@ -155,20 +163,25 @@ def _standard_streams() -> str | None:
     return "stdout" if sys.stdout is None else None
 
 
-def _interrupted(e: BaseException) -> int:
+def _interrupted(e: BaseException, leave: bool = False) -> int:
     """One line (with what a study kept: its journal, from the exception's notes) and 130
-    for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP."""
+    for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP; with ``leave``, the process exits with it
+    (a second signal meanwhile waits: the first is being reported)."""
     what, code = (("interrupted", 130) if isinstance(e, KeyboardInterrupt) else
                   ("hung up", 129) if isinstance(e, HungUp) else ("terminated", 143))
-    # CPython remembers a KeyboardInterrupt that escaped code run from a string (exec or eval:
-    # a dataclass being defined during an import), even when it was caught later, and then kills
-    # itself with SIGINT at exit (-2 instead of 130); any later exec of a string clears that mark
-    exec("pass")
-    if sys.stderr is not None:
-        try:
-            print(f"fembeam: {what}" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
-        except (OSError, ValueError):
-            pass
+    with interrupts.deferred():
+        # CPython remembers a KeyboardInterrupt that escaped code run from a string (exec or eval:
+        # a dataclass being defined during an import), even when it was caught later, and then kills
+        # itself with SIGINT at exit (-2 instead of 130); any later exec of a string clears that mark
+        exec("pass")
+        if sys.stderr is not None:
+            try:
+                print(f"fembeam: {what}" + one_line("".join(getattr(e, "__notes__", []))), file=sys.stderr)
+            except (OSError, ValueError):
+                pass
+        if leave:
+            _leave(code)
+        interrupts.reset()          # reported: neither it nor a second signal meanwhile is raised again
     return code
 
 
