@@ -1,13 +1,18 @@
 """Fuzzing of the command line: every sub-command driven from its own argparse definition.
 
-    python -m fembeam.fuzz [--runs 300] [--seed 0] [--timeout 20] [--command analyze ...]
+    python -m fembeam.fuzz [--runs 300] [--seed 0] [--timeout 20] [--command analyze ...] [--scenarios 0]
 
 For each run a command is picked, then (after a small problem of :data:`BASE` for the
 commands whose defaults are large studies) a random subset of its options, each with a value
 drawn for the option's kind (flag, choice, integer, number, list, pair, file name):
 mostly plausible values (small meshes, short motions, files in a scratch directory) and
 some hostile ones (``nan``, ``inf``, ``-1``, ``1e308``, ``abc``, empty strings, reversed
-ranges, unwritable or existing-directory paths).  New options are covered without editing
+ranges, unwritable or existing-directory paths), extreme sizes and step counts (a block of
+1e-9 m by 1e6 m, ``--t-end 1e300``, ``--dt-out 1e-9``, a million elements, 300 workers),
+and hostile input files (a FIFO, ``/dev/zero``, a sparse 5 GB file, a mid-curve with too
+many rows, records whose header or values do not parse or are out of range, and corrupt
+journals of the studies, rewritten before every run: random bytes, non-UTF-8, a 5 GB
+sparse file, a line of the wrong type, a FIFO).  New options are covered without editing
 this module: only their kind matters.  Each command runs in a child process forked from
 this one (imports once; a run leaves nothing behind for the next), with its stdout and
 stderr captured; a child still running after ``timeout`` seconds is killed with every
@@ -25,6 +30,10 @@ A run **fails** when it breaks the promise of the command line:
 A run killed at ``timeout`` is counted as ``timeout`` (a long valid computation, not a
 failure by itself; the sizes drawn keep them rare).  The summary prints the runs tried,
 the exit codes, the failures with their arguments, and exits 1 if any failed.
+
+``--scenarios N`` adds N process-level scenarios (:mod:`fembeam.fuzz_scenarios`): signals
+early and late, the parent of a study killed, stdout closed, an ASCII locale, re-runs over
+complete outputs interrupted.
 """
 from __future__ import annotations
 
@@ -45,7 +54,7 @@ import time
 import warnings
 from dataclasses import dataclass, field
 
-__all__ = ["FuzzReport", "fuzz", "main"]
+__all__ = ["FuzzReport", "fuzz", "main", "draw_command"]
 
 HOSTILE = ["nan", "inf", "-inf", "-1", "0", "1e308", "-1e308", "1e-308", "abc", "", " ", "1,2", "0x10", "1e999"]
 NUMBERS = ["0.1", "0.15", "0.2", "0.5", "1", "2", "5", "10", "157.5", "120", "180", "90", "0.05", "0.3", "3"]
@@ -54,11 +63,22 @@ LISTS = ["0.5", "0.1,0.2", "0.1:0.3:0.1", "90,150", "1:0:1", "0:1:0", "a,b", "0:
          "7,15", "4,8", "-1,2"]
 PATHS = ["out.csv", "out.json", "out.png", "out.vtu", "out.pvd", "out.gif", "out.pdf", "out.xyz", "nodir/x.csv",
          "adir", "afile/x.png", "/proc/fembeam.csv", "res"]
-RECORDS = ["elcentro", "lomaprieta", "missing.AT2", "afile", "bad.csv"]
+# hostile input files: made by _scratch (a FIFO, a sparse 5 GB file, records that do not parse...)
+SPECIAL = ["fifo.csv", "/dev/zero", "sparse.csv", "adir", "missing.csv", "bin.pdf"]
+RECORDS = ["elcentro", "lomaprieta", "missing.AT2", "afile", "bad.csv", "sparse.AT2", "dt_bad.AT2", "dt_dash.AT2",
+           "dt_zero.AT2", "dt_huge.AT2", "npts_huge.AT2", "latin1.AT2", "time_cut.csv", *SPECIAL]
+MIDCURVES = ["midcurve.csv", "mirror.csv", "many.csv", *SPECIAL]
 # sizes kept small when valid, so that a valid run is quick
 CAPS = {"--elements": INTS, "--voussoirs": INTS, "--sections": ["10", "50", "100"], "--t-end": ["0.5", "1", "2"],
         "--periods": ["0.3", "0.3,0.6", "0.2:0.4:0.2"], "--workers": ["1", "2"], "--frames": ["2", "5"],
-        "--record": RECORDS, "--reference-elements": ["16", "32"], "--tmin-elements": ["8", "16"]}
+        "--record": RECORDS, "--reference-elements": ["16", "32"], "--tmin-elements": ["8", "16"],
+        "--midcurve": MIDCURVES}
+# extreme sizes and step counts (drawn now and then instead of CAPS): refused before computing, or quick
+EXTREME = {"--t-end": ["1e4", "1e5", "1e300"], "--dt": ["1e-6", "0.05", "1e-9"], "--dt-out": ["1e-6", "1e-9", "1e4"],
+           "--block": ["1e-9", "1e6", "1e-8", "1e7", "1e-6"], "--elements": ["1000000", "200000", "30000", "3"],
+           "--voussoirs": ["2", "200000", "81"], "--workers": ["300", "256", "0"], "--frames": ["100001", "1"],
+           "--period": ["1e300", "1e-300"], "--duration": ["1e300"], "--periods": ["1e300", "1e-4,1e300"],
+           "--t-over-r": ["1.9999999", "1e-9"], "--embrace": ["359.9", "1e-9"]}
 
 
 # small problems put before the drawn options (which override them: argparse keeps the last)
@@ -106,6 +126,9 @@ def _values(action: argparse.Action, rng: random.Random) -> list[str]:
     hostile = rng.random() < 0.25
     if isinstance(action, (argparse._StoreTrueAction, argparse._StoreFalseAction)):
         return [opt]
+    n = action.nargs if isinstance(action.nargs, int) else 1
+    if opt in EXTREME and rng.random() < 0.12:
+        return [opt] + [rng.choice(EXTREME[opt]) for _ in range(n)]
     if action.choices is not None:
         pool = [str(c) for c in action.choices] + (["nope", "", "0"] if hostile else [])
     elif opt in CAPS and not hostile:
@@ -123,7 +146,6 @@ def _values(action: argparse.Action, rng: random.Random) -> list[str]:
             pool = NUMBERS + PATHS
         if hostile:
             pool = HOSTILE + (LISTS if name.endswith("list") else [])
-    n = action.nargs if isinstance(action.nargs, int) else 1
     return [opt] + [rng.choice(pool) for _ in range(n)]
 
 
@@ -299,13 +321,66 @@ def check(command: str, argv: list[str], code, out: str, err: str) -> str | None
 
 
 def _scratch() -> str:
+    """A scratch directory with the files the drawn options name (see :data:`RECORDS`,
+    :data:`MIDCURVES`)."""
     d = tempfile.mkdtemp(prefix="fembeam-fuzz-")
     os.mkdir(os.path.join(d, "adir"))
-    with open(os.path.join(d, "afile"), "w") as f:
-        f.write("not a record\n")
-    with open(os.path.join(d, "bad.csv"), "w") as f:
-        f.write("time,acc\n0,nan\n0.01,0.1\n")
+    files = {"afile": "not a record\n", "bad.csv": "time,acc\n0,nan\n0.01,0.1\n",
+             "time_cut.csv": "time,acc\n0,0\n1e-,0.1\n", "midcurve.csv": _midcurve(False),
+             "mirror.csv": _midcurve(True), "many.csv": "x,y\n" + "".join(f"{i},{i % 7}\n" for i in range(5002))}
+    header = "PEER\nfuzz\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=   {}, DT=   {} SEC\n"
+    for name, npts, dt in (("dt_bad", 4, "0.01.5"), ("dt_dash", 4, "-"), ("dt_zero", 4, "0"),
+                           ("dt_huge", 4, "1e300"), ("npts_huge", 40_000_000_000, "0.01")):
+        files[f"{name}.AT2"] = header.format(npts, dt) + "  .1E-01  .2E-01  .1E-01  0.\n"
+    for name, text in files.items():
+        with open(os.path.join(d, name), "w") as f:
+            f.write(text)
+    with open(os.path.join(d, "latin1.AT2"), "wb") as f:
+        f.write(header.format(4, ".01").encode() + "caf\u00e9 .1 .2 .3\n".encode("latin-1"))
+    with open(os.path.join(d, "bin.pdf"), "wb") as f:
+        f.write(b"%PDF-1.4\n\xac\xff\xfe\x00 binary")
+    for name in ("sparse.csv", "sparse.AT2"):
+        with open(os.path.join(d, name), "wb") as f:
+            f.truncate(5 * 2 ** 30)
+    with contextlib.suppress(OSError, AttributeError):
+        os.mkfifo(os.path.join(d, "fifo.csv"))
     return d
+
+
+def _midcurve(mirror: bool) -> str:
+    """An asymmetric surveyed mid-curve (9 points, springings at different heights), or its
+    mirror image given from its right springing."""
+    pts = [(10.0 * u, 4.5 * (1.0 - (2.0 * u - 1.0) ** 2) + 0.6 * u) for u in (i / 8 for i in range(9))]
+    return "x,y\n" + "".join(f"{-x if mirror else x!r},{y!r}\n" for x, y in pts)
+
+
+JOURNALED = ("spectrum", "sweep")
+
+
+def _corrupt_journals(d: str, rng: random.Random) -> None:
+    """Corrupt journals where the studies' outputs of :data:`PATHS` keep theirs (rewritten
+    before every run: a run that finishes removes its journal)."""
+    names = [f".{p}.{c}-journal.jsonl" for p in ("out.csv", "out.png", "out.pdf") for c in JOURNALED]
+    names += [os.path.join("res", f".fembeam-{c}-journal.jsonl") for c in JOURNALED]
+    os.makedirs(os.path.join(d, "res"), exist_ok=True)
+    for name in names:
+        path = os.path.join(d, name)
+        with contextlib.suppress(FileNotFoundError, IsADirectoryError):
+            os.remove(path)
+        kind = rng.choice(["random", "latin-1", "wrong type", "sparse", "fifo", "none"])
+        if kind == "fifo":
+            with contextlib.suppress(OSError, AttributeError):
+                os.mkfifo(path)
+            continue
+        with open(path, "wb") as f:
+            if kind == "random":
+                f.write(rng.randbytes(2000))
+            elif kind == "latin-1":
+                f.write("caf\u00e9\n".encode("latin-1"))
+            elif kind == "wrong type":
+                f.write(b'{"key": "0123", "result": "not a row", "check": "x"}\n{"key": [1], "result": {}}\n')
+            elif kind == "sparse":
+                f.truncate(5 * 2 ** 30)
 
 
 def fuzz(runs: int = 300, seed: int = 0, timeout: float | None = 20.0, commands: list[str] | None = None,
@@ -329,6 +404,7 @@ def fuzz(runs: int = 300, seed: int = 0, timeout: float | None = 20.0, commands:
         for i in range(runs):
             name = rng.choice(names)
             argv = [name] + BASE.get(name, []) + draw(cmds[name], rng)
+            _corrupt_journals(scratch, rng)
             with np.errstate(all="warn"):
                 code, out, err = run_one(argv, timeout)
             rep.runs += 1
@@ -356,10 +432,27 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ap.add_argument("--timeout", type=float, default=20.0, help="seconds after which a run is killed and counted as a timeout (default 20)")
     ap.add_argument("--command", action="append", default=None, help="only this sub-command (repeatable)")
+    ap.add_argument("--scenarios", type=int, default=0,
+                    help="process-level scenarios to run after the command lines (default 0; fembeam.fuzz_scenarios)")
     args = ap.parse_args(argv)
     rep = fuzz(args.runs, args.seed, args.timeout, args.command, progress=True)
     print(rep.summary())
-    return 1 if rep.failures else 0
+    failed = bool(rep.failures)
+    if args.scenarios > 0:
+        from .fuzz_scenarios import run_scenarios
+        sc = run_scenarios(args.scenarios, random.Random(args.seed), draw_command, progress=True)
+        print(sc.summary())
+        failed = failed or bool(sc.failures)
+    return 1 if failed else 0
+
+
+def draw_command(rng: random.Random, commands: list[str] | None = None) -> list[str]:
+    """One drawn command line (a command, its :data:`BASE`, drawn options)."""
+    from .cli.main import build_parser
+
+    cmds = _commands(build_parser())
+    name = rng.choice(sorted(commands or cmds))
+    return [name] + BASE.get(name, []) + draw(cmds[name], rng)
 
 
 if __name__ == "__main__":

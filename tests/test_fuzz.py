@@ -155,3 +155,43 @@ def test_what_the_fuzzer_found(tmp_path, capsys, argv, words):
     code = main([str(binary) if a == "BIN" else a for a in argv])
     err = capsys.readouterr().err
     assert code == 2 and words in err and len(err.strip().splitlines()) == 1, err
+
+
+# ---------------------------------------------------------------- process-level scenarios
+def test_the_scenario_judge_catches_what_is_left_behind(tmp_path):
+    """Temporary files, an index naming a missing frame, a half-written output, the wrong
+    exit code or more than one line after a signal: each is a finding."""
+    import subprocess
+
+    from fembeam.fuzz_scenarios import _complete, _judge_signal, _leftovers
+
+    (tmp_path / ".h.csv.a1b2c3d4.csv").write_text("t\n")
+    (tmp_path / ".s.csv.spectrum-journal.jsonl").write_text("")      # a study's journal is kept: not a finding
+    (tmp_path / "r.pvd").write_text('<DataSet file="r_0000.vtu"/><DataSet file="r_0001.vtu"/>')
+    (tmp_path / "r_0000.vtu").write_text("")
+    assert sorted(_leftovers(str(tmp_path))) == [".h.csv.a1b2c3d4.csv", "r.pvd -> r_0001.vtu (missing)"]
+    (tmp_path / "h.csv").write_text("a,b\n1,2\n3\n")
+    (tmp_path / "h.png").write_bytes(b"\x89PNG\r\n\x1a\n cut short")
+    assert "rows of different lengths" in _complete(str(tmp_path / "h.csv"))
+    assert "cannot be read back" in _complete(str(tmp_path / "h.png"))
+    clean = tmp_path / "clean"
+    clean.mkdir()
+    done = subprocess.CompletedProcess([], 130)
+    assert _judge_signal(done, [], signal.SIGINT, True, "", "fembeam: interrupted\n", str(clean)) is None
+    assert "expected 143" in _judge_signal(done, [], signal.SIGTERM, True, "", "fembeam: interrupted\n", str(clean))
+    assert "2 stderr lines" in _judge_signal(done, [], signal.SIGINT, True, "", "x\nfembeam: interrupted\n",
+                                            str(clean))
+    assert "traceback" in _judge_signal(done, [], signal.SIGINT, True, "", "Traceback\nKeyboardInterrupt", str(clean))
+    assert "left behind" in _judge_signal(done, [], signal.SIGINT, True, "", "fembeam: interrupted\n", str(tmp_path))
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/status"), reason="reads /proc/PID/status")
+def test_a_bounded_sample_of_every_scenario_finds_nothing():
+    """One scenario of each kind (``python -m fembeam.fuzz --scenarios N`` draws many):
+    signals early and late, the parent of a study killed, stdout closed, an ASCII locale, a
+    re-run over complete outputs interrupted.  Hang guards only: no time is judged."""
+    from fembeam.fuzz import draw_command
+    from fembeam.fuzz_scenarios import SCENARIOS, run_scenarios
+
+    rep = run_scenarios(0, random.Random(4), draw_command, plan=list(SCENARIOS))
+    assert sum(rep.counts.values()) == len(SCENARIOS) and not rep.failures, rep.summary()
