@@ -131,7 +131,8 @@ def add_arch(p: argparse.ArgumentParser, many: bool = False) -> None:
     g.add_argument("--midcurve", default=None, metavar="FILE.csv",
                    help="surveyed mid-curve: CSV columns x,y (m, springing to springing) and optionally t "
                         "(thickness, m; else give --thickness or --thickness-springing/--thickness-crown); "
-                        "interpolated by a spline (docs: fembeam.geometry.surveyed)")
+                        "interpolated by a spline (docs: fembeam.geometry.surveyed); a regular file of at most "
+                        "16 MB and 5000 points")
     g.add_argument("--density", type=finite_float, default=1.0, metavar="RHO",
                    help="density (default 1; only scales the impulses)")
 
