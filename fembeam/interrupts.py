@@ -58,9 +58,10 @@ def _unraisable(info) -> None:
 @contextmanager
 def handled():
     """SIGINT, SIGTERM and SIGHUP raise KeyboardInterrupt, :class:`Terminated` and
-    :class:`HungUp` inside the block (enter it from the main thread).  On leaving, the previous handlers are restored with
-    the signals blocked, and one that arrived meanwhile is raised after the restore
-    (so it is never lost, and never left to a handler of this module)."""
+    :class:`HungUp` inside the block (enter it from the main thread).  On leaving, the
+    previous handlers are restored with the signals blocked, and one that arrived meanwhile
+    is raised after the restore (so it is never lost, and never left to a handler of this
+    module)."""
     global _active
     reset()
     old = [signal.getsignal(s) for s in _SIGNALS], sys.unraisablehook

@@ -30,8 +30,9 @@ import math
 from .errors import InputError
 
 __all__ = ["BLOCK_ASPECT_RANGE", "ROCK_VOUSSOIRS", "ROCK_MAX_ELEMENTS", "SIMULATE_MAX_BODIES", "MAX_BODY_STEPS",
-           "MAX_STEPS", "DT_RANGE", "MAX_DURATION", "MAX_HISTORY_ROWS", "MAX_HISTORY_POSITIONS", "MAX_WORKERS", "check_block",
-           "check_discretisation", "bodies", "check_steps", "check_duration", "check_history", "check_workers"]
+           "MAX_STEPS", "DT_RANGE", "MAX_DURATION", "MAX_HISTORY_ROWS", "MAX_HISTORY_POSITIONS", "MAX_WORKERS",
+           "check_block", "check_discretisation", "bodies", "check_steps", "check_duration", "check_history",
+           "check_workers"]
 
 BLOCK_ASPECT_RANGE = (1e-3, 1e3)     # width / height of a rocking block
 ROCK_VOUSSOIRS = (3, 80)             # voussoirs of rock: 4 joints at least, 81 at most (the exhaustive search)

@@ -31,13 +31,14 @@ def add_member(p: argparse.ArgumentParser, solver: bool = True) -> None:
     g = p.add_argument_group("discretisation")
     m = g.add_mutually_exclusive_group()
     m.add_argument("--voussoirs", type=int, default=None, metavar="N",
-                   help="discrete arch of N voussoirs: hinges only at the N+1 joints (rock: 3 to 80; simulate: at most 1000)")
+                   help="discrete arch of N voussoirs: hinges only at the N+1 joints (rock: 3 to 80; simulate: at "
+                        "most 1000)")
     m.add_argument("--elements", type=int, default=None, metavar="N",
-                   help="continuous arch: rigid elements of the limit analysis and the general QP (default 200; rock: at most "
-                        "20000; simulate: at most 1000)")
+                   help="continuous arch: rigid elements of the limit analysis and the general QP (default 200; "
+                        "rock: at most 20000; simulate: at most 1000)")
     m.add_argument("--block", type=finite_float, nargs=2, default=None, metavar=("WIDTH", "HEIGHT"),
-                   help="instead of an arch: a rectangular block WIDTH x HEIGHT (m) rocking on a rigid base, WIDTH / HEIGHT "
-                        "in [1e-3, 1e3]")
+                   help="instead of an arch: a rectangular block WIDTH x HEIGHT (m) rocking on a rigid base, "
+                        "WIDTH / HEIGHT in [1e-3, 1e3]")
     if solver:
         g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel", help="QP solver of the general QP")
         g.add_argument("--no-qp", action="store_true", help="skip the general QP's r_qp at each impact")
@@ -115,8 +116,8 @@ def register(sub) -> None:
     add_ground(p)
     t = p.add_argument_group("time")
     t.add_argument("--t-end", type=finite_float, default=None, metavar="S",
-                   help="end of the simulation (s; default: end of the ground motion + 20 sqrt(L/g); at most 1e5 s after its "
-                        "start)")
+                   help="end of the simulation (s; default: end of the ground motion + 20 sqrt(L/g); at most 1e5 s "
+                        "after its start)")
     t.add_argument("--dt-out", type=finite_float, default=None, metavar="S",
                    help="sampling step of the history (s; default: 1/4000 of the simulated time; at most 1e6 rows)")
     t.add_argument("--no-thrust-check", action="store_true",

@@ -38,8 +38,8 @@ def register(sub) -> None:
                    help="end of the simulation (s; default: end of the ground motion + 20 sqrt(L/g); at most 1e5 s "
                         "after its start)")
     t.add_argument("--dt-out", type=float, default=None, metavar="S",
-                   help="sampling step of the history (s; default max(dt, duration/4000); at most 1e6 rows and 2e7 rows x "
-                        "bodies)")
+                   help="sampling step of the history (s; default max(dt, duration/4000); at most 1e6 rows and "
+                        "2e7 rows x bodies)")
     t.add_argument("--friction", type=coulomb, default=None, metavar="MU",
                    help="Coulomb friction at the joints, MU in [1e-3, 1e3] (default: no sliding); the slip is "
                         "reported, and a joint that slides by more than half its depth is a collapse by sliding")

@@ -246,9 +246,10 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
 
     ``scheduler``: None (local), a Dask scheduler address (``"tcp://host:8786"``, or the
     ``inproc://`` address of an in-process ``LocalCluster``) or a ``distributed.Client``.
-    ``workers``: local worker processes (default :func:`default_workers`; 1 runs in
-    this process, without a pool; a new pool never has more processes than tasks to run).  ``progress``: a tqdm bar on stderr.  ``journal``
-    and ``lost``: see the module docstring.
+    ``workers``: local worker processes (default :func:`default_workers`, at most
+    :data:`~fembeam.limits.MAX_WORKERS`; 1 runs in this process, without a pool; a new pool
+    never has more processes than tasks to run).  ``progress``: a tqdm bar on stderr.
+    ``journal`` and ``lost``: see the module docstring.
     """
     from tqdm import tqdm
 
