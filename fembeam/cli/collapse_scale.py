@@ -107,19 +107,19 @@ def summary(res: dict) -> str:
         if res["none_up_to_max"]:
             lines.append(f"  no collapse up to factor {top:.6g} (PGA {top * res['pga']:.4g} g) at this resolution")
         else:
-            lines.append(f"  no collapse found up to factor {lo:.6g}; the scan below reached {reached:.3g}, not the "
-                         "resolution")
+            lines.append(f"  no collapse found up to factor {lo:.6g}; factors run are up to {100 * reached:.3g} % "
+                         "apart, more than the resolution")
     else:
         how = " (collapses by sliding)" if res.get("collapse") == "collapsed_by_sliding" else ""
         lines.append(f"  first collapse found: factor {f:.6g} (PGA {res['pga_at_first_overturning']:.6g} g){how}")
         if res["smallest"]:
-            lines.append(f"  the smallest at resolution {res['resolution']:g}: every factor run below it stands, none "
-                         f"more than {reached:.3g} apart, from the onset up to {lo:.6g}")
+            lines.append(f"  the smallest at resolution {res['resolution']:g}: every factor run below it stands, "
+                         f"consecutive factors from the onset to {lo:.6g} at most {100 * reached:.3g} % apart")
         elif res.get("friction") is not None:
             lines.append(f"  not called the smallest: with friction a joint may slide below A_L, which is not searched")
         else:
-            lines.append(f"  NOT the smallest at resolution {res['resolution']:g}: the scan below it reached only "
-                         f"{reached:.3g} (a collapse may lie below)")
+            lines.append(f"  NOT the smallest at resolution {res['resolution']:g}: factors run below it are up to "
+                         f"{100 * reached:.3g} % apart (a collapse may lie between them)")
         if res["safe_factors_above"]:
             lines.append("  safe factors found above it: " + ", ".join(f"{x:.4g}" for x in res["safe_factors_above"]))
     for e in res["undecided"]:
