@@ -204,19 +204,19 @@ def table(res: FragilityResult) -> str:
             out.append(f"  {r['record']} sign {r['sign']:+d}: search stopped{where}: {e.get('error') or e['outcome']}")
     out.append(f"  collapsed {n['collapsed']} (the smallest at the resolution: {n['smallest']}), censored "
                f"{n['censored']} (no collapse up to the largest factor run), excluded {n['excluded']}")
+    b = res.bootstrap if res.bootstrap and "error" not in res.bootstrap else None
     if res.fit is None:
         out.append(f"  no lognormal fit: {res.fit_error}")
     else:
-        b = res.bootstrap
-        lv = f"{100 * b['level']:g} % bootstrap intervals, {b['fitted']} of {b['resamples']} resamples of " \
-             f"{b['groups']} groups"
+        lv = (f"{100 * b['level']:g} % bootstrap intervals, {b['fitted']} of {b['resamples']} resamples of "
+              f"{b['groups']} groups" if b else f"no bootstrap interval: {res.bootstrap['error']}")
         out.append(f"  lognormal fit (maximum likelihood): median {res.fit['theta']:.4g} {u}"
                    f"{_interval(b, 'theta')}, beta {res.fit['beta']:.3g}{_interval(b, 'beta', '.3g')} ({lv})")
-        if res.design is not None:
-            d = res.design
-            out.append(f"  design {d['intensity']:g} {u}: collapse margin ratio {d['margin_ratio']:.4g}"
-                       f"{_interval(b, 'margin')}, probability of collapse {d['probability_of_collapse']:.3g}"
-                       f"{_interval(b, 'probability', '.3g')}")
+    if res.design is not None:
+        d = res.design
+        out.append(f"  design {d['intensity']:g} {u}: collapse margin ratio {d['margin_ratio']:.4g}"
+                   f"{_interval(b, 'margin')}, probability of collapse {d['probability_of_collapse']:.3g}"
+                   f"{_interval(b, 'probability', '.3g')}")
     tm = res.timing
     steps = f" ({tm['steps']} time steps)" if tm["steps"] else ""
     out.append(f"  {tm['runs']} time histories{steps}; wall time {tm['wall']:.1f} s, CPU in tasks {tm['cases_cpu']:.1f}"

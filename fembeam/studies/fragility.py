@@ -63,6 +63,10 @@ def _lost_case(task, message: str) -> dict:
             "onset_factor": None, "max_factor": None, "n_runs": 0, "runs": [], "t_end": None, "steps": 0, "time_s": 0.0}
 
 
+def _n(workers: int) -> str:
+    return f"{workers} worker" + ("s" if workers != 1 else "")
+
+
 def _status(row: dict) -> str:
     if row["first_overturning"] is not None:
         return "collapsed"
@@ -88,6 +92,11 @@ class FragilityResult:
     settings: dict
     timing: dict = field(default_factory=dict)
 
+    @property
+    def _unit(self) -> str:
+        """The intensity's unit in a column name (``g``, ``m_s``)."""
+        return self.im.unit.replace("/", "_")
+
     def counts(self) -> dict:
         out = {"collapsed": 0, "censored": 0, "excluded": 0}
         for r in self.rows:
@@ -108,11 +117,11 @@ class FragilityResult:
         for r in self.rows:
             out.append({"record": r["record"], "sign": r["sign"], "event": r["event"], "station": r["station"],
                         "component": r["component"], "group": r["group"], "normalisation": r["normalisation"],
-                        "pga_g": r["pga_g"], "pgv_m_s": r["pgv_m_s"], f"im_record_{self.im.unit}": r["im_record"],
+                        "pga_g": r["pga_g"], "pgv_m_s": r["pgv_m_s"], f"im_record_{self._unit}": r["im_record"],
                         "status": r["status"], "onset_factor": r["onset_factor"],
                         "first_overturning": r["first_overturning"], "smallest": r["smallest"],
                         "resolution_reached": r["resolution_reached"], "bracket_lo": r["bracket"][0],
-                        f"im_at_collapse_{self.im.unit}": r["im_at_collapse"],
+                        f"im_at_collapse_{self._unit}": r["im_at_collapse"],
                         "censored_at": r["censored_at"], "safe_factors_above": ";".join(
                             f"{x:.6g}" for x in r["safe_factors_above"]),
                         "runs": r["n_runs"], "steps": r["steps"], "time_s": round(r["time_s"], 4),
@@ -122,7 +131,7 @@ class FragilityResult:
     def ida_rows(self) -> list[dict]:
         """One row per run: record, sign, factor, intensity, outcome, peak rotation (rad), order."""
         return [{"record": r["record"], "sign": r["sign"], "factor": s["factor"],
-                 f"im_{self.im.unit}": s["factor"] * r["im_record"], "outcome": s["outcome"],
+                 f"im_{self._unit}": s["factor"] * r["im_record"], "outcome": s["outcome"],
                  "peak_rotation_rad": s.get("peak_rotation"), "order": s["order"]}
                 for r in self.rows for s in r["runs"]]
 
@@ -191,7 +200,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
                 "max_runs": max_runs, "t_end": f"end of the record + {t_end_factor:g} sqrt(L/g)",
                 "voussoirs": voussoirs, "elements": elements if voussoirs is None else None, "backend": backend,
                 "signs": list(SIGNS), "bootstrap": bootstrap, "seed": seed, "level": level, "design": design,
-                "executor": "dask" if scheduler is not None else f"local ({workers or default_workers()} workers)"}
+                "executor": "dask" if scheduler is not None else f"local ({_n(workers or default_workers())})"}
     timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
               "runs": sum(r["n_runs"] for r in rows), "steps": sum(r["steps"] for r in rows)}
     geo = curve.describe() if hasattr(curve, "describe") else {}
@@ -209,7 +218,10 @@ def _fit(rows: list[dict], design, n_boot: int, seed: int, level: float):
         return None, str(e), None, None
     samples = [(r["group"], r["im_at_collapse"] if r["status"] == "collapsed" else r["censored_at"],
                 r["status"] == "censored") for r in rows if r["status"] != "excluded"]
-    boot = lognormal.bootstrap(samples, n=n_boot, seed=seed, level=level, design=design)
+    try:
+        boot = lognormal.bootstrap(samples, n=n_boot, seed=seed, level=level, design=design)
+    except InputError as e:                 # every resample without a fit: no interval, the fit stands
+        boot = {"error": str(e)}
     fit = {"theta": f.theta, "beta": f.beta, "n_collapsed": f.n_collapsed, "n_censored": f.n_censored,
            "method": f.method}
     margin = None
@@ -293,3 +305,4 @@ def plot_ida(result: FragilityResult, path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
+
