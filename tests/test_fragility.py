@@ -8,8 +8,9 @@
 * ``--model simulate``: every run's outcome that of a direct run of the Simulator;
 * a block 0.3 x 1.5 m under El Centro overturns at 0.841 (a window 0.24 % wide) below the 1.032
   a scan 8 % apart reported: the search at a resolution of 0.2 % finds it, and its ends replay;
-* the command: files, JSON without NaN, the journal of an interrupted run, ``--model auto`` and
-  bad input refused with one line and exit 2.
+* ``--model auto``: every run that of a direct ``AutoModel`` run;
+* the command: files, JSON without NaN, the journal of an interrupted run; a model without a runner
+  and bad input refused with one line and exit 2.
 """
 import csv
 import functools
@@ -144,7 +145,26 @@ def test_block_under_el_centro_window_below_the_old_answer():
     assert res["pga_at_first_overturning"] == pytest.approx(f * rec.pga, rel=1e-15)
 
 
-def test_auto_is_refused_until_it_exists(capsys):
+def test_auto_runs_are_the_hand_over_models():
+    """``--model auto`` through the same hook: every run that of a direct ``AutoModel`` run."""
+    from fembeam.auto import AutoModel
+    block = StraightMember(height=2.0, width=0.5)
+    suite = Suite("one pulse", (Record("rect 0.5 s", GroundMotion.rectangular(1.0, 0.5)),))
+    res = fragility(block, suite, voussoirs=1, model="auto", dt=4e-3, resolution=0.05, t_end_factor=3,
+                    bootstrap=20, workers=1, progress=False)
+    am = AutoModel(block, voussoirs=1, dt=4e-3)
+    assert res.settings["model"] == "auto" and res.settings["dt"] == 4e-3
+    for row in res.rows:
+        assert row["status"] == "collapsed"
+        for s in row["runs"][::3]:
+            out = am.run(GroundMotion.rectangular(row["sign"] * s["factor"], 0.5), t_end=row["t_end"], history=False)
+            assert (out.outcome, out.peak_rotation) == (s["outcome"], s["peak_rotation"])
+
+
+def test_a_model_without_a_runner_is_refused(monkeypatch, capsys):
+    """A model the commands know but this fembeam cannot run: exit 2, one line, before any run."""
+    from fembeam.studies import models
+    monkeypatch.setattr(models, "RUNNERS", {k: v for k, v in models.RUNNERS.items() if k != "auto"})
     with pytest.raises(InputError, match="auto is not available"):
         check_model("auto", None)
     assert main(["fragility", "--block", "0.5", "2", "--suite", "x", "--model", "auto"]) == 2

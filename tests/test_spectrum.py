@@ -230,7 +230,7 @@ def test_csv_is_written_atomically(tmp_path, monkeypatch, capsys):
     ["collapse-scale", "--record", "elcentro", "--t-end", "-1"],
     ["collapse-scale", "--record", "elcentro", "--max-runs", "0"],
     ["collapse-scale", "--record", "elcentro", "--factor-span", "1"],
-    ["collapse-scale", "--record", "elcentro", "--model", "auto"],
+    ["collapse-scale", "--record", "elcentro", "--model", "verlet"],
 ])
 def test_cli_bad_input_exits_2_with_one_line(argv, capsys):
     try:

@@ -19,7 +19,7 @@ from ..studies.models import MODELS, check_model
 from ..studies.spectrum import DT
 from .args import finite_float
 from .rock import add_member, member_from
-from .spectrum import model_line
+from .spectrum import MODEL_HELP, model_line
 
 
 def register(sub) -> None:
@@ -34,13 +34,11 @@ def register(sub) -> None:
                                    "instead of rock (docs/fragility.md).")
     add_member(p)
     g = p.add_argument_group("model of each run")
-    g.add_argument("--model", choices=MODELS, default="rock",
-                   help="rock (default): one mechanism between impacts; simulate: the pieces as rigid bodies in "
-                        "contact, hinges anywhere; auto: not available yet")
+    g.add_argument("--model", choices=MODELS, default="rock", help=MODEL_HELP)
     g.add_argument("--dt", type=finite_float, default=None, metavar="S",
-                   help=f"--model simulate: time step (s; default {DT:g})")
+                   help=f"--model simulate or auto: time step (s; default {DT:g})")
     g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
-                   help="--model simulate: Coulomb coefficient at every joint (default: joints never slide); a "
+                   help="--model simulate or auto: Coulomb coefficient at every joint (default: joints never slide); a "
                         "joint may then slide below A_L, where the search does not look, so no factor is called "
                         "the smallest")
     g = p.add_argument_group("record and search")
@@ -93,8 +91,8 @@ def run(args: argparse.Namespace) -> int:
 def summary(res: dict) -> str:
     A = res["A_L"]
     lines = [f"fembeam collapse-scale: {res['record']} (PGA {res['pga']:.4g} g), sign {res['sign']:+d}"]
-    if res.get("model") == "simulate":
-        lines.append("  " + model_line(res["dt"], res["friction"]))
+    if res.get("model") != "rock":
+        lines.append("  " + model_line(res["dt"], res["friction"], res["model"]))
     f0, top = res["onset_factor"], res["max_factor"]
     lines += [f"  A_L = {A['+1']:.6g} g (+1), {A['-1']:.6g} g (-1); the record first moves the member at factor "
               f"{f0:.6g}",

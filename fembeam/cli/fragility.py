@@ -48,9 +48,10 @@ def register(sub) -> None:
     m = p.add_argument_group("model of each run")
     m.add_argument("--model", choices=MODELS, default=DEFAULT_MODEL,
                    help="simulate (default): the pieces as rigid bodies in contact, hinges anywhere; rock: one "
-                        "mechanism between impacts; auto: not available yet")
+                        "mechanism between impacts; auto: rock while its mechanism is admissible, simulate from "
+                        "the first violation")
     m.add_argument("--dt", type=finite_float, default=None, metavar="S",
-                   help=f"--model simulate: time step (s; default {DT:g})")
+                   help=f"--model simulate or auto: time step (s; default {DT:g})")
     s = p.add_argument_group("search (hunt and fill)")
     s.add_argument("--resolution", type=finite_float, default=RESOLUTION, metavar="R",
                    help=f"relative step the scan must reach below a collapse before calling it the smallest "
@@ -178,7 +179,9 @@ def table(res: FragilityResult) -> str:
     geo = res.geometry
     head = (f"block {geo['width']:g} m x {geo['height']:g} m" if geo.get("shape") == "block"
             else f"{arch_title(geo)}, {disc}")
-    model = "simulate (rigid bodies in contact, dt = %g s)" % st["dt"] if st["model"] == "simulate" else st["model"]
+    model = {"simulate": f"simulate (rigid bodies in contact, dt = {st['dt']:g} s)",
+             "auto": f"auto (rock while its mechanism is admissible, then rigid bodies in contact, dt = "
+                     f"{st['dt']:g} s)"}.get(st["model"], st["model"]) if st["dt"] is not None else st["model"]
     n = res.counts()
     out = [f"fembeam fragility: {head}; suite {res.suite} ({len(res.rows) // 2} records x 2 signs)",
            f"  model: {model}; intensity: {res.im.label} ({u}); A_L = {res.A_L['+1']:.6g} g (+1), "

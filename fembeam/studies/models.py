@@ -15,9 +15,10 @@ runner, run to ``t_end`` without the free-decay shortcut so that the peak rotati
 run's); ``simulate`` moves the pieces as rigid bodies in contact
 (:class:`~fembeam.simulation.Simulator`, built once per worker thread and member, time step ``dt``,
 stopped at overturning; ``friction``: Coulomb's coefficient at the joints, None for joints that
-never slide).  :data:`MODELS` are the names the commands know; a name without a runner
-(``auto``, the hand-over between the two) is refused by :func:`check_model` until its factory is
-added to :data:`RUNNERS`, one line.
+never slide); ``auto`` is ``rock`` while its mechanism is admissible and ``simulate`` from the first
+violation (:class:`~fembeam.auto.AutoModel`, built once per worker thread and member; its time
+steps are not counted).  :data:`MODELS` are the names the commands know; a name without a runner is
+refused by :func:`check_model` ("not available"), and a new model is one entry of :data:`RUNNERS`.
 """
 from __future__ import annotations
 
@@ -54,26 +55,35 @@ def _simulate(curve: MidCurve, *, voussoirs, elements, thresholds, dt, friction,
     return run
 
 
+def _auto(curve: MidCurve, *, voussoirs, elements, thresholds, dt, friction, backend) -> Callable:
+    am = spectrum.MultiBody(curve, {1: thresholds[0], -1: thresholds[1]}, voussoirs=voussoirs,
+                            elements=elements, dt=dt, friction=friction, model="auto").sim
+
+    def run(ground: GroundMotion, t_end: float | None) -> dict:
+        res = am.run(ground, t_end=t_end, history=False)
+        return {"outcome": res.outcome, "peak_rotation": float(res.peak_rotation), "steps": 0}
+    return run
+
+
 RUNNERS: dict[str, Callable] = {
     "rock": _rock,
     "simulate": _simulate,
+    "auto": _auto,
 }
 
 
 def check_model(model: str, dt: float | None, friction: float | None = None,
                 names: tuple[str, str, str] = ("model", "dt", "friction")) -> tuple[float | None, float | None]:
-    """``(dt, friction)`` of ``model`` (None for rock; simulate's default ``dt``
-    :data:`fembeam.studies.spectrum.DT`); :class:`InputError` for an unknown model, one not
-    available yet, or a ``dt`` or ``friction`` it does not take."""
+    """``(dt, friction)`` of ``model`` (None for rock; simulate's and auto's default ``dt``
+    :data:`fembeam.studies.spectrum.DT`); :class:`InputError` for an unknown model, one without a
+    runner, or a ``dt`` or ``friction`` it does not take."""
     m = names[0]
     if model not in MODELS:
         raise InputError(f"{m} must be one of {', '.join(MODELS)}, got {model!r}")
     if model not in RUNNERS:
         raise InputError(f"{m} {model} is not available in this fembeam yet: use "
                          f"{' or '.join(RUNNERS)}")
-    if model in ("rock", "simulate"):
-        return spectrum.check_model(model, dt, friction, names=names)
-    return dt, friction
+    return spectrum.check_model(model, dt, friction, names=names)
 
 
 def runner(model: str, curve: MidCurve, *, voussoirs: int | None, elements: int, thresholds, dt: float | None,
