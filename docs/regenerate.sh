@@ -40,7 +40,8 @@ benchmarks() {
     python benchmarks/pipeline_scaling.py --max 1000000 --analyze 100000 > docs/data/pipeline_benchmark.txt
     fembeam sweep --quiet | tail -2 > docs/data/sweep_benchmark.txt
     python benchmarks/simulate.py > docs/data/simulate_benchmark.txt
-    python benchmarks/fragility.py --model rock,simulate --workers 1,2 --records 10 > docs/data/fragility_benchmark.txt
+    python benchmarks/fragility.py --model rock,simulate,auto --workers 2 > docs/data/fragility_benchmark.txt
+    python benchmarks/fragility.py --model rock,simulate,auto --workers 1,2 --records 10 > docs/data/fragility_speedup.txt
 }
 
 simulation() {

