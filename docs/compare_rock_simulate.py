@@ -44,7 +44,7 @@ from fembeam.dynamics.ground import GroundMotion
 from fembeam.dynamics.rocking import Rocker
 from fembeam.errors import SolverError
 from fembeam.simulation import Simulator
-from fembeam.studies.spectrum import geometric_grid, onset_amplitude, overturning_amplitude, pulse, pulse_end, spectrum
+from fembeam.studies.spectrum import collapse_scale, pulse, pulse_end, spectrum
 
 HERE = Path(__file__).resolve().parent
 VOUSSOIRS = 7
@@ -294,10 +294,7 @@ def run_elcentro(csv_path: Path, fig_path: Path, scan_path: Path, below=(0.5, 0.
     rec = elcentro()
     t_end = float(rec.t[-1]) + free_time(curve)
     clock = time.perf_counter()
-    rk = Rocker(curve, voussoirs=VOUSSOIRS, qp=False)      # scan of 30 factors 1.11 apart, then bisection
-    f0 = onset_amplitude(rk.A, rec)
-    cs = overturning_amplitude(rk, rec.scaled, geometric_grid(f0, 20.0, 30), t_end=t_end, bisect_tol=ROCK_TOL,
-                               onset=f0)
+    cs = collapse_scale(curve, rec, voussoirs=VOUSSOIRS, t_end=t_end, bisect_tol=ROCK_TOL, n_factors=30)
     f_rock = float(cs["first_overturning"])
     t_rock = time.perf_counter() - clock
     lo0, hi0 = BRACKET[0] * f_rock, BRACKET[1] * f_rock
@@ -318,6 +315,7 @@ def run_elcentro(csv_path: Path, fig_path: Path, scan_path: Path, below=(0.5, 0.
         w = csv.writer(f)
         w.writerow(list(scan))
         w.writerows(zip(*scan.values()))
+    rk = Rocker(curve, voussoirs=VOUSSOIRS, qp=False)
     rows = []
     for frac in below:
         f = frac * f_rock
@@ -332,7 +330,7 @@ def run_elcentro(csv_path: Path, fig_path: Path, scan_path: Path, below=(0.5, 0.
         w.writerow(["record_seconds", RECORD_SECONDS])
         w.writerow(["pga_g", rec.pga])
         w.writerow(["rock_collapse_factor", f_rock])
-        w.writerow(["rock_safe_factors_above", " ".join(f"{x:.4g}" for x in cs["safe_amplitudes_above"])])
+        w.writerow(["rock_safe_factors_above", " ".join(f"{x:.4g}" for x in cs["safe_factors_above"])])
         w.writerow(["sim_collapse_factor", found[DTS[DT_REF]]["amplitude"]])
         for key, b in found.items():
             w.writerow([f"sim_bracket_{key}", f"{b['lo']:.6g} {b['hi']:.6g}"])

@@ -26,7 +26,9 @@ def decider(windows, log=None):
 def check_claims(res, windows, resolution):
     """What ``smallest`` promises: every gap from the onset to the first collapse at most
     1 + resolution, all safe below; the outcomes those of the decider; the safe ones above listed."""
-    runs = res["runs"]
+    runs = res["scan"]
+    assert res["runs"] == len(runs) and res["converged"] == res["smallest"]
+    assert res["safe_above"] == bool(res["safe_factors_above"])
     assert [r["factor"] for r in runs] == sorted(r["factor"] for r in runs)
     for r in runs:
         assert r["outcome"] == ("overturned" if any(a <= r["factor"] <= b for a, b in windows) else "rest")
@@ -59,8 +61,8 @@ def test_threshold_is_bracketed_to_the_resolution():
     # the fill costs ceil(log ratio / log 1.01) - 1 runs per hunt gap: no more than a uniform scan
     ends = [ONSET] + hunt
     need = sum(math.ceil(math.log(b / a) / math.log1p(0.01) - 1e-12) - 1 for a, b in zip(ends, ends[1:]))
-    assert res["n_runs"] <= len(hunt) + need + 1
-    assert res["n_runs"] <= math.log(hi / ONSET) / math.log1p(0.01) + len(hunt) + 2
+    assert res["runs"] <= len(hunt) + need + 1
+    assert res["runs"] <= math.log(hi / ONSET) / math.log1p(0.01) + len(hunt) + 2
 
 
 def test_a_window_below_the_hunts_collapse_is_found_and_the_collapse_above_reported():
@@ -86,7 +88,7 @@ def test_a_window_narrower_than_the_resolution_may_be_missed_but_then_nothing_is
 def test_budget_stops_the_search_without_claiming_the_smallest():
     res = hunt_and_fill(decider([(3.0, math.inf)]), ONSET, resolution=0.01, max_factor=20 * ONSET, max_runs=12)
     check_claims(res, [(3.0, math.inf)], 0.01)
-    assert res["n_runs"] == 12 and res["budget_exhausted"] and not res["smallest"]
+    assert res["runs"] == 12 and res["budget_exhausted"] and not res["smallest"]
     assert res["first_overturning"] is not None and res["resolution_reached"] > 0.01
 
 
@@ -94,7 +96,7 @@ def test_no_collapse_up_to_the_largest_factor():
     res = hunt_and_fill(decider([]), ONSET, resolution=0.05, max_factor=10 * ONSET)
     check_claims(res, [], 0.05)
     assert res["first_overturning"] is None and res["none_up_to_max"] and not res["smallest"]
-    assert res["runs"][-1]["factor"] == 10 * ONSET and res["bracket"] == [10 * ONSET, None]
+    assert res["scan"][-1]["factor"] == 10 * ONSET and res["bracket"] == [10 * ONSET, None]
 
 
 def test_a_failed_run_stops_the_search():
@@ -104,8 +106,8 @@ def test_a_failed_run_stops_the_search():
         return {"outcome": "rest"}
     res = hunt_and_fill(run, ONSET, resolution=0.05, max_factor=20 * ONSET)
     assert res["first_overturning"] is None and not res["smallest"] and not res["none_up_to_max"]
-    assert len(res["undecided"]) == 1 and res["undecided"][0]["factor"] > 1.2
-    assert res["runs"][-1]["error"] == "SolverError: no"
+    assert len(res["errors"]) == 1 and res["errors"][0]["factor"] > 1.2
+    assert res["errors"][0]["error"] == res["scan"][-1]["error"] == "SolverError: no"
 
 
 @pytest.mark.parametrize("kw", [dict(resolution=0.0), dict(resolution=2.0), dict(max_factor=math.nan),

@@ -248,7 +248,8 @@ def test_cli_collapse_scale_json(capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["command"] == "collapse-scale" and d["first_overturning"] is not None
     assert d["bracket"][1] == d["first_overturning"] and isinstance(d["smallest"], bool)
-    assert d["runs"][0].keys() == {"factor", "outcome", "peak_rotation", "steps", "order"}
+    assert d["scan"][0].keys() == {"factor", "outcome", "peak_rotation", "steps", "order"}
+    assert d["runs"] == len(d["scan"]) and d["converged"] == d["smallest"]
     assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--resolution", "0.05",
                  "--t-end", "10", "--quiet"]) == 0
     text = capsys.readouterr().out

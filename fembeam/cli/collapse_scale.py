@@ -120,10 +120,10 @@ def summary(res: dict) -> str:
                          f"{100 * reached:.3g} % apart (a collapse may lie between them)")
         if res["safe_factors_above"]:
             lines.append("  safe factors found above it: " + ", ".join(f"{x:.4g}" for x in res["safe_factors_above"]))
-    for e in res["undecided"]:
+    for e in res["errors"]:
         lines.append(f"  search stopped at factor {e['factor']:.6g}: {e.get('error') or e['outcome']}")
     if res["budget_exhausted"]:
-        lines.append(f"  stopped at the run budget ({res['n_runs']} runs): raise --max-runs")
+        lines.append(f"  stopped at the run budget ({res['runs']} runs): raise --max-runs")
     steps = f" ({res['steps']} time steps)" if res.get("steps") else ""
-    lines.append(f"  {res['n_runs']} time histories{steps} in {res['time_s']:.1f} s")
+    lines.append(f"  {res['runs']} time histories{steps} in {res['time_s']:.1f} s")
     return "\n".join(lines)

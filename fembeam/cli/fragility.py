@@ -200,9 +200,9 @@ def table(res: FragilityResult) -> str:
             first, im, smallest = "?", "-", "-"
         safe = str(len(r["safe_factors_above"])) if r["safe_factors_above"] else "-"
         out.append(f"  {r['record'][:28]:<28} {r['sign']:+4d} {_num(r['onset_factor'], '7.4g')} {first:>8} "
-                   f"{smallest:>8} {im:>14} {safe:>10} {r['n_runs']:5d}")
+                   f"{smallest:>8} {im:>14} {safe:>10} {r['runs']:5d}")
     for r in res.rows:
-        for e in r["undecided"]:
+        for e in r["errors"]:
             where = "" if e["factor"] is None else f" at factor {e['factor']:.6g}"
             out.append(f"  {r['record']} sign {r['sign']:+d}: search stopped{where}: {e.get('error') or e['outcome']}")
     out.append(f"  collapsed {n['collapsed']} (the smallest at the resolution: {n['smallest']}), censored "

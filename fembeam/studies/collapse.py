@@ -89,7 +89,7 @@ def record_collapse(curve: MidCurve, ground: GroundMotion, *, sign: int, model: 
 
     res = hunt_and_fill(run, f0, resolution=resolution, max_factor=top, max_runs=max_runs,
                         onset_safe=friction is None)
-    res.update(sign=int(sign), t_end=t_end, steps=sum(r["steps"] for r in res["runs"]),
+    res.update(sign=int(sign), t_end=t_end, steps=sum(r["steps"] for r in res["scan"]),
                time_s=time.perf_counter() - clock)
     return res
 

@@ -54,13 +54,14 @@ def fragility_case(curve: MidCurve, record: Record, sign: int, model: str, thres
 
 
 def _lost_case(task, message: str) -> dict:
-    """The row of a record-sign whose worker process died twice: undecided."""
+    """The row of a record-sign whose worker process died twice: no answer, the error listed."""
     kw = task[1]
     return {"record": kw["record"].name, "sign": kw["sign"], "first_overturning": None, "smallest": False,
-            "none_up_to_max": False, "collapse": None, "bracket": [None, None], "resolution": kw["resolution"],
-            "resolution_reached": None, "safe_factors_above": [], "budget_exhausted": False,
-            "undecided": [{"factor": None, "outcome": f"the worker process died twice ({message})"}],
-            "onset_factor": None, "max_factor": None, "n_runs": 0, "runs": [], "t_end": None, "steps": 0, "time_s": 0.0}
+            "converged": False, "none_up_to_max": False, "collapse": None, "bracket": [None, None],
+            "resolution": kw["resolution"], "resolution_reached": None, "safe_above": False, "safe_factors_above": [],
+            "budget_exhausted": False, "errors": [{"factor": None, "outcome": "lost",
+                                                   "error": f"the worker process died twice ({message})"}],
+            "onset_factor": None, "max_factor": None, "runs": 0, "scan": [], "t_end": None, "steps": 0, "time_s": 0.0}
 
 
 def _n(workers: int) -> str:
@@ -70,7 +71,7 @@ def _n(workers: int) -> str:
 def _status(row: dict) -> str:
     if row["first_overturning"] is not None:
         return "collapsed"
-    return "excluded" if row["undecided"] else "censored"
+    return "excluded" if row["errors"] else "censored"
 
 
 @dataclass
@@ -124,8 +125,8 @@ class FragilityResult:
                         f"im_at_collapse_{self._unit}": r["im_at_collapse"],
                         "censored_at": r["censored_at"], "safe_factors_above": ";".join(
                             f"{x:.6g}" for x in r["safe_factors_above"]),
-                        "runs": r["n_runs"], "steps": r["steps"], "time_s": round(r["time_s"], 4),
-                        "undecided": ";".join(str(u["outcome"]) for u in r["undecided"])})
+                        "runs": r["runs"], "steps": r["steps"], "time_s": round(r["time_s"], 4),
+                        "errors": ";".join(str(e.get("error") or e["outcome"]) for e in r["errors"])})
         return out
 
     def ida_rows(self) -> list[dict]:
@@ -133,7 +134,7 @@ class FragilityResult:
         return [{"record": r["record"], "sign": r["sign"], "factor": s["factor"],
                  f"im_{self._unit}": s["factor"] * r["im_record"], "outcome": s["outcome"],
                  "peak_rotation_rad": s.get("peak_rotation"), "order": s["order"]}
-                for r in self.rows for s in r["runs"]]
+                for r in self.rows for s in r["scan"]]
 
 
 def _check(design, n_boot, level, t_end_factor) -> None:
@@ -193,7 +194,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
         f = r["first_overturning"]
         r.update({k: v for k, v in meta[r["record"]].items() if k != "record"}, im_record=x,
                  status=_status(r), im_at_collapse=None if f is None else f * x)
-        r["censored_at"] = (max((s["factor"] for s in r["runs"]), default=r["max_factor"]) * x
+        r["censored_at"] = (max((s["factor"] for s in r["scan"]), default=r["max_factor"]) * x
                             if r["status"] == "censored" else None)
     fit, fit_error, boot, margin = _fit(rows, design, bootstrap, seed, level)
     settings = {"model": model, "dt": dt, "im": measure.name, "resolution": resolution, "span": span,
@@ -202,7 +203,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
                 "signs": list(SIGNS), "bootstrap": bootstrap, "seed": seed, "level": level, "design": design,
                 "executor": "dask" if scheduler is not None else f"local ({_n(workers or default_workers())})"}
     timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
-              "runs": sum(r["n_runs"] for r in rows), "steps": sum(r["steps"] for r in rows)}
+              "runs": sum(r["runs"] for r in rows), "steps": sum(r["steps"] for r in rows)}
     geo = curve.describe() if hasattr(curve, "describe") else {}
     return FragilityResult(suite.name, measure, rows, fit, fit_error, boot, margin, {"+1": rk.A[1], "-1": rk.A[-1]},
                            geo, settings, timing)
@@ -280,20 +281,20 @@ def plot_ida(result: FragilityResult, path) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7.0, 4.6))
-    peaks = [s["peak_rotation"] for r in result.rows for s in r["runs"]
+    peaks = [s["peak_rotation"] for r in result.rows for s in r["scan"]
              if s["outcome"] not in ("overturned", "collapsed_by_sliding") and s.get("peak_rotation") is not None]
     edge = 1.1 * max(peaks + [1e-3])
     for r in result.rows:
         x = r["im_record"]
         first = r["first_overturning"]
-        safe = [(s["peak_rotation"], s["factor"] * x) for s in r["runs"] if s.get("peak_rotation") is not None
+        safe = [(s["peak_rotation"], s["factor"] * x) for s in r["scan"] if s.get("peak_rotation") is not None
                 and s["outcome"] not in ("overturned", "collapsed_by_sliding")
                 and (first is None or s["factor"] < first)]
         if safe:
             ax.plot(*zip(*safe), "-", lw=0.6, alpha=0.6)
         if first is not None:
             ax.plot([safe[-1][0] if safe else 0.0, edge], [first * x] * 2, ":", color="0.5", lw=0.6)
-        coll = [s["factor"] * x for s in r["runs"] if s["outcome"] in ("overturned", "collapsed_by_sliding")]
+        coll = [s["factor"] * x for s in r["scan"] if s["outcome"] in ("overturned", "collapsed_by_sliding")]
         ax.plot([edge] * len(coll), coll, "x", color="tab:red", ms=3)
     ax.set_xlabel("peak rotation of any piece (rad); collapses at the right edge")
     ax.set_ylabel(f"{result.im.label} ({result.im.unit})")

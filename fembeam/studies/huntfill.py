@@ -17,16 +17,18 @@ what it has seen.  Factors are positive; below the onset factor ``f0`` the groun
 Claims, in the returned dict:
 
 * ``first_overturning``: the lowest collapsing factor found (None: none up to ``max_factor``);
-* ``smallest`` (bool): every gap from ``f0`` up to it is at most ``1 + resolution`` and every run
-  below it is safe, so no collapsing window wider than ``resolution`` (relative) lies below it.
-  A narrower window can (the safe set of a rocking member has gaps of a fraction of a per cent),
-  and the true first collapse lies in ``(f / (1 + resolution), f]`` only if there is none;
-* ``safe_factors_above``: safe factors found above it (runs of the hunt, or of the fill before a
-  lower collapse was found);
-* ``resolution_reached``: the widest gap below it (or below ``max_factor``) minus 1.
+* ``smallest`` (bool; also ``converged``, the name of the former search's flag): every gap from
+  ``f0`` up to it is at most ``1 + resolution`` and every run below it is safe, so no collapsing
+  window wider than ``resolution`` (relative) lies below it.  A narrower window can (the safe set
+  of a rocking member has gaps of a fraction of a per cent), and the true first collapse lies in
+  ``(f / (1 + resolution), f]`` only if there is none;
+* ``safe_factors_above`` (``safe_above``: any): safe factors found above it (runs of the hunt, or
+  of the fill before a lower collapse was found);
+* ``resolution_reached``: the widest gap below it (or below ``max_factor``) minus 1;
+* ``runs`` (the number of runs) and ``scan`` (every run's dict, by factor).
 
 The search stops early, with ``smallest`` False, at ``max_runs`` runs or at a run that is
-neither safe nor a collapse (a solver error: ``undecided``).
+neither safe nor a collapse (a solver error, listed in ``errors``).
 """
 from __future__ import annotations
 
@@ -80,7 +82,7 @@ def hunt_and_fill(run: Callable[[float], dict], onset: float, *, resolution: flo
     """The search of the module docstring.  ``run(f)`` runs the member under the record scaled
     by ``f`` and returns a dict with at least ``outcome`` (:data:`SAFE`, :data:`COLLAPSE` or
     anything else: undecided); every dict is kept, with ``factor`` and ``order`` (the run's
-    rank) added, in ``runs`` (sorted by factor).  ``onset_safe=False`` (joints that may slide
+    rank) added, in ``scan`` (sorted by factor).  ``onset_safe=False`` (joints that may slide
     below ``A_L``): the onset factor is run first, nothing below it is searched, and no factor
     is called the smallest."""
     _check(onset, resolution, max_factor, max_runs)
@@ -116,14 +118,14 @@ def hunt_and_fill(run: Callable[[float], dict], onset: float, *, resolution: flo
     reached = max((b / a - 1.0 for a, b in zip(ends, ends[1:])), default=0.0)
     covered = not undecided and reached <= resolution * (1 + 1e-9)
     last_safe = max((x for x, r in done.items() if (top is None or x < top) and r["outcome"] in SAFE), default=onset)
-    return {"first_overturning": top, "smallest": bool(top is not None and covered and onset_safe),
+    smallest = bool(top is not None and covered and onset_safe)
+    above = sorted(x for x, r in done.items() if top is not None and x > top and r["outcome"] in SAFE)
+    return {"first_overturning": top, "smallest": smallest, "converged": smallest,
             "none_up_to_max": bool(top is None and covered and max_factor > onset and onset_safe),
             "collapse": None if top is None else done[top]["outcome"],
             "bracket": [last_safe, top], "resolution": float(resolution), "resolution_reached": float(reached),
-            "safe_factors_above": sorted(x for x, r in done.items() if top is not None and x > top
-                                         and r["outcome"] in SAFE),
-            "undecided": [{"factor": u["factor"], "outcome": u["outcome"], "error": u.get("error")}
-                          for u in undecided],
+            "safe_above": bool(above), "safe_factors_above": above,
+            "errors": [{"factor": u["factor"], "outcome": u["outcome"], "error": u.get("error")} for u in undecided],
             "budget_exhausted": not covered and not undecided,
-            "onset_factor": float(onset), "max_factor": float(max_factor), "n_runs": len(done),
-            "runs": [done[x] for x in sorted(done)]}
+            "onset_factor": float(onset), "max_factor": float(max_factor), "runs": len(done),
+            "scan": [done[x] for x in sorted(done)]}
