@@ -52,7 +52,8 @@ def run(arch, suite: Suite, model: str, workers: list[int], resolution: float) -
             first = (wall, rows)
         same = "same rows as with the first" if rows == first[1] else "ROWS DIFFER from the first"
         steps = f", {tm['steps']} time steps ({1e6 * tm['cases_cpu'] / tm['steps']:.1f} us each)" if tm["steps"] else ""
-        print(f"  {n} worker(s): wall {wall:.1f} s (speed-up {first[0] / wall:.2f}), CPU in tasks {tm['cases_cpu']:.1f} s"
+        print(f"  {n} worker(s): wall {wall:.1f} s (speed-up {first[0] / wall:.2f}), "
+              f"CPU in tasks {tm['cases_cpu']:.1f} s"
               f" = {tm['cases_cpu'] / tasks:.2f} s per task, {tm['runs']} time histories "
               f"({1e3 * tm['cases_cpu'] / tm['runs']:.0f} ms each){steps}; {same}; "
               f"load average after: {os.getloadavg()[0]:.2f}")

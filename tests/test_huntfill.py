@@ -42,7 +42,8 @@ def check_claims(res, windows, resolution):
     if res["smallest"]:
         assert widest <= resolution * (1 + 1e-9)
     if first is not None:
-        assert res["safe_factors_above"] == [r["factor"] for r in runs if r["factor"] > first and r["outcome"] == "rest"]
+        above = [r["factor"] for r in runs if r["factor"] > first and r["outcome"] == "rest"]
+        assert res["safe_factors_above"] == above
         assert res["bracket"][1] == first and res["bracket"][0] == below[-2]
 
 

@@ -114,7 +114,7 @@ def summary(res: dict) -> str:
             lines.append(f"  the smallest at resolution {res['resolution']:g}: every factor run below it stands, "
                          f"consecutive factors from the onset to {lo:.6g} at most {100 * reached:.3g} % apart")
         elif res.get("friction") is not None:
-            lines.append(f"  not called the smallest: with friction a joint may slide below A_L, which is not searched")
+            lines.append("  not called the smallest: with friction a joint may slide below A_L, which is not searched")
         else:
             lines.append(f"  NOT the smallest at resolution {res['resolution']:g}: factors run below it are up to "
                          f"{100 * reached:.3g} % apart (a collapse may lie between them)")

@@ -82,7 +82,8 @@ def register(sub) -> None:
 
 def _paths(args) -> dict:
     """Output paths, checked before any computation."""
-    paths = {"csv": check_output(args.csv, "--csv", (".csv",)), "plot": check_output(args.plot, "--plot", PLOT_SUFFIXES),
+    paths = {"csv": check_output(args.csv, "--csv", (".csv",)),
+             "plot": check_output(args.plot, "--plot", PLOT_SUFFIXES),
              "ida_plot": check_output(args.ida_plot, "--ida-plot", PLOT_SUFFIXES), "json": None, "ida_csv": None}
     if check_dir(args.out_dir, "--out-dir") is not None:
         for key, name in FILES.items():
@@ -106,8 +107,8 @@ def run(args: argparse.Namespace) -> int:
             import distributed  # noqa: F401
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
-    from ..studies.models import check_model
     from ..studies.intensity import parse_im
+    from ..studies.models import check_model
     check_model(args.model, args.dt, names=("--model", "--dt", "--friction"))
     parse_im(args.im)
     curve, voussoirs, elements = member_from(args)
