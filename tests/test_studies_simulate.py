@@ -26,7 +26,8 @@ from fembeam.dynamics.ground import GroundMotion
 from fembeam.simulation import Simulator
 from fembeam.studies import spectrum as sp
 from fembeam.studies.parallel import Journal, journal_for
-from fembeam.studies.spectrum import collapse_scale, spectrum
+from fembeam.studies.collapse import collapse_scale
+from fembeam.studies.spectrum import spectrum
 
 BLOCK = StraightMember(height=2.0, width=0.5)        # tan alpha = 0.25: A_L = 0.25 g
 ARGS = ["--block", "0.5", "2", "--pulse", "rect", "--periods", "0.3,0.5", "--amplitudes", "0.3,0.4,0.6",
@@ -145,18 +146,16 @@ def test_cli_spectrum_outputs_name_the_model(tmp_path, capsys):
 
 def test_collapse_scale_simulate_against_direct_runs(capsys):
     rec, t_end = GroundMotion.record("elcentro_chopra"), 6.0
-    res = collapse_scale(BLOCK, rec, voussoirs=1, factors=[1.0, 2.0, 3.0, 4.0], bisect_tol=0.05, t_end=t_end,
-                         model="simulate", dt=DT)
+    res = collapse_scale(BLOCK, rec, voussoirs=1, resolution=0.05, t_end=t_end, model="simulate", dt=DT)
     lo, hi = res["bracket"]
-    assert res["first_overturning"] == hi and 1.0 <= lo < hi <= 4.0 and hi - lo <= 0.05 * hi
+    assert res["first_overturning"] == hi and res["smallest"] and hi / lo <= 1.05 * (1 + 1e-9)
     assert res["model"] == "simulate" and res["dt"] == DT and res["collapse"] == "overturned" and res["steps"] > 0
     sim = Simulator(BLOCK, voussoirs=1)
     assert sim.run(rec.scaled(hi), dt=DT, t_end=t_end).outcome == "overturned"
     assert sim.run(rec.scaled(lo), dt=DT, t_end=t_end).outcome in ("rest", "survived")
     json.dumps(res, allow_nan=False)
-    assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--factors", "1,2,3,4",
-                 "--bisect-tol", "0.05", "--t-end", str(t_end), "--model", "simulate", "--dt", str(DT), "--json",
-                 "--quiet"]) == 0
+    assert main(["collapse-scale", "--block", "0.5", "2", "--record", "elcentro_chopra", "--resolution", "0.05",
+                 "--t-end", str(t_end), "--model", "simulate", "--dt", str(DT), "--json", "--quiet"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["bracket"] == res["bracket"] and d["model"] == "simulate" and d["friction"] is None
 

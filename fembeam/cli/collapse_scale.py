@@ -1,8 +1,9 @@
-"""``fembeam collapse-scale``: the smallest scale factor of a record that overturns the member.
+"""``fembeam collapse-scale``: the scale factor at which a record first collapses the member.
 
-The factor grid is scanned in full, the first overturning factor bisected, and scanned factors
-above it that do not overturn are reported.  The computation is
-:func:`fembeam.studies.spectrum.collapse_scale`; ``--model simulate`` decides every run with the
+The search is hunt and fill at a stated resolution (:mod:`fembeam.studies.huntfill`): the first
+collapsing factor found, the safe factors found above it, and "the smallest" only when the scan
+below it reached the resolution.  The computation is
+:func:`fembeam.studies.collapse.collapse_scale`; ``--model simulate`` decides every run with the
 multi-block simulation.
 """
 from __future__ import annotations
@@ -13,31 +14,44 @@ import sys
 
 from ..dynamics.ground import RECORDS, GroundMotion
 from ..errors import InputError
-from ..studies.spectrum import FACTOR_SPAN, N_GRID, collapse_scale
-from .args import finite_float, float_list
+from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN, collapse_scale
+from ..studies.models import MODELS, check_model
+from ..studies.spectrum import DT
+from .args import finite_float
 from .rock import add_member, member_from
-from .spectrum import add_model, model_from, model_line
+from .spectrum import MODEL_HELP, model_line
 
 
 def register(sub) -> None:
-    p = sub.add_parser("collapse-scale", help="smallest scale factor of a record that overturns the member",
-                       description="Scans scale factors of a ground-motion record, bisects below the first one that "
-                                   "overturns the member, and reports scanned factors above it that do not overturn "
-                                   "(the safe set need not be an interval). --model simulate runs the multi-block "
-                                   "simulation instead of rock: each run then costs (t_end - record start) / dt "
-                                   "time steps unless it collapses earlier, each dearer with more bodies (see "
-                                   "docs/studies.md).")
+    p = sub.add_parser("collapse-scale", help="scale factor at which a record first collapses the member (hunt and "
+                                              "fill)",
+                       description="Hunt and fill over the scale factors of a ground-motion record (incremental "
+                                   "dynamic analysis): factors growing from the onset until one collapses the "
+                                   "member, then the gaps below the lowest collapse filled until none is wider than "
+                                   "--resolution. Reports the first collapsing factor found, whether it is the "
+                                   "smallest at that resolution, and the safe factors found above it (the safe set "
+                                   "need not be an interval). --model simulate runs the multi-block simulation "
+                                   "instead of rock (docs/fragility.md).")
     add_member(p)
-    add_model(p)
+    g = p.add_argument_group("model of each run")
+    g.add_argument("--model", choices=MODELS, default="rock", help=MODEL_HELP)
+    g.add_argument("--dt", type=finite_float, default=None, metavar="S",
+                   help=f"--model simulate or auto: time step (s; default {DT:g})")
+    g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
+                   help="--model simulate or auto: Coulomb coefficient at every joint (default: joints never slide); a "
+                        "joint may then slide below A_L, where the search does not look, so no factor is called "
+                        "the smallest")
     g = p.add_argument_group("record and search")
     g.add_argument("--record", required=True, metavar="FILE",
                    help=f"PEER .AT2 file or CSV (time s, acceleration g), or a shipped record: {', '.join(RECORDS)}")
-    g.add_argument("--factors", type=float_list, default=None, metavar="F[,F..|A:B:STEP]",
-                   help=f"increasing scale factors (default: {N_GRID} geometric points from the factor at which the "
-                        f"record first exceeds A_L to {FACTOR_SPAN:g} times it)")
     g.add_argument("--sign", type=int, choices=(1, -1), default=1, help="+1: the record as given; -1: mirrored")
-    g.add_argument("--bisect-tol", type=finite_float, default=1e-3, metavar="TOL",
-                   help="relative width of the final bracket (default 1e-3)")
+    g.add_argument("--resolution", type=finite_float, default=RESOLUTION, metavar="R",
+                   help=f"relative step the scan must reach below a collapse before calling it the smallest "
+                        f"(default {RESOLUTION:g})")
+    g.add_argument("--factor-span", type=finite_float, default=SPAN, metavar="S",
+                   help=f"largest factor, in onset factors (default {SPAN:g})")
+    g.add_argument("--max-runs", type=int, default=MAX_RUNS, metavar="N",
+                   help=f"time histories at most (default {MAX_RUNS})")
     g.add_argument("--t-end", type=finite_float, default=None, metavar="S",
                    help="end of each run (s; default: end of the record + 20 sqrt(L/g))")
     o = p.add_argument_group("output")
@@ -47,11 +61,11 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if not (0 < args.bisect_tol <= 0.1):
-        raise InputError(f"--bisect-tol must be in (0, 0.1], got {args.bisect_tol:g}")
-    if args.factors is not None and not args.factors:
-        raise InputError("--factors: give at least one factor")
-    dt, friction = model_from(args)
+    if args.elements is not None and args.elements < 4:
+        raise InputError(f"--elements must be >= 4, got {args.elements}")
+    if args.voussoirs is not None and args.voussoirs < 1:
+        raise InputError(f"--voussoirs must be >= 1, got {args.voussoirs}")
+    dt, friction = check_model(args.model, args.dt, args.friction, names=("--model", "--dt", "--friction"))
     curve, voussoirs, elements = member_from(args, args.model)
     ground = GroundMotion.record(args.record)
     bar = None
@@ -59,8 +73,9 @@ def run(args: argparse.Namespace) -> int:
         from tqdm import tqdm
         bar = tqdm(desc="collapse-scale: runs", unit="run", file=sys.stderr, leave=False)
     try:
-        res = collapse_scale(curve, ground, voussoirs=voussoirs, elements=elements, factors=args.factors,
-                             t_end=args.t_end, bisect_tol=args.bisect_tol, sign=args.sign, backend=args.backend,
+        res = collapse_scale(curve, ground, voussoirs=voussoirs, elements=elements, t_end=args.t_end,
+                             resolution=args.resolution, span=args.factor_span, max_runs=args.max_runs,
+                             sign=args.sign, backend=args.backend,
                              progress=(lambda a, o: bar.update()) if bar is not None else None, model=args.model,
                              dt=dt, friction=friction)
     finally:
@@ -79,27 +94,39 @@ def summary(res: dict) -> str:
     if res.get("outcome") == "cannot_stand":
         return "\n".join(lines + ["  outcome: cannot_stand (the member does not stand under its own weight: "
                                   "fembeam analyze); no run was made"])
-    if res.get("model") in ("simulate", "auto"):
+    if res.get("model") != "rock":
         lines.append("  " + model_line(res["dt"], res["friction"], res["model"]))
+    f0, top = res["onset_factor"], res["max_factor"]
     lines += [f"  A_L = {A['+1']:.6g} g (+1), {A['-1']:.6g} g (-1); the record first moves the member at factor "
-             f"{res['onset_factor']:.6g}",
-             f"  factors: {len(res['factors'])} from {res['factors'][0]:.4g} to {res['factors'][-1]:.4g}"]
+              f"{f0:.6g}",
+              f"  hunt and fill: resolution {res['resolution']:g} (relative), factors up to {top:.4g} "
+              f"({top / f0:g} x the onset factor)"]
     f = res["first_overturning"]
     lo, hi = res["bracket"]
+    reached = res["resolution_reached"]
     if f is None:
-        lines.append(f"  no scanned factor overturns the member (up to {res['factors'][-1]:.6g}, PGA "
-                     f"{res['factors'][-1] * res['pga']:.4g} g)")
+        if res["none_up_to_max"]:
+            lines.append(f"  no collapse up to factor {top:.6g} (PGA {top * res['pga']:.4g} g) at this resolution")
+        else:
+            lines.append(f"  no collapse found up to factor {lo:.6g}; factors run are up to {100 * reached:.3g} % "
+                         "apart, more than the resolution")
     else:
         how = " (collapses by sliding)" if res.get("collapse") == "collapsed_by_sliding" else ""
-        lines.append(f"  first overturning factor: {f:.6g} (PGA {res['pga_at_first_overturning']:.6g} g){how}")
-        lines.append(f"  bracket: [{lo:.6g}, {hi:.6g}] (safe, overturns)"
-                     + ("" if res["converged"] else "  NOT converged"))
-        if res["safe_above"]:
-            lines.append("  safe factors above it: " + ", ".join(f"{x:.4g}" for x in res["safe_factors_above"]))
+        lines.append(f"  first collapse found: factor {f:.6g} (PGA {res['pga_at_first_overturning']:.6g} g){how}")
+        if res["smallest"]:
+            lines.append(f"  the smallest at resolution {res['resolution']:g}: every factor run below it stands, "
+                         f"consecutive factors from the onset to {lo:.6g} at most {100 * reached:.3g} % apart")
+        elif res.get("friction") is not None:
+            lines.append("  not called the smallest: with friction a joint may slide below A_L, which is not searched")
         else:
-            lines.append("  every scanned factor above it overturns the member")
+            lines.append(f"  NOT the smallest at resolution {res['resolution']:g}: factors run below it are up to "
+                         f"{100 * reached:.3g} % apart (a collapse may lie between them)")
+        if res["safe_factors_above"]:
+            lines.append("  safe factors found above it: " + ", ".join(f"{x:.4g}" for x in res["safe_factors_above"]))
     for e in res["errors"]:
-        lines.append(f"  factor {e['factor']:.6g}: {e['error']}")
-    steps = f" ({res['steps']} time steps)" if "steps" in res else ""
+        lines.append(f"  search stopped at factor {e['factor']:.6g}: {e.get('error') or e['outcome']}")
+    if res["budget_exhausted"]:
+        lines.append(f"  stopped at the run budget ({res['runs']} runs): raise --max-runs")
+    steps = f" ({res['steps']} time steps)" if res.get("steps") else ""
     lines.append(f"  {res['runs']} time histories{steps} in {res['time_s']:.1f} s")
     return "\n".join(lines)

@@ -29,7 +29,9 @@ COMMANDS = {
     "report": ("report", "verification report: tables and plots against exact solutions and the paper"),
     "rock": ("rock", "time history under a ground motion: impacts, rest or overturning"),
     "spectrum": ("spectrum", "overturning amplitude against pulse period (safe regions above it too)"),
-    "collapse-scale": ("collapse_scale", "smallest scale factor of a record that overturns the member"),
+    "collapse-scale": ("collapse_scale", "scale factor at which a record first collapses the member (hunt and fill)"),
+    "fragility": ("fragility", "collapse fragility over a record suite: IDA of every record and sign, lognormal fit, "
+                               "collapse margin ratio"),
     "simulate": ("simulate", "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"),
     "assess": ("assess", "one page: A_L, minimum thickness, friction needed, auto verdict and margin"),
 }

@@ -26,7 +26,8 @@ it cannot overturn.  This avoids the tens to thousands of impacts of a member ro
 :func:`spectrum` repeats the search per pulse period (sine, Ricker) or duration (rect), one task
 per period on local processes or Dask (:mod:`fembeam.studies.parallel`); each task builds its
 own :class:`Rocker`, so results do not depend on the executor.  :func:`collapse_scale` does the
-search over scale factors of a record.
+same search over the scale factors of a record; ``fembeam collapse-scale`` and ``fembeam fragility``
+search them by hunt and fill at a stated resolution instead (:mod:`fembeam.studies.collapse`).
 
 ``model="simulate"`` decides each run with the multi-block simulation instead
 (:class:`MultiBody`: :meth:`fembeam.simulation.Simulator.run` with time step ``dt``, stopped at
@@ -608,8 +609,13 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
                    sign: int = 1, backend: str = "clarabel", n_factors: int = N_GRID, span: float = FACTOR_SPAN,
                    progress: Callable | None = None, model: str = "rock", dt: float | None = None,
                    friction: float | None = None) -> dict:
-    """Smallest scale factor of ``ground`` that overturns ``curve`` (the search of
-    :func:`overturning_amplitude` over factors; ``sign = -1`` mirrors the record).  Default
+    """Smallest scale factor of ``ground`` that overturns ``curve`` on a grid (the search of
+    :func:`overturning_amplitude` over factors; ``sign = -1`` mirrors the record).  The scan of
+    ``fembeam assess``'s margins; ``fembeam collapse-scale`` uses the hunt and fill of
+    :func:`fembeam.studies.collapse.collapse_scale` instead, which says at what resolution its answer
+    is the smallest: a window of collapse narrower than a grid step lies between two scanned factors,
+    and the bisection below the first collapsing grid point can land above a collapsing factor it did
+    not run (docs/fragility.md, section 2).  Default
     grid: ``n_factors`` geometric points from the onset factor (the record first exceeds
     ``A_L``; ``A_L / PGA`` for a symmetric member) to ``span`` times it.  ``t_end`` (s):
     default the end of the record + ``20 sqrt(L/g)``.  Returns the search's dict with factors

@@ -1,0 +1,309 @@
+"""Collapse fragility of a member over a record suite (incremental dynamic analysis, FEMA P695).
+
+Every record of the suite, with both signs (rocking is not symmetric in the record's sign unless the
+member is), is one task: the hunt-and-fill search of its collapse scale factor
+(:func:`~fembeam.studies.collapse.record_collapse`) with the runner of the chosen model.  The
+intensity measure (:mod:`~fembeam.studies.intensity`) at collapse is the factor times the record's
+own; the lognormal fit and its bootstrap intervals (:mod:`~fembeam.studies.lognormal`) follow,
+and, given a design intensity, the collapse margin ratio and the probability of collapse there.
+
+A record-sign whose search found a collapse is a collapse sample (at the first overturning factor
+found; ``smallest`` says whether the scan below it reached the resolution); one without a collapse
+up to the largest factor run is censored there (its collapse intensity is larger); one whose search
+stopped at a failed solve without a collapse is left out of the fit and listed.
+
+Tasks run on local processes or a Dask cluster (:func:`~fembeam.studies.parallel.run_tasks`): each
+is computed on its own, so the table is the same whatever the executor and the number of workers;
+with a journal, finished tasks are kept as they finish and an interrupted study resumes.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..dynamics.rocking import Rocker
+from ..errors import CannotStandError, InputError
+from ..geometry import MidCurve
+from . import lognormal
+from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, default_t_end, onset_and_top, record_collapse
+from .intensity import IntensityMeasure, parse_im
+from .models import DEFAULT_MODEL, check_model
+from .parallel import Journal, default_workers, run_tasks
+from .spectrum import T_END_FACTOR, _check_runs, _json_safe
+from .suites import Record, Suite
+
+__all__ = ["fragility", "fragility_case", "FragilityResult", "plot_fragility", "plot_ida", "SIGNS"]
+
+SIGNS = (1, -1)
+BOOTSTRAP = 1000        # default resamples
+LEVEL = 0.9             # default confidence level of the intervals
+
+
+def fragility_case(curve: MidCurve, record: Record, sign: int, model: str, thresholds, voussoirs: int | None,
+                   elements: int, backend: str, dt: float | None, resolution: float, span: float, max_runs: int,
+                   t_end_factor: float) -> dict:
+    """One record-sign (a task of :func:`fragility`): :func:`record_collapse` to the end of the record
+    plus ``t_end_factor sqrt(L/g)``."""
+    res = record_collapse(curve, record.ground, sign=sign, model=model, thresholds=thresholds, voussoirs=voussoirs,
+                          elements=elements, backend=backend, dt=dt, resolution=resolution, span=span,
+                          max_runs=max_runs, t_end=default_t_end(record.ground, curve, t_end_factor))
+    return _json_safe({"record": record.name, **res})
+
+
+def _lost_case(task, message: str) -> dict:
+    """The row of a record-sign whose worker process died twice: no answer, the error listed."""
+    kw = task[1]
+    return {"record": kw["record"].name, "sign": kw["sign"], "first_overturning": None, "smallest": False,
+            "converged": False, "none_up_to_max": False, "collapse": None, "bracket": [None, None],
+            "resolution": kw["resolution"], "resolution_reached": None, "safe_above": False, "safe_factors_above": [],
+            "budget_exhausted": False, "errors": [{"factor": None, "outcome": "lost",
+                                                   "error": f"the worker process died twice ({message})"}],
+            "onset_factor": None, "max_factor": None, "runs": 0, "scan": [], "t_end": None, "steps": 0, "time_s": 0.0}
+
+
+def _n(workers: int) -> str:
+    return f"{workers} worker" + ("s" if workers != 1 else "")
+
+
+def _status(row: dict) -> str:
+    if row["first_overturning"] is not None:
+        return "collapsed"
+    return "excluded" if row["errors"] else "censored"
+
+
+@dataclass
+class FragilityResult:
+    """Rows per record-sign (the search's dict, the record's metadata, ``im_record`` the record's
+    own intensity, ``im_at_collapse``, ``status``: collapsed, censored or excluded), the ``fit``
+    (``theta`` in the intensity's unit, ``beta``; None when it does not exist, ``fit_error``
+    says why), the ``bootstrap`` intervals, the ``design`` margin, and the settings."""
+
+    suite: str
+    im: IntensityMeasure
+    rows: list[dict]
+    fit: dict | None
+    fit_error: str | None
+    bootstrap: dict | None
+    design: dict | None
+    A_L: dict
+    geometry: dict
+    settings: dict
+    timing: dict = field(default_factory=dict)
+
+    @property
+    def _unit(self) -> str:
+        """The intensity's unit in a column name (``g``, ``m_s``)."""
+        return self.im.unit.replace("/", "_")
+
+    def counts(self) -> dict:
+        out = {"collapsed": 0, "censored": 0, "excluded": 0}
+        for r in self.rows:
+            out[r["status"]] += 1
+        out["smallest"] = sum(1 for r in self.rows if r["smallest"])
+        return out
+
+    def to_dict(self) -> dict:
+        return _json_safe({"study": "fragility", "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
+                           "geometry": self.geometry, "A_L": self.A_L, "settings": self.settings,
+                           "counts": self.counts(), "fit": self.fit, "fit_error": self.fit_error,
+                           "bootstrap": self.bootstrap, "design": self.design, "rows": self.rows,
+                           "timing_s": self.timing})
+
+    def csv_rows(self) -> list[dict]:
+        """One row per record-sign (factors, intensities in the measure's unit)."""
+        out = []
+        for r in self.rows:
+            out.append({"record": r["record"], "sign": r["sign"], "event": r["event"], "station": r["station"],
+                        "component": r["component"], "group": r["group"], "normalisation": r["normalisation"],
+                        "pga_g": r["pga_g"], "pgv_m_s": r["pgv_m_s"], f"im_record_{self._unit}": r["im_record"],
+                        "status": r["status"], "onset_factor": r["onset_factor"],
+                        "first_overturning": r["first_overturning"], "smallest": r["smallest"],
+                        "resolution_reached": r["resolution_reached"], "bracket_lo": r["bracket"][0],
+                        f"im_at_collapse_{self._unit}": r["im_at_collapse"],
+                        "censored_at": r["censored_at"], "safe_factors_above": ";".join(
+                            f"{x:.6g}" for x in r["safe_factors_above"]),
+                        "runs": r["runs"], "steps": r["steps"], "time_s": round(r["time_s"], 4),
+                        "errors": ";".join(str(e.get("error") or e["outcome"]) for e in r["errors"])})
+        return out
+
+    def ida_rows(self) -> list[dict]:
+        """One row per run: record, sign, factor, intensity, outcome, peak rotation (rad), order."""
+        return [{"record": r["record"], "sign": r["sign"], "factor": s["factor"],
+                 f"im_{self._unit}": s["factor"] * r["im_record"], "outcome": s["outcome"],
+                 "peak_rotation_rad": s.get("peak_rotation"), "order": s["order"]}
+                for r in self.rows for s in r["scan"]]
+
+
+def _check(design, n_boot, level, t_end_factor) -> None:
+    if design is not None and not (isinstance(design, (int, float)) and math.isfinite(design) and design > 0):
+        raise InputError(f"the design intensity must be a positive finite number, got {design!r}")
+    if isinstance(n_boot, bool) or not isinstance(n_boot, int) or not 10 <= n_boot <= 100_000:
+        raise InputError(f"the bootstrap needs 10 to 100000 resamples, got {n_boot!r}")
+    if not (isinstance(level, (int, float)) and 0.5 <= level < 1):
+        raise InputError(f"the confidence level must be in [0.5, 1), got {level!r}")
+    if not (isinstance(t_end_factor, (int, float)) and math.isfinite(t_end_factor) and 0 < t_end_factor <= 1000):
+        raise InputError(f"the t_end factor must be in (0, 1000] (units of sqrt(L/g)), got {t_end_factor!r}")
+
+
+def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, elements: int = 200,
+              model: str = DEFAULT_MODEL, dt: float | None = None, im: str = "pga", resolution: float = RESOLUTION,
+              span: float = SPAN, max_runs: int = MAX_RUNS, t_end_factor: float = T_END_FACTOR,
+              design: float | None = None, bootstrap: int = BOOTSTRAP, seed: int = 0, level: float = LEVEL,
+              backend: str = "clarabel", workers: int | None = None, scheduler=None, progress: bool = True,
+              journal: Journal | None = None) -> FragilityResult:
+    """The study of the module docstring.  ``im``: ``pga``, ``pgv`` or ``sa:T``; ``design``: a
+    design intensity in its unit (g, or m/s for PGV); ``bootstrap`` resamples with ``seed`` give
+    intervals at ``level``.  Search: ``resolution``, ``span`` (largest factor over the onset
+    factor), ``max_runs`` per record-sign; each run lasts to the end of the record plus
+    ``t_end_factor sqrt(L/g)``.  Bad input raises :class:`InputError` before any run."""
+    dt = check_model(model, dt)[0]
+    check_search(resolution, span, max_runs)
+    measure = parse_im(im)
+    _check(design, bootstrap, level, t_end_factor)
+    if not isinstance(suite, Suite):
+        raise InputError(f"fragility needs a Suite (fembeam.studies.suites.load_suite), got {type(suite).__name__}")
+    if voussoirs is not None and voussoirs < 1:
+        raise InputError(f"voussoirs must be >= 1, got {voussoirs}")
+    if voussoirs is None and elements < 4:
+        raise InputError(f"elements must be >= 4, got {elements}")
+    im_of = {r.name: measure(r.ground) for r in suite.records}
+    meta = {r.name: r.metadata() for r in suite.records}
+    longest = max(suite.records, key=lambda r: default_t_end(r.ground, curve, t_end_factor) - r.ground.t[0])
+    _check_runs(model, dt, default_t_end(longest.ground, curve, t_end_factor) - float(longest.ground.t[0]),
+                curve, voussoirs, elements)
+    clock = time.perf_counter()
+    rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
+    if not rk.stands:
+        raise CannotStandError("the member does not stand under its own weight (fembeam analyze)")
+    for r in suite.records:
+        for sign in SIGNS:
+            onset_and_top(r.ground, [rk.A[1], rk.A[-1]], sign, span)      # bad input before any run
+    common = {"curve": curve, "model": model, "thresholds": [rk.A[1], rk.A[-1]], "voussoirs": voussoirs,
+              "elements": elements, "backend": backend, "dt": dt, "resolution": resolution, "span": span,
+              "max_runs": max_runs, "t_end_factor": t_end_factor}
+    tasks = [(fragility_case, {**common, "record": r, "sign": s}) for r in suite.records for s in SIGNS]
+    rows = run_tasks(tasks, workers=workers, scheduler=scheduler, progress=progress,
+                     desc=f"fragility: {len(suite.records)} records x 2 signs ({model})", journal=journal,
+                     lost=_lost_case)
+    wall = time.perf_counter() - clock
+    for r in rows:
+        x = im_of[r["record"]]
+        f = r["first_overturning"]
+        r.update({k: v for k, v in meta[r["record"]].items() if k != "record"}, im_record=x,
+                 status=_status(r), im_at_collapse=None if f is None else f * x)
+        r["censored_at"] = (max((s["factor"] for s in r["scan"]), default=r["max_factor"]) * x
+                            if r["status"] == "censored" else None)
+    fit, fit_error, boot, margin = _fit(rows, design, bootstrap, seed, level)
+    settings = {"model": model, "dt": dt, "im": measure.name, "resolution": resolution, "span": span,
+                "max_runs": max_runs, "t_end": f"end of the record + {t_end_factor:g} sqrt(L/g)",
+                "voussoirs": voussoirs, "elements": elements if voussoirs is None else None, "backend": backend,
+                "signs": list(SIGNS), "bootstrap": bootstrap, "seed": seed, "level": level, "design": design,
+                "executor": "dask" if scheduler is not None else f"local ({_n(workers or default_workers())})"}
+    timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
+              "runs": sum(r["runs"] for r in rows), "steps": sum(r["steps"] for r in rows)}
+    geo = curve.describe() if hasattr(curve, "describe") else {}
+    return FragilityResult(suite.name, measure, rows, fit, fit_error, boot, margin, {"+1": rk.A[1], "-1": rk.A[-1]},
+                           geo, settings, timing)
+
+
+def _fit(rows: list[dict], design, n_boot: int, seed: int, level: float):
+    """The lognormal fit, its bootstrap intervals and the design margin (None where undefined)."""
+    collapsed = [r["im_at_collapse"] for r in rows if r["status"] == "collapsed"]
+    censored = [r["censored_at"] for r in rows if r["status"] == "censored"]
+    try:
+        f = lognormal.fit(collapsed, censored)
+    except InputError as e:
+        return None, str(e), None, None
+    samples = [(r["group"], r["im_at_collapse"] if r["status"] == "collapsed" else r["censored_at"],
+                r["status"] == "censored") for r in rows if r["status"] != "excluded"]
+    try:
+        boot = lognormal.bootstrap(samples, n=n_boot, seed=seed, level=level, design=design)
+    except InputError as e:                 # every resample without a fit: no interval, the fit stands
+        boot = {"error": str(e)}
+    fit = {"theta": f.theta, "beta": f.beta, "n_collapsed": f.n_collapsed, "n_censored": f.n_censored,
+           "method": f.method}
+    margin = None
+    if design is not None:
+        margin = {"intensity": float(design), "margin_ratio": f.theta / design,
+                  "probability_of_collapse": float(f.probability(design))}
+    return fit, None, boot, margin
+
+
+# --------------------------------------------------------------------------- figures
+def plot_fragility(result: FragilityResult, path) -> None:
+    """The collapse intensities (Kaplan-Meier fraction collapsed) and the fitted lognormal curve,
+    the design intensity if given."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = result.rows
+    col = [r["im_at_collapse"] for r in rows if r["status"] == "collapsed"]
+    cen = [r["censored_at"] for r in rows if r["status"] == "censored"]
+    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    if col:
+        x, F = lognormal.empirical(col, cen)
+        ax.plot(x, F, "o", ms=4, color="tab:blue", mfc="none", label=f"record-signs: first collapse ({len(col)})")
+    top = max(col + cen + ([result.design["intensity"]] if result.design else []) + [1e-12])
+    if result.fit is not None:
+        th, be = result.fit["theta"], result.fit["beta"]
+        xs = np.linspace(0.0, 1.15 * max(top, th * math.exp(2 * be)), 400)[1:]
+        ax.plot(xs, lognormal.probability(xs, th, be), "k-", lw=1.5,
+                label=f"lognormal (ML): median {th:.4g} {result.im.unit}, beta {be:.3g}")
+    if cen:
+        ax.plot(cen, [1.02] * len(cen), "^", color="tab:green", ms=5, label=f"no collapse up to ({len(cen)})")
+    if result.design is not None:
+        d = result.design
+        ax.axvline(d["intensity"], color="tab:red", lw=1, ls="--",
+                   label=f"design {d['intensity']:g} {result.im.unit}: P = {d['probability_of_collapse']:.3g}, "
+                         f"CMR = {d['margin_ratio']:.3g}")
+    ax.set_xlabel(f"{result.im.label} at collapse ({result.im.unit})")
+    ax.set_ylabel("probability of collapse")
+    ax.set_ylim(0.0, 1.06)
+    ax.set_xlim(left=0.0)
+    ax.set_title(f"Collapse fragility, {result.suite} ({result.settings['model']})", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def plot_ida(result: FragilityResult, path) -> None:
+    """IDA curves: intensity against the peak rotation of every run, per record-sign (safe runs
+    joined in order of factor up to the first collapse; collapses as crosses on the flatline at
+    the right)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    peaks = [s["peak_rotation"] for r in result.rows for s in r["scan"]
+             if s["outcome"] not in ("overturned", "collapsed_by_sliding") and s.get("peak_rotation") is not None]
+    edge = 1.1 * max(peaks + [1e-3])
+    for r in result.rows:
+        x = r["im_record"]
+        first = r["first_overturning"]
+        safe = [(s["peak_rotation"], s["factor"] * x) for s in r["scan"] if s.get("peak_rotation") is not None
+                and s["outcome"] not in ("overturned", "collapsed_by_sliding")
+                and (first is None or s["factor"] < first)]
+        if safe:
+            ax.plot(*zip(*safe), "-", lw=0.6, alpha=0.6)
+        if first is not None:
+            ax.plot([safe[-1][0] if safe else 0.0, edge], [first * x] * 2, ":", color="0.5", lw=0.6)
+        coll = [s["factor"] * x for s in r["scan"] if s["outcome"] in ("overturned", "collapsed_by_sliding")]
+        ax.plot([edge] * len(coll), coll, "x", color="tab:red", ms=3)
+    ax.set_xlabel("peak rotation of any piece (rad); collapses at the right edge")
+    ax.set_ylabel(f"{result.im.label} ({result.im.unit})")
+    ax.set_xlim(0.0, edge * 1.05)
+    ax.set_ylim(bottom=0.0)
+    ax.set_title(f"IDA curves, {result.suite} ({result.settings['model']}, {len(result.rows)} record-signs)",
+                 fontsize=10)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+

