@@ -14,7 +14,8 @@ The multi-block model (every voussoir or element a rigid body in unilateral cont
   before the impact for an impact's friction) is mapped onto the bodies and handed over.
 * **simulate** (:class:`~fembeam.simulation.Simulator`, steps ``dt``, Coulomb friction ``mu`` when
   given), advanced in windows of ``WINDOW`` s.  One step after the first impact of a window, and at
-  the end of a window, the state is handed back to the one-mechanism model when the member is at rest (kinetic energy below ``REST_KINETIC m g L``,
+  the end of a window, the state is handed back to the one-mechanism model when the member is at
+  rest (kinetic energy below ``REST_KINETIC m g L``,
   every joint closed, none slid) or moves on a mechanism of the member (:func:`.manifold.mechanism_of`:
   its hinges and no other joint open, positions within ``POSITION_TOL`` of the thickness, velocities
   within ``VELOCITY_TOL`` of the mechanism's field in the kinetic-energy norm; the energy the
@@ -310,7 +311,8 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
         seg_start, peak, t_peak, n_imp, drop0 = t, 0.0, None, 0, dropped
         if resume:              # the hand-back was not made: the last simulation segment goes on
             last = out.segments.pop()
-            seg_start, peak, t_peak, n_imp, drop0 = last.t_start, last.peak_rotation, last.t_peak, last.impacts, last.dropped
+            seg_start, peak, t_peak = last.t_start, last.peak_rotation, last.t_peak
+            n_imp, drop0 = last.impacts, last.dropped
             resume = False
         end = "end"
         sim, q, v = sim_state

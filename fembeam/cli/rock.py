@@ -40,7 +40,8 @@ def add_member(p: argparse.ArgumentParser, solver: bool = True) -> None:
                    help="instead of an arch: a rectangular block WIDTH x HEIGHT (m) rocking on a rigid base, "
                         "WIDTH / HEIGHT in [1e-3, 1e3]")
     if solver:
-        g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel", help="QP solver of the general QP")
+        g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel",
+                       help="QP solver of the general QP")
         g.add_argument("--no-qp", action="store_true", help="skip the general QP's r_qp at each impact")
 
 
@@ -313,13 +314,7 @@ def run(args) -> int:
         if outputs["gif"]:
             motion.write_gif(res, outputs["gif"], frames=args.frames or 120)
             written.append(f"animation: {outputs['gif']}")
-    if args.json:
-        print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
-    else:
-        print(summary(res))
-        for w in written:
-            print(f"  {w}")
-    return 0
+    return _emit(args, res, summary, written)
 
 
 def run_auto(args) -> int:
@@ -356,10 +351,16 @@ def run_auto(args) -> int:
         from ..output.motion import plot_auto
         plot_auto(res, outputs["plot"])
         written.append(f"figure: {outputs['plot']}")
+    return _emit(args, res, auto_summary, written)
+
+
+def _emit(args, res, page, written: list[str]) -> int:
+    """Print ``res`` as JSON (``--json``, with ``--history``) or as its text ``page(res)`` followed by
+    the files written."""
     if args.json:
         print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
     else:
-        print(auto_summary(res))
+        print(page(res))
         for w in written:
             print(f"  {w}")
     return 0
@@ -383,7 +384,8 @@ def auto_summary(res) -> str:
     else:
         lines.append(f"  outcome: {res.outcome} at t = {res.t_end:.4g} s")
     if res.t_peak is not None:
-        lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s (largest of any piece or body)")
+        lines.append(f"  peak rotation: {res.peak_rotation:.6g} rad at t = {res.t_peak:.6g} s "
+                     f"(largest of any piece or body)")
     if res.first_failure is None:
         lines.append("  the one-mechanism model held throughout: this is rock's answer")
     else:

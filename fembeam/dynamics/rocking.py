@@ -462,7 +462,8 @@ def _cut(track: Track, rk: Rocker, out: RockingResult, bad: tuple, k: int) -> fl
 def _own_mechanisms(out: RockingResult, rk: Rocker, k0: int | None) -> None:
     """Number the mechanisms of ``out`` as the run met them: ``out.mechanisms`` holds those of this
     run only (a Rocker run many times knows the mechanisms of all its runs), in the order the run
-    met them (``k0``: the mechanism it started on, then by onset or impact), and every index of ``out`` (onsets, impacts, turning points, history) is
+    met them (``k0``: the mechanism it started on, then by onset or impact), and every index of
+    ``out`` (onsets, impacts, turning points, history) is
     renumbered to match."""
     met = sorted([(t, 0, k) for t, k in out.onsets] + [(e.t, 1, e.before) for e in out.impacts]
                  + [(e.t, 2, e.after) for e in out.impacts if e.after is not None])

@@ -197,19 +197,26 @@ def history_figure(result: "RockingResult"):
     ax_th.set_ylabel(r"rotation $\theta$ (rad)")
     ax_th.legend(loc="best", fontsize=8)
 
-    K, V = h["K"], h["V"]
+    _energy_panel(fig, (ax_a, ax_th, ax_e), t, h["K"], h["V"], f"{result.outcome} - {result.ground.name}", total=True)
+    return fig
+
+
+def _energy_panel(fig, axes, t, K, V, title: str, total: bool = False) -> None:
+    """The last of ``axes``: ``K``, ``V`` (and ``K + V``) against ``t``; grids, the time range and the
+    title of the figure."""
+    ax_e = axes[-1]
     ax_e.plot(t, K, color="tab:red", lw=1.0, label="K (kinetic)")
     ax_e.plot(t, V, color="tab:green", lw=1.0, label="V (potential)")
-    ax_e.plot(t, K + V, color="black", lw=1.2, label="K + V")
+    if total:
+        ax_e.plot(t, K + V, color="black", lw=1.2, label="K + V")
     ax_e.set_ylabel("energy (J per m depth)")
     ax_e.set_xlabel("time t (s)")
     ax_e.legend(loc="best", fontsize=8)
-    for ax in (ax_a, ax_th, ax_e):
+    for ax in axes:
         ax.grid(True, lw=0.3, alpha=0.5)
     ax_e.set_xlim(t[0], t[-1] if t[-1] > t[0] else t[0] + 1.0)
-    fig.suptitle(f"{result.outcome} - {result.ground.name}")
+    fig.suptitle(title)
     fig.tight_layout()
-    return fig
 
 
 def plot_history(result: "RockingResult", path: str | Path, dpi: int = 150) -> None:
@@ -249,21 +256,13 @@ def auto_figure(result):
             first = False
     if result.first_failure is not None:
         ax_r.axvline(result.first_failure[0], color="tab:red", ls="--", lw=1.2,
-                     label=f"one-mechanism model fails ({result.first_failure[1]}), t = {result.first_failure[0]:.3f} s")
+                     label=f"one-mechanism model fails ({result.first_failure[1]}), "
+                           f"t = {result.first_failure[0]:.3f} s")
     if result.t_overturn is not None:
         ax_r.axvline(result.t_overturn, color="black", lw=1.5, label=f"{result.outcome}, t = {result.t_overturn:.3f} s")
     ax_r.set_ylabel("largest rotation (rad)")
     ax_r.legend(loc="best", fontsize=8)
-    ax_e.plot(t, h["K"], color="tab:red", lw=1.0, label="K (kinetic)")
-    ax_e.plot(t, h["V"], color="tab:green", lw=1.0, label="V (potential)")
-    ax_e.set_ylabel("energy (J per m depth)")
-    ax_e.set_xlabel("time t (s)")
-    ax_e.legend(loc="best", fontsize=8)
-    for ax in (ax_a, ax_r, ax_e):
-        ax.grid(True, lw=0.3, alpha=0.5)
-    ax_e.set_xlim(t[0], t[-1] if t[-1] > t[0] else t[0] + 1.0)
-    fig.suptitle(f"--model auto: {result.outcome} - {result.ground.name}")
-    fig.tight_layout()
+    _energy_panel(fig, (ax_a, ax_r, ax_e), t, h["K"], h["V"], f"--model auto: {result.outcome} - {result.ground.name}")
     return fig
 
 
