@@ -286,3 +286,17 @@ def write_outputs(result, args, stem: str, plot) -> None:
     if plot_path:
         with atomic(plot_path) as tmp:
             plot(result, tmp)
+
+
+def print_result(as_json: bool, data, page, written=()) -> int:
+    """Print a command's result: ``data()`` as one strict JSON object (``--json``), or the text
+    ``page()`` followed by the files written; exit code 0."""
+    import json
+
+    if as_json:
+        print(json.dumps(data(), allow_nan=False))
+    else:
+        print(page())
+        for w in written:
+            print(f"  {w}")
+    return 0

@@ -18,7 +18,7 @@ from ..studies.models import DEFAULT_MODEL, MODELS
 from ..studies.parallel import journal_for
 from ..studies.spectrum import DT, T_END_FACTOR
 from ..studies.suites import FEMA_SUITES, load_suite
-from .args import arch_title, finite_float
+from .args import arch_title, finite_float, print_result
 from .rock import add_member, member_from
 
 FILES = {"csv": "fragility.csv", "json": "fragility.json", "plot": "fragility.png", "ida_csv": "ida.csv",
@@ -123,13 +123,7 @@ def run(args: argparse.Namespace) -> int:
     written = write(res, paths)
     if journal is not None:
         journal.remove()
-    if args.json:
-        print(json.dumps(res.to_dict(), allow_nan=False))
-    else:
-        print(table(res))
-        for w in written:
-            print(f"  {w}")
-    return 0
+    return print_result(args.json, res.to_dict, lambda: table(res), written)
 
 
 def _write_csv(rows: list[dict], path) -> None:

@@ -7,7 +7,6 @@ computation is :class:`fembeam.dynamics.rocking.Rocker`; this module parses, pri
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 
@@ -17,7 +16,7 @@ from ..errors import InputError
 from ..geometry import StraightMember
 from ..limits import bodies, check_block, check_discretisation, check_duration, check_history, check_steps
 from ..output.files import check_distinct, check_name, check_output, write_table
-from .args import add_arch, arch_from, arch_title, finite_float
+from .args import add_arch, arch_from, arch_title, finite_float, print_result
 
 PULSES = ("rect", "sine", "ricker")
 REASONS = {"below_rest": "centroid a tenth of the thickness below its height at rest",
@@ -357,13 +356,7 @@ def run_auto(args) -> int:
 def _emit(args, res, page, written: list[str]) -> int:
     """Print ``res`` as JSON (``--json``, with ``--history``) or as its text ``page(res)`` followed by
     the files written."""
-    if args.json:
-        print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
-    else:
-        print(page(res))
-        for w in written:
-            print(f"  {w}")
-    return 0
+    return print_result(args.json, lambda: res.to_dict(history=args.history), lambda: page(res), written)
 
 
 def auto_summary(res) -> str:

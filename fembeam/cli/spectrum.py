@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 
 from ..errors import InputError
 from ..limits import MAX_WORKERS, check_workers
@@ -18,7 +17,7 @@ from ..output.files import atomic, check_distinct, check_output
 from ..studies.parallel import journal_for
 from ..studies.spectrum import (AMPLITUDE_SPAN, DT, MODELS, N_GRID, PULSES, T_END_FACTOR, SpectrumResult,
                                 check_model, plot_spectrum, spectrum)
-from .args import finite_float, float_list, noted
+from .args import finite_float, float_list, noted, print_result
 from .rock import add_member, member_from
 
 MODEL_HELP = ("rock: one mechanism between impacts (default); simulate: the voussoirs, rigid elements or block "
@@ -110,13 +109,7 @@ def run(args: argparse.Namespace) -> int:
         written.append(f"figure: {plot_path}")
     if journal is not None:
         journal.remove()
-    if args.json:
-        print(json.dumps(res.to_dict(), allow_nan=False))
-    else:
-        print(table(res))
-        for w in written:
-            print(f"  {w}")
-    return 0
+    return print_result(args.json, res.to_dict, lambda: table(res), written)
 
 
 def write_csv(res: SpectrumResult, path) -> None:

@@ -223,8 +223,13 @@ def plot_history(result: "RockingResult", path: str | Path, dpi: int = 150) -> N
     """:func:`history_figure` saved to ``path`` (format from the suffix: .png, .pdf or .svg),
     written atomically.  Raises :class:`~fembeam.errors.InputError` for another suffix or a
     missing directory, and for an empty history."""
-    p = check_output(path, "plot_history", PLOT_SUFFIXES)
-    fig = history_figure(result)
+    _save(history_figure, result, path, "plot_history", dpi)
+
+
+def _save(figure, result, path, name: str, dpi: int) -> None:
+    """``figure(result)`` saved to ``path`` (checked as ``name``: .png, .pdf or .svg), atomically."""
+    p = check_output(path, name, PLOT_SUFFIXES)
+    fig = figure(result)
     plt = _pyplot()
     try:
         with atomic(p) as tmp:
@@ -268,14 +273,7 @@ def auto_figure(result):
 
 def plot_auto(result, path: str | Path, dpi: int = 150) -> None:
     """:func:`auto_figure` saved to ``path`` (.png, .pdf or .svg), written atomically."""
-    p = check_output(path, "plot_auto", PLOT_SUFFIXES)
-    fig = auto_figure(result)
-    plt = _pyplot()
-    try:
-        with atomic(p) as tmp:
-            fig.savefig(tmp, dpi=dpi, format=p.suffix[1:].lower())
-    finally:
-        plt.close(fig)
+    _save(auto_figure, result, path, "plot_auto", dpi)
 
 
 # --------------------------------------------------------------------------- ParaView

@@ -80,25 +80,10 @@ class AssessResult:
     def to_dict(self) -> dict:
         """Strict JSON (null for undefined or non-finite numbers)."""
         geo = self.curve.describe() if hasattr(self.curve, "describe") else {}
-        return _finite({"command": "assess", "geometry": geo, "mode": self.mode,
+        return spectrum._json_safe({"command": "assess", "geometry": geo, "mode": self.mode,
                         "elements": self.elements, "settings": self.settings, "static": self.static,
                         "motions": self.motions,
                         "timings_s": {k: round(v, 4) for k, v in self.timings.items()}})
-
-
-def _finite(x):
-    """``x`` with numpy scalars as Python numbers and non-finite floats as None (strict JSON)."""
-    if isinstance(x, dict):
-        return {str(k): _finite(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple, np.ndarray)):
-        return [_finite(v) for v in x]
-    if isinstance(x, (bool, np.bool_)):
-        return bool(x)
-    if isinstance(x, (int, np.integer)):
-        return int(x)
-    if isinstance(x, (float, np.floating)):
-        return float(x) if math.isfinite(x) else None
-    return x
 
 
 # --------------------------------------------------------------------------- statics

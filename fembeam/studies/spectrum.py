@@ -381,7 +381,7 @@ def _pulse_of(kind: str, period: float, amplitude: float) -> GroundMotion:
 def _json_safe(x):
     if isinstance(x, dict):
         return {str(k): _json_safe(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
+    if isinstance(x, (list, tuple, np.ndarray)):
         return [_json_safe(v) for v in x]
     if isinstance(x, (bool, np.bool_)):
         return bool(x)
