@@ -286,7 +286,7 @@ class ContinuumLimit:
 
 
 def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: int = 50,
-                    lim=None) -> ContinuumLimit:
+                    lim=None, live=None) -> ContinuumLimit:
     """Limit analysis of the continuous member meshed by ``disc``: the joints of ``disc``
     plus, round after round, the weakest sections between them (the exchange method of
     semi-infinite linear programming), until the thrust line at the optimum lies inside
@@ -295,17 +295,18 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
     first round's.  The bounds bracket ``A_L``:
     the convex combination ``theta z* + (1 - theta) z_c`` of the optimum and of the
     most central state under gravity ``z_c`` (margin ``m_c > 0``) is admissible for
-    ``theta = m_c / (m_c + violation)``, so ``A_L >= theta A_L*``."""
+    ``theta = m_c / (m_c + violation)``, so ``A_L >= theta A_L*``.  ``live``: point loads
+    (:class:`~fembeam.analysis.loads.PointLoads`) whose load factor is sought instead."""
     if getattr(disc, "element", None) != "rigid":
         raise InputError("the continuum analysis needs rigid elements (fembeam.discretize): its sections "
                          "between joints are cut from rigid pieces")
     direction = check_direction(direction)
 
-    st = statics(disc)
+    st = statics(disc, live)
     k, J = st.k, disc.n_joints
     R = joint_rows(st, direction)
     first = (lim.lps if lim is not None and lim.disc is disc and lim.direction == direction and lim.friction is None
-             else (None, None))
+             and getattr(lim, "live", None) is live else (None, None))
     stand, margin, cuts, fib, rounds = margin_search(st, direction, R, np.empty(0), np.empty(0, int), tol,
                                                      max_rounds, first=first[0])
     if stand.value < -STAND_TOL:

@@ -66,7 +66,7 @@ class LimitResult:
     disc: Discretization
     direction: int
     A_L: float = float("nan")              # units of g
-    u: np.ndarray | None = None            # mechanism: direction f_x.u = m ("ok"), f_y.u = -m ("cannot_stand")
+    u: np.ndarray | None = None            # mechanism: -direction f_load.u = m ("ok"), f_y.u = -m ("cannot_stand")
     N: np.ndarray | None = None            # (2, J) fibre forces intrados/extrados, per g (>= 0: compression)
     S: np.ndarray | None = None            # (J,) shear forces, per g
     hinges: list[Hinge] = field(default_factory=list)
@@ -79,6 +79,7 @@ class LimitResult:
     # the LP solutions on the joints' rows (stand, main or None): the continuum search's
     # first round solves the same LPs and takes them from here
     lps: tuple = field(default=(None, None), repr=False, compare=False)
+    live: object = field(default=None, repr=False, compare=False)   # PointLoads of a load factor
 
     @property
     def eccentricity(self) -> np.ndarray:
@@ -90,18 +91,22 @@ class LimitResult:
 
 
 def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = False,
-                   verify: bool = True, friction: float | None = None) -> LimitResult:
+                   verify: bool = True, friction: float | None = None, live=None) -> LimitResult:
     """Static LP on the joints of ``disc`` for a horizontal acceleration along
     ``direction`` (+1: +x); its certificate is checked (``verify``) and a failed check
     raises :class:`SolverError`.  With ``strict`` a member that cannot stand raises
     :class:`CannotStandError` instead of returning ``status == "cannot_stand"``.
-    ``friction``: Coulomb coefficient ``mu >= 0`` of every joint (None: no sliding)."""
+    ``friction``: Coulomb coefficient ``mu >= 0`` of every joint (None: no sliding).
+    ``live``: point loads (:class:`~fembeam.analysis.loads.PointLoads`): ``A_L`` is then their
+    load factor (the multiple at collapse, dead loads at their values; ``direction`` +1)."""
     if not isinstance(disc, Discretization):
         raise InputError(f"limit_analysis needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
     direction = check_direction(direction)
     mu = check_friction(friction)
     t0 = time.perf_counter()
-    st = statics(disc)
+    if live is not None and direction != 1:
+        raise InputError("live loads act downward: their load factor takes direction +1")
+    st = statics(disc, live)
     k = st.k
     R = joint_rows(st, direction, mu)
     stand = solve_unboxed(stand_lp, R, k)
@@ -118,6 +123,7 @@ def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = Fals
     res.lps = (stand, None if margin < -STAND_TOL else main)
     res.margin = margin
     res.friction = mu
+    res.live = live
     res.solve_time = time.perf_counter() - t0
     if verify:
         check(res.verification, f"limit analysis ({res.status})")
@@ -174,16 +180,16 @@ def _ok(st: Statics, direction: int, lp, R: np.ndarray, mu: float | None = None)
     if -1e-9 < lam < 0:   # a member at its minimum thickness: A_L = 0 to the LP's tolerance
         lam = 0.0
     y, c, u, closure = _kinematics(st, lp.y, R, mu)
-    fx, fy = disc.load_vectors()
-    power = direction * float(fx @ u)
+    fy, fl = st.f_dead, st.f_load
+    power = -direction * float(fl @ u)
     if not power > 0:
-        raise SolverError("limit LP: the dual mechanism does no work against the horizontal load")
+        raise SolverError("limit LP: the dual mechanism does no work against the load")
     u *= m / power
     g = st.forces(x, direction * lam)
     hinges, slides = hinges_and_slides(disc, u, mu)
     out = LimitResult("ok", disc, direction, lam, u, m * g[1:], m * g[0], hinges, slides=slides)
     lam_k = float(fy @ u) / m
-    out.verification = _static_figures(st, x, direction * lam, g, fy - direction * lam * fx, mu)
+    out.verification = _static_figures(st, x, direction * lam, g, fy + direction * lam * fl, mu)
     rows = R @ np.r_[x, lam, 1.0]          # every row at the optimum (>= 0), units of weight
     out.verification.update({
         "duality_gap": abs(lam_k - lam) / (1.0 + abs(lam)),
@@ -231,7 +237,7 @@ def _cannot_stand(st: Statics, direction: int, lp, R: np.ndarray, mu: float | No
     """Certificate: the margin LP's duals, a compatible mechanism that gravity drives."""
     disc, m = st.disc, st.mass
     _, _, u, closure = _kinematics(st, lp.y, R, mu)
-    fx, fy = disc.load_vectors()
+    fy = st.f_dead
     lift = float(fy @ u)
     if not lift < 0:
         raise SolverError("cannot-stand certificate failed: gravity does no work on the margin LP's mechanism")
@@ -254,11 +260,11 @@ def _no_mechanism(st: Statics, direction: int, stand, R, mu: float | None = None
     dx = ray.z[:k]
     g0 = st.forces(stand.z[:k], 0.0)
     gr = st.forces(dx, direction * 1.0) - st.forces(np.zeros(k), 0.0)   # forces per unit lambda
-    fx, fy = disc.load_vectors()
+    fy, fl = st.f_dead, st.f_load
     B = disc.B_open.T @ gr[1:].ravel() + disc.B_slide.T @ gr[0]
     out = LimitResult("no_mechanism", disc, direction, A_L=float("inf"), N=m * g0[1:], S=m * g0[0])
     out.verification = _static_figures(st, stand.z[:k], 0.0, g0, fy, mu)
     ray_rows = R[:, :k] @ dx + R[:, k]      # fibre (and friction) rows of the ray, >= 0
-    out.verification["ray_residual"] = float(max(np.linalg.norm(m * B + direction * fx) / np.linalg.norm(fx),
+    out.verification["ray_residual"] = float(max(np.linalg.norm(m * B - direction * fl) / np.linalg.norm(fl),
                                                  max(0.0, -np.min(ray_rows)) / max(np.max(np.abs(gr)), 1e-300)))
     return out

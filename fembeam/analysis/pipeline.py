@@ -36,14 +36,19 @@ import numpy as np
 from ..errors import InputError, SolverError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
+from ..geometry.asbuilt import build
+from ..units import kN
 from ..mechanisms.hinge import merge_adjacent
 from .continuum import ContinuumLimit, continuum_limit
 from .friction import bound_of, bounds, continuum_support, lower_bound, required_friction
 from .impact import ImpactResult, impact
 from .limit import LimitResult, limit_analysis
+from .load_factor import LoadFactor, load_factor, mass_nodes
+from .loads import PointLoads
 from .rows import check_direction, check_friction
 from .sizes import DEFAULT_ELEMENTS, MAX_ELEMENTS, MIN_ELEMENTS, MIN_VOUSSOIRS, check_count
 from .thickness import MinimumThickness, thickness_on
+from .thrust_range import ThrustRange, thrust_range
 from .verification import THRESHOLDS, check
 
 # DEFAULT_ELEMENTS and MAX_ELEMENTS live in fembeam.analysis.sizes; kept here for compatibility
@@ -72,6 +77,15 @@ class AnalysisResult:
     friction: float | None = None   # Coulomb coefficient of the limit analysis (None: no sliding)
     # with friction: (status, A_L) of the frictionless analysis on the same mesh (the safe lower bound)
     friction_lower: tuple | None = None
+    loads: PointLoads | None = None        # live point loads (kN/m)
+    load: LoadFactor | None = None         # their load factor
+    thrust: ThrustRange | None = None      # H_min, H_max under the dead loads (kN/m)
+    mass: float = float("nan")             # kg per metre of width: masonry, fill and point masses
+
+    @property
+    def load_factor(self) -> float | None:
+        """Multiple of the live loads at collapse (None without loads or when none collapses)."""
+        return None if self.load is None or self.load.status != "ok" else float(self.load.value)
 
     @property
     def elements(self) -> int:
@@ -175,6 +189,25 @@ class AnalysisResult:
             "verification": {**self.verification.get("impact", {}), **self.verification},
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
+        out["geometry"] = {**self.geometry, "fill": self.geometry.get("fill")}
+        out["masses"] = list(self.geometry.get("masses", []))
+        out["loads"] = self.loads.to_list() if self.loads is not None else []
+        out["mass_kg_per_m"] = num(self.mass)
+        out["weight_kN_per_m"] = num(kN(self.mass))
+        out["load_factor"] = self.load_factor
+        out["load_outcome"] = None if self.load is None else self.load.status
+        out["load_factor_lower_bound"] = (num(self.load.lower) if self.load is not None and self.load.status == "ok"
+                                          else None)
+        out["load_mechanism"] = [h.to_dict() for h in self.load.hinges] if self.load is not None else []
+        out["collapse_loads_kN_per_m"] = self.load.collapse_loads_kN if self.load is not None else []
+        out["thrust_range"] = None if self.thrust is None else self.thrust.to_dict()
+        if self.load is not None:
+            out["verification"]["load_factor"] = self.load.verification
+            if fields:
+                out["load_thrust_line"] = self.load.thrust_line()
+        out["units"] = {"A_L": "g", "load_factor": "multiple of the live loads", "loads.P": "kN/m",
+                        "masses.M": "kg/m", "thrust_range": "kN/m", "x": "m from the left springing",
+                        "density": "kg/m^3", "fill.depth": "m"}
         if fields and self.impact is not None:
             imp = self.impact
             out["impulse_line"] = {
@@ -199,11 +232,25 @@ def statics_determinate(disc) -> bool:
 
 def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
             direction: int = 1, backend: str = "auto", refine_hinges: bool = True,
-            verify: bool = True, tmin_tol: float = 1e-6, friction: float | None = None) -> AnalysisResult:
+            verify: bool = True, tmin_tol: float = 1e-6, friction: float | None = None, *,
+            density: float | None = None, fill_density: float | None = None, fill_depth: float | None = None,
+            loads=(), masses=(), thrust: bool = True) -> AnalysisResult:
     """Limit analysis and impact of ``curve`` (see the module docstring); ``friction``:
-    Coulomb coefficient ``mu >= 0`` of the joints in the limit analysis (None: no sliding)."""
+    Coulomb coefficient ``mu >= 0`` of the joints in the limit analysis (None: no sliding).
+
+    The arch as built (:mod:`fembeam.geometry.asbuilt`): ``density`` (kg/m^3, replaces the
+    member's), ``fill_density`` (kg/m^3) and ``fill_depth`` (m, road above the crown's
+    extrados), ``masses`` ``[(x, M)]`` (m from the left springing, kg/m); ``loads``
+    ``[(x, P)]`` (m, kN/m): live point loads whose load factor is reported
+    (:mod:`~fembeam.analysis.load_factor`).  ``thrust``: also the thrust range under the dead
+    loads (:mod:`~fembeam.analysis.thrust_range`)."""
     if not isinstance(curve, MidCurve):
         raise InputError(f"analyze needs a member (e.g. fembeam.CircularArch), got {type(curve).__name__}")
+    curve = build(curve, density, fill_density, fill_depth, masses)
+    live = PointLoads.of(curve, loads)
+    if live is not None and friction is not None:
+        raise InputError("the load factor is computed for joints that do not slide: give live loads or a "
+                         "friction coefficient, not both")
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
     direction = check_direction(direction)
@@ -213,10 +260,13 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
          else check_count(DEFAULT_ELEMENTS if elements is None else elements, "elements", MIN_ELEMENTS))
     continuum = mode == "continuous" and refine_hinges
     desc = curve.describe() if hasattr(curve, "describe") else {}
-    res = AnalysisResult(desc, mode, n, direction, backend, "rocking", friction=mu)
+    res = AnalysisResult(desc, mode, n, direction, backend, "rocking", friction=mu, loads=live)
+    res.mass = float(curve.segment_inertia(0.0, curve.length)[0][0])
     clock = time.perf_counter()
 
     nodes = uniform_nodes(curve, n)
+    if continuum and mass_nodes(curve):     # the internal forces jump at a point mass: a node there
+        nodes = nodes_through(nodes, np.array(mass_nodes(curve)), keep=curve.fixed_nodes)
     disc = discretize(curve, nodes)
     res.timings["assembly"] = time.perf_counter() - clock
     t0 = time.perf_counter()
@@ -227,7 +277,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
     if continuum and lim.status != "no_mechanism" and mu is not None:
         t0 = time.perf_counter()
         status, lam, support = continuum_support(disc, direction, mu)
-        disc = discretize(curve, nodes_through(nodes, support, keep=curve.fixed_nodes), like=disc)
+        disc = discretize(curve, nodes_through(nodes, support, keep=curve.fixed_nodes + mass_nodes(curve)), like=disc)
         lim = limit_analysis(disc, direction, verify=verify, friction=mu)
         if lim.status != status:
             raise SolverError(f"limit analysis with friction: the continuum says {status}, the mesh through its "
@@ -245,7 +295,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
             res.A_L_lower = cont.A_L_lower
         if cont.status == "cannot_stand" or cont.exact_hinges:
             # the mechanism (or the collapse certificate) on a mesh with nodes at its hinges
-            disc = discretize(curve, nodes_through(nodes, cont.hinge_s, keep=curve.fixed_nodes), like=disc)
+            disc = discretize(curve, nodes_through(nodes, cont.hinge_s, keep=curve.fixed_nodes + mass_nodes(curve)), like=disc)
             lim = limit_analysis(disc, direction, verify=verify)
             if lim.status != cont.status:
                 raise SolverError(f"limit analysis: the continuum says {cont.status}, the mesh through its "
@@ -266,6 +316,13 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
     res.verification["limit"] = lim.verification
     if verify:
         check(res.verification, "limit analysis of the continuum")
+    if lim.status != "cannot_stand":
+        t0 = time.perf_counter()
+        if thrust and statics_determinate(disc) is False:
+            res.thrust = thrust_range(disc, continuum=continuum)
+        if live is not None:
+            res.load = load_factor(curve, live, nodes=nodes, continuum=continuum, verify=verify)
+        res.timings["loads_and_thrust"] = time.perf_counter() - t0
     if lim.status == "ok" and lim.slides:
         res.outcome = "sliding"    # the arch starts to slide: no rocking impact follows
         res.timings["total"] = time.perf_counter() - clock

@@ -8,7 +8,9 @@ balance the body forces of every element::
     B^T g = p,   B = [B_slide; B_open],   p = f_y - lambda f_x   (per unit g)
 
 (``f_x``, ``f_y``: :meth:`Discretization.load_vectors`; ``lambda`` is the horizontal
-acceleration in g, positive along +x; gravity acts along -y).  ``B^T`` has ``3 n``
+acceleration in g, positive along +x; gravity acts along -y).  With live point loads
+(:class:`~fembeam.analysis.loads.PointLoads`) ``lambda`` is instead their multiple, the load
+factor: ``p = f_y + lambda f_P``, the dead loads at their values.  ``B^T`` has ``3 n``
 rows and ``3 J`` columns: between two abutments ``J = n + 1`` and the chain is
 statically indeterminate to degree three, with a free end ``J = n`` and determinate.
 Taking the forces of the first joint as the redundants ``x``, the remaining columns
@@ -41,7 +43,7 @@ from scipy.linalg import get_lapack_funcs
 from ..errors import InputError, SolverError
 from ..fem import Discretization, dof_scaling
 
-__all__ = ["Statics", "statics", "section_forces", "section_force_rows", "inverse3"]
+__all__ = ["Statics", "statics", "section_forces", "section_force_rows", "abutment_rows", "inverse3"]
 
 
 @dataclass(frozen=True)
@@ -57,6 +59,7 @@ class Statics:
     lu: object
     K: sp.coo_matrix
     prefix: tuple            # mass and first moment of the member on [0, node_i], Gauss order
+    live: object = None      # PointLoads: lambda multiplies them (None: the horizontal acceleration)
 
     def solve(self, rhs: np.ndarray, trans: str = "N") -> np.ndarray:
         """``K^{-1} rhs`` (``K^{-T}`` with ``trans="T"``), refined once."""
@@ -65,6 +68,16 @@ class Statics:
     @property
     def k(self) -> int:
         return self.G_x.shape[2]
+
+    @property
+    def f_dead(self) -> np.ndarray:
+        """``p`` at ``lambda = 0``: ``f_y`` (mass units: the weights per unit g)."""
+        return self.disc.load_vectors()[1]
+
+    @property
+    def f_load(self) -> np.ndarray:
+        """``dp / dlambda``: ``-f_x`` for the horizontal acceleration, ``f_P`` for live loads."""
+        return -self.disc.load_vectors()[0] if self.live is None else self.live.vector(self.disc)
 
     def forces(self, x: np.ndarray, lam: float) -> np.ndarray:
         """Joint forces ``(3, J)`` (units of weight) for redundants ``x`` and load ``lam``."""
@@ -95,15 +108,29 @@ class Statics:
         return self.velocities(np.concatenate([np.zeros((1, eps.shape[1])), eps]))
 
 
-def statics(disc: Discretization) -> Statics:
+def statics(disc: Discretization, live=None) -> Statics:
     """Factorise the equilibrium operator of ``disc`` (O(N): banded LU of a block-bidiagonal
     matrix); computed once per discretisation (kept on it: the limit analysis, the
-    continuum search and the impact's verification share it)."""
+    continuum search and the impact's verification share it).  ``live``: point loads
+    (:class:`~fembeam.analysis.loads.PointLoads`) whose multiple is ``lambda`` (None: the
+    horizontal acceleration); the factorisation is shared."""
     st = disc.__dict__.get("_statics")
     if st is None:
         st = _statics(disc)
         object.__setattr__(disc, "_statics", st)   # a cache, not a field of the frozen dataclass
-    return st
+    if live is None:
+        return st
+    cache = disc.__dict__.setdefault("_statics_live", {})
+    out = cache.get(live.key)
+    if out is None:
+        rhs = dof_scaling(disc).diagonal() * live.vector(disc) / st.mass
+        col = _refined(st.lu, st.K, rhs, "N")
+        if not np.all(np.isfinite(col)):
+            raise SolverError("the equilibrium operator is numerically singular")
+        Gl = np.concatenate([np.zeros(st.k), col]).reshape(-1, 3).T
+        out = Statics(disc, st.mass, st.G0, Gl, st.G_x, st.lu, st.K, st.prefix, live)
+        cache[live.key] = out
+    return out
 
 
 def _statics(disc: Discretization) -> Statics:
@@ -339,6 +366,12 @@ def _abutment(st: Statics) -> tuple[np.ndarray, np.ndarray]:
     return out
 
 
+def abutment_rows(st: Statics) -> tuple[np.ndarray, np.ndarray]:
+    """Force ``F0`` (2, k + 2) and moment about the origin ``M0`` (k + 2) of the left abutment
+    on the member, as rows acting on ``(x, lambda, 1)`` (units of weight, and weight x m)."""
+    return _abutment(st)
+
+
 def section_force_rows(st: Statics, s: np.ndarray) -> np.ndarray:
     """Coefficients ``C`` (3, ns, k + 2) with forces ``(S, N+, N-)`` at sections ``s``
     equal to ``C @ (x, lambda, 1)``, from the equilibrium of the part left of ``s``.
@@ -364,9 +397,16 @@ def _section_forces(st: Statics, s: np.ndarray, z: np.ndarray) -> np.ndarray:
     mu, S1 = _prefix_inertia(st, s)
     mu, S1 = mu[:, None] / st.mass, S1[:, :, None] / st.mass
     # abutment force, plus the body force (lambda, -1) per unit mass of the part left of s
-    Fx = F0[0] @ z + mu * z[k]
+    Fx = F0[0] @ z
     Fy = F0[1] @ z - mu * z[k + 1]
-    M = M0 @ z - S1[1] * z[k] - S1[0] * z[k + 1]    # moments of (1, 0) and (0, -1) per unit mass: -y, -x
+    M = M0 @ z - S1[0] * z[k + 1]                   # moment of (0, -1) per unit mass: -x
+    if st.live is None:
+        Fx = Fx + mu * z[k]
+        M = M - S1[1] * z[k]                        # moment of (1, 0) per unit mass: -y
+    else:                                           # live loads left of s, downward, times lambda
+        W, Wx = st.live.prefix(s)
+        Fy = Fy - (W / st.mass)[:, None] * z[k]
+        M = M - (Wx / st.mass)[:, None] * z[k]
     t, n, X = curve.tangent(s), curve.normal(s), curve.position(s)
     h = curve.thickness_at(s)
     N = t[0][:, None] * Fx + t[1][:, None] * Fy

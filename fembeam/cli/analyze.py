@@ -9,7 +9,8 @@ from pathlib import Path
 
 from ..analysis import AnalysisResult, analyze
 from ..errors import InputError
-from .args import add_arch, add_solver, arch_from, arch_title
+from ..units import kN
+from .args import add_arch, add_loads, add_solver, arch_from, arch_title, points_of
 
 
 def register(sub) -> None:
@@ -17,6 +18,7 @@ def register(sub) -> None:
                        description="Equivalent static analysis (A_L, incipient mechanism) then the impact "
                                    "QP (restitution coefficient r, post-impact hinges, impulse line).")
     add_arch(p)
+    add_loads(p)
     add_solver(p)
     add_friction(p, "limit analysis with Coulomb friction MU >= 0 at the joints; its flow is associative (dilatant "
                     "sliding), so A_L is an UPPER bound: joints that slide without dilatancy can collapse below it. "
@@ -108,7 +110,7 @@ def run(args) -> int:
     check_picture_options(args)
     res = analyze(arch_from(args), elements=args.elements, voussoirs=args.voussoirs,
                   direction=args.direction, backend=args.backend, refine_hinges=not args.no_refine,
-                  friction=args.friction)
+                  friction=args.friction, loads=points_of(args, "load"))
     written = write_pictures(res, args)
     if args.json:  # stdout carries the JSON object only
         print(json.dumps(res.to_dict(fields=args.fields), allow_nan=False))
@@ -178,6 +180,7 @@ def summary(res: AnalysisResult) -> str:
              f"  mesh: {res.n} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements'}"
              f" ({res.mode}), load direction {res.direction:+d}"
              + ("" if res.friction is None else f", Coulomb friction mu = {res.friction:g} at the joints")]
+    lines += as_built_lines(res)
     if res.outcome == "cannot_stand":
         lines.append("  outcome: the arch CANNOT STAND under its own weight: no thrust line fits inside it")
         lines.append(f"  collapse mechanism under gravity alone: {_hinges(res.limit.hinges)}")
@@ -196,6 +199,7 @@ def summary(res: AnalysisResult) -> str:
                          f"  no thickness up to the shape's limit ({th.curve.max_thickness_scale:.6g} times the "
                          "given one) lets it stand")
         return "\n".join(lines)
+    lines += thrust_and_load_lines(res)
     if res.outcome == "no_mechanism":
         if res.friction is None or res.friction == 0.0:
             lines.append("  outcome: NO MECHANISM: no horizontal acceleration can turn this arch into a mechanism")
@@ -242,3 +246,43 @@ def summary(res: AnalysisResult) -> str:
                  f"LP {t.get('limit', 0):.3f} s, continuum {t.get('continuum', 0):.3f} s, QP {t.get('impact', 0):.3f} s, "
                  f"{res.backend} {res.impact.iterations if res.impact else 0} iterations)")
     return "\n".join(lines)
+
+
+def as_built_lines(res: AnalysisResult) -> list[str]:
+    """The member as built: density, fill, point masses, live loads and the weight (per metre of width)."""
+    g = res.geometry
+    parts = [f"masonry {g.get('density', float('nan')):g} kg/m^3"]
+    fill = g.get("fill")
+    if fill:
+        parts.append(f"fill {fill['density']:g} kg/m^3 up to a road {fill['depth']:g} m above the crown's extrados "
+                     f"(y = {fill['road_level']:.4g} m)")
+    masses = g.get("masses") or []
+    if masses:
+        parts.append("masses " + ", ".join(f"{m['M']:g} kg/m at x = {m['x']:g} m" for m in masses))
+    lines = [f"  as built (per metre of width): {'; '.join(parts)}; weight {kN(res.mass):.6g} kN/m"]
+    if res.loads is not None:
+        lines.append("  live loads: " + ", ".join(f"{p:g} kN/m at x = {x:g} m" for x, p in res.loads.pairs))
+    return lines
+
+
+def thrust_and_load_lines(res: AnalysisResult) -> list[str]:
+    """The thrust range under the dead loads and the load factor of the live loads."""
+    lines = []
+    if res.thrust is not None:
+        tr = res.thrust
+        top = (f"{tr.H_max:.6g} kN/m" if tr.H_max < float("inf")
+               else "unbounded (a straight line of thrust fits inside the arch)")
+        lines.append(f"  thrust range (dead loads): H_min = {tr.H_min:.6g} kN/m, H_max = {top} "
+                     f"(horizontal thrust on each springing)")
+    lf = res.load
+    if lf is not None:
+        if lf.status == "ok":
+            bounds = "" if not lf.lower == lf.lower else f", continuum bounds [{lf.lower:.9g}, {lf.value:.9g}]"
+            at = ", ".join(f"{p:.6g}" for p in lf.collapse_loads_kN)
+            lines.append(f"  load factor = {lf.value:.6f}   (collapse at {at} kN/m{bounds})")
+            lines.append(f"  collapse mechanism under the live loads: {_hinges(lf.hinges)}")
+        elif lf.status == "no_mechanism":
+            lines.append("  load factor: NO MECHANISM: no multiple of the live loads collapses the arch")
+        else:
+            lines.append(f"  load factor: none ({lf.status.replace('_', ' ')})")
+    return lines

@@ -135,6 +135,54 @@ def add_arch(p: argparse.ArgumentParser, many: bool = False) -> None:
                         "16 MB and 5000 points")
     g.add_argument("--density", type=finite_float, default=1.0, metavar="RHO",
                    help="density (default 1; only scales the impulses)")
+    add_as_built(g)
+
+
+FILL_MODEL = ("fill model: the column of fill above each voussoir's (element's) extrados, between the verticals "
+              "through the ends of that extrados, up to a horizontal road, is a dead load on that piece (its weight "
+              "at the column's centroid) and moves rigidly with it in every dynamic model (its mass, centroid and "
+              "inertia added to the piece's); left out: the spread of load through the fill and the fill's "
+              "passive pressure on the arch")
+
+
+def pair(text: str) -> tuple[float, float]:
+    """``"X,V"``: two finite numbers (argparse type of ``--load`` and ``--mass``)."""
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"expected X,VALUE (two numbers separated by a comma), got {text!r}")
+    return finite_float(parts[0]), finite_float(parts[1])
+
+
+MAX_POINTS = 1000   # --load and --mass given at most this many times
+
+
+def add_as_built(g) -> None:
+    """``--fill-density``, ``--fill-depth`` and ``--mass`` (the arch as built)."""
+    g.add_argument("--fill-density", type=finite_float, default=None, metavar="RHO_F",
+                   help="density of the fill (kg/m^3, typical 1800-2000) up to the road; " + FILL_MODEL)
+    g.add_argument("--fill-depth", type=finite_float, default=None, metavar="D",
+                   help="with --fill-density: height (m, >= 0) of the horizontal road surface above the crown's "
+                        "extrados (default 0: fill up to the crown)")
+    g.add_argument("--mass", type=pair, action="append", default=[], metavar="X,M",
+                   help="permanent point mass of M kg per metre of width on the extrados above the horizontal "
+                        "distance X (m) from the left springing of the mid-curve: a dead load in the statics, a "
+                        f"mass moving with its piece in the dynamics (repeatable, at most {MAX_POINTS})")
+
+
+def add_loads(p) -> None:
+    """``--load X,P`` (repeatable): the live loads of the load factor."""
+    p.add_argument("--load", type=pair, action="append", default=[], metavar="X,P",
+                   help="live point load of P kN per metre of width (> 0), downward, on the extrados above the "
+                        "horizontal distance X (m) from the left springing of the mid-curve; the load factor is "
+                        "the multiple of the live loads at collapse, dead loads at their values (repeatable, "
+                        f"at most {MAX_POINTS})")
+
+
+def points_of(args, name: str) -> list:
+    values = getattr(args, name, None) or []
+    if len(values) > MAX_POINTS:
+        raise InputError(f"--{name} is given {len(values)} times: at most {MAX_POINTS}")
+    return values
 
 
 def add_solver(p: argparse.ArgumentParser, elements_default: int | None = DEFAULT_ELEMENTS) -> None:
@@ -154,9 +202,16 @@ def add_solver(p: argparse.ArgumentParser, elements_default: int | None = DEFAUL
 
 
 def arch_from(args) -> MidCurve:
-    """The member of the :func:`add_arch` options; InputError (exit 2) for options that
-    do not fit together (e.g. ``--span`` with a circular arch, ``--shape pointed``
-    without ``--rise``)."""
+    """The member of the :func:`add_arch` options, as built (fill and masses); InputError (exit
+    2) for options that do not fit together (e.g. ``--span`` with a circular arch, ``--shape
+    pointed`` without ``--rise``)."""
+    from ..geometry.asbuilt import build
+
+    return build(_bare_arch(args), fill_density=getattr(args, "fill_density", None),
+                 fill_depth=getattr(args, "fill_depth", None), masses=points_of(args, "mass"))
+
+
+def _bare_arch(args) -> MidCurve:
     shape = getattr(args, "shape", None)
     midcurve = getattr(args, "midcurve", None)
     given = sorted(set(getattr(args, "_arch_given", ())) & set(_CIRCULAR_OPTIONS), key=_CIRCULAR_OPTIONS.index)

@@ -31,7 +31,7 @@ from ..mechanisms import Mechanism
 
 __all__ = ["EquationOfMotion", "GRAVITY"]
 
-GRAVITY = 9.81   # m/s^2
+from ..units import GRAVITY   # m/s^2 (one constant: fembeam.units)
 
 
 def _cross(a, b) -> float:

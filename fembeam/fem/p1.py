@@ -68,6 +68,9 @@ def discretize_p1(curve: MidCurve, nodes_s: np.ndarray, intorder: int = 1,
     if getattr(curve, "solid_spans", ()):
         raise InputError("continuous P1 fields are not defined across a crown joint and its wedges (parts "
                          "of the member with no section); use the rigid elements (fembeam.discretize)")
+    if curve.point_inertia(np.array([0.0]), np.array([curve.length])) is not None:
+        raise InputError("continuous P1 fields take distributed masses only; point masses need the rigid "
+                         "elements (fembeam.discretize)")
     if intorder > 1:
         raise InputError("P1 strain rows use the midpoint rule (intorder=1): a higher order "
                          "would need one row per quadrature point")

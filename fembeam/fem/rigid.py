@@ -202,6 +202,9 @@ def _mass(curve: MidCurve, mesh: MeshLine1, a: np.ndarray, b: np.ndarray, fr: di
     if e.size:
         m[e], S0[:, e], J0[e] = (curve.segment_inertia(a[e], b[e]) if power is None
                                  else curve.segment_inertia(a[e], b[e], power=power))
+    pts = curve.point_inertia(a, b)       # masses at points (fembeam.geometry.asbuilt)
+    if pts is not None:
+        m, S0, J0 = m + pts[0], S0 + pts[1], J0 + pts[2]
     return _mass_blocks(m, S0, J0, fr)
 
 

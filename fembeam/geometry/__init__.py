@@ -1,5 +1,6 @@
 """Member geometry: mid-curves as functions of the arc length (position, tangent,
 curvature, thickness) and the exact inertia of the region between normal cuts."""
+from .asbuilt import Fill, as_built
 from .base import MidCurve
 from .block import StraightMember
 from .catenary import CatenaryArch
@@ -9,5 +10,5 @@ from .parabolic import ParabolicArch
 from .pointed import PointedArch
 from .surveyed import SurveyedArch
 
-__all__ = ["MidCurve", "CircularArch", "StraightMember", "PointedArch", "EllipticalArch", "ParabolicArch",
+__all__ = ["Fill", "as_built", "MidCurve", "CircularArch", "StraightMember", "PointedArch", "EllipticalArch", "ParabolicArch",
            "CatenaryArch", "SurveyedArch"]

@@ -176,6 +176,20 @@ class MidCurve:
         sum of its smooth parts, so the rule never spans a kink); ``power``: the terms in
         ``t`` or ``t^3`` only (:meth:`inertia_densities`)."""
         sa, sb = np.atleast_1d(np.asarray(sa, float)), np.atleast_1d(np.asarray(sb, float))
+        m, S, J = self._distributed_inertia(sa, sb, order, power)
+        pts = self.point_inertia(sa, sb)
+        if pts is None:
+            return m, S, J
+        return m + pts[0], S + pts[1], J + pts[2]
+
+    def point_inertia(self, sa, sb):
+        """Mass, first and polar moment (about the origin) of the masses concentrated at points
+        of the pieces ``[sa, sb]`` (a point at ``s`` belongs to the piece with ``sa <= s < sb``,
+        the right springing to the last piece; signed like :meth:`segment_inertia`), or None
+        when the member has none (:func:`~fembeam.geometry.asbuilt.as_built` adds them)."""
+        return None
+
+    def _distributed_inertia(self, sa, sb, order, power):
         br = np.asarray(self.breaks, float)
         if br.size:
             sa, sb = np.broadcast_arrays(sa, sb)
