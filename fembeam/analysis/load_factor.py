@@ -67,11 +67,13 @@ def mass_nodes(curve: MidCurve) -> tuple:
 
 
 def load_factor(curve: MidCurve, loads, elements: int | None = None, voussoirs: int | None = None,
-                continuum: bool | None = None, verify: bool = True, nodes: np.ndarray | None = None) -> LoadFactor:
+                continuum: bool | None = None, verify: bool = True, nodes: np.ndarray | None = None,
+                disc=None) -> LoadFactor:
     """Load factor of the downward point ``loads`` ``[(x, P), ...]`` (m from the left springing,
     kN per metre of width) on ``curve`` (with its fill and masses), on ``elements`` rigid
     elements (continuous arch, default 200; ``continuum`` True by default) or ``voussoirs``;
-    ``nodes``: the mesh instead (arc lengths, m)."""
+    ``nodes``: the mesh instead (arc lengths, m); ``disc``: its discretisation, when
+    ``continuum`` is False (loads moved over one mesh share its factorised statics)."""
     live = PointLoads.of(curve, loads)
     if live is None:
         raise InputError("the load factor needs at least one live load (x in m, P > 0 in kN/m)")
@@ -90,7 +92,8 @@ def load_factor(curve: MidCurve, loads, elements: int | None = None, voussoirs: 
         keep = keep + mass_nodes(curve)
         nodes = nodes_through(nodes, live.s, keep=keep)
         keep = keep + tuple(live.s.tolist())
-    disc = discretize(curve, nodes)
+    if disc is None or continuum or disc.curve is not curve:
+        disc = discretize(curve, nodes)
     lim = limit_analysis(disc, 1, verify=verify, live=live)
     out = LoadFactor(lim.status, lim.A_L if lim.status == "ok" else float("nan"), live, lim,
                      verification={"limit_mesh": lim.verification})

@@ -10,7 +10,7 @@ from pathlib import Path
 from ..analysis import AnalysisResult, analyze
 from ..errors import InputError
 from ..units import kN
-from .args import add_arch, add_loads, add_solver, arch_from, arch_title, points_of
+from .args import add_arch, add_loads, add_solver, arch_from, arch_title, finite_float, points_of
 
 
 def register(sub) -> None:
@@ -27,6 +27,17 @@ def register(sub) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--fields", action="store_true", help="with --json: add the impulse and thrust lines")
     add_picture_options(p)
+    p.add_argument("--thrust-figure", type=Path, metavar="PATH.png",
+                   help="figure of the arch as built: fill, loads, the minimum and maximum thrust lines under the "
+                        "dead loads and, with --load, the collapse under the live loads")
+    s = p.add_argument_group("load scan (instead of the analysis: as fembeam load-scan)")
+    s.add_argument("--load-scan", type=finite_float, default=None, metavar="P",
+                   help="move one point load of P kN/m across the span: its smallest load factor and where")
+    s.add_argument("--positions", type=int, default=101, metavar="N",
+                   help="with --load-scan: positions from springing to springing (default 101; 2 to 2000)")
+    s.add_argument("--csv", metavar="PATH", help="with --load-scan: the curve as CSV")
+    s.add_argument("--plot", metavar="PATH", help="with --load-scan: the figure (PNG)")
+    s.add_argument("--out-dir", metavar="DIR", help="with --load-scan: load_scan.csv/.json/.png in DIR")
     p.set_defaults(func=run)
 
 
@@ -107,11 +118,28 @@ def write_pictures(res, args) -> list[str]:
 
 
 def run(args) -> int:
+    if args.load_scan is not None:
+        if points_of(args, "load"):
+            raise InputError("--load-scan moves one load across the span: drop --load")
+        from .load_scan import scan
+        return scan(args, args.load_scan)
+    for opt in ("csv", "plot", "out_dir"):
+        if getattr(args, opt) is not None:
+            raise InputError(f"--{opt.replace('_', '-')} goes with --load-scan")
     check_picture_options(args)
+    from ..output.files import check_output
+    check_output(args.thrust_figure, "--thrust-figure", (".png", ".pdf", ".svg"))
     res = analyze(arch_from(args), elements=args.elements, voussoirs=args.voussoirs,
                   direction=args.direction, backend=args.backend, refine_hinges=not args.no_refine,
                   friction=args.friction, loads=points_of(args, "load"))
     written = write_pictures(res, args)
+    if args.thrust_figure is not None:
+        if res.thrust is None:
+            print(f"fembeam: note: outcome {res.outcome}: no thrust range, nothing written for --thrust-figure",
+                  file=sys.stderr)
+        else:
+            from ..output.asbuilt import plot_thrust_range
+            written.append(f"thrust figure: {plot_thrust_range(res, args.thrust_figure)}")
     if args.json:  # stdout carries the JSON object only
         print(json.dumps(res.to_dict(fields=args.fields), allow_nan=False))
     else:

@@ -22,6 +22,7 @@ from ..interrupts import HungUp, Terminated
 COMMANDS = {
     "analyze": ("analyze", "A_L, mechanism before the impact, r and the impulse line"),
     "min-thickness": ("min_thickness", "smallest thickness at which the arch stands, and its mechanism"),
+    "load-scan": ("load_scan", "one point load moved across the span: smallest load factor and where"),
     "convergence": ("convergence", "mesh-refinement study: A_L, r, hinges, errors and observed rates"),
     "sweep": ("sweep", "parametric study: r_max vs t/R per embrace angle (or t/span per rise/span of another "
                        "--shape), minimum-thickness envelope"),

@@ -70,6 +70,11 @@ def member_from(args, model: str = "rock"):
     (``"rock"``, ``"simulate"`` or ``"auto"``: :func:`fembeam.limits.check_block`,
     :func:`~fembeam.limits.check_discretisation`), checked before the member is built."""
     if args.block is not None:
+        given = [o for o, v in (("--fill-density", getattr(args, "fill_density", None)),
+                                ("--fill-depth", getattr(args, "fill_depth", None)),
+                                ("--mass", getattr(args, "mass", None))) if v]
+        if given:
+            raise InputError(f"{given[0]} applies to arches, not to a --block")
         width, height = args.block
         curve = StraightMember(height=height, width=width, density=args.density)
         check_block(curve.width, curve.height)

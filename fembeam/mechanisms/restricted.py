@@ -19,7 +19,7 @@ from math import comb
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from ..fem import uniform_nodes
 from ..geometry import MidCurve
 from .energy import post_impact
@@ -146,7 +146,10 @@ def refine_four_hinge(before: Mechanism, start: Mechanism) -> tuple[float, Mecha
 
     def f(x):
         s = curve.nearest_section(np.sort(np.clip(x, 0.0, 1.0)) * L)    # no hinge inside a crown wedge
-        return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
+        try:
+            return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
+        except SolverError:      # a degenerate linkage met by the line search (parallel lines): no motion
+            return 0.0
 
     x0 = np.asarray(start.s) / L
     from scipy.optimize import minimize   # imported here: scipy.optimize takes 0.2 s to import

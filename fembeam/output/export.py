@@ -10,7 +10,11 @@ One call writes five unstructured grids and a ParaView multiblock index::
     out_impulse.vtu   impulse line, polyline through X_j + e_j n_j
     out_thrust.vtu    thrust line (limit analysis), polyline through X_j + e_j n_j
     out_hinges.vtu    hinges before/after as vertex cells on the edge they pivot on
-    out.vtm           multiblock index of the five (ParaView / pyvista open it at once)
+    out_fill.vtu      (an arch with fill) the fill columns, cell data ``piece``: the element or
+                      voussoir each column moves with
+    out_thrust_min.vtu, out_thrust_max.vtu   (an arch on two abutments) the thrust lines of
+                      the minimum and maximum thrust under the dead loads
+    out.vtm           multiblock index of the parts written (ParaView / pyvista open it at once)
 
 Conventions (docs/theory.md, Sect. 1): ``y`` is the offset along the inward normal ``n``, intrados at
 ``y = +t/2``; eccentricities are ``y`` of the line (m); velocities in m/s for the
@@ -35,7 +39,7 @@ from ..mechanisms.mechanism import Mechanism
 __all__ = ["as_dofs", "as_hinges", "rigid_velocity", "body_mesh", "joints_mesh", "line_mesh", "hinges_mesh",
            "impulse_line", "thrust_line", "write_fields", "write_vtk", "meshes_of", "output_paths"]
 
-PARTS = ("body", "joints", "impulse", "thrust", "hinges")
+PARTS = ("body", "joints", "impulse", "thrust", "hinges", "fill", "thrust_min", "thrust_max")
 
 
 def as_dofs(disc: Discretization, field) -> np.ndarray:
@@ -234,7 +238,7 @@ def output_paths(path: str | Path) -> dict[str, Path]:
 def write_fields(path: str | Path, disc: Discretization, d0, d,
                  hinges_before: Sequence[Hinge] | Mechanism = (), hinges_after: Sequence[Hinge] | Mechanism = (),
                  impulse: Mapping | None = None, thrust: Mapping | None = None,
-                 layers: int = 2) -> dict[str, Path]:
+                 layers: int = 2, extra: Mapping | None = None) -> dict[str, Path]:
     """Write the parts of :func:`meshes_of` next to ``path`` and a ``.vtm`` index; returns
     the written files by part name (see the module docstring).  A part with nothing in
     it (no hinges, no impulse line) is not written, and the index leaves it out."""
@@ -243,6 +247,7 @@ def write_fields(path: str | Path, disc: Discretization, d0, d,
     paths = output_paths(path)
     paths["body"].parent.mkdir(parents=True, exist_ok=True)
     meshes = meshes_of(disc, d0, d, hinges_before, hinges_after, impulse, thrust, layers)
+    meshes.update({k: m for k, m in (extra or {}).items() if m is not None})
     # empty parts are not written (meshio cannot read an empty appended array back)
     parts = [k for k in PARTS if k in meshes and len(meshes[k].points)]
     written = {k: paths[k] for k in parts}
@@ -280,4 +285,19 @@ def fields_of(result, what: str = "export") -> tuple:
 def write_vtk(result, path: str | Path, layers: int = 2) -> dict[str, Path]:
     """Export an :class:`~fembeam.analysis.AnalysisResult` (needs a limit-analysis mechanism;
     the impact fields are zero/absent when it has none). Returns the files written."""
-    return write_fields(path, *fields_of(result), layers)
+    return write_fields(path, *fields_of(result), layers, extra=as_built_parts(result))
+
+
+def as_built_parts(result) -> dict:
+    """The parts of an arch as built: its fill columns and the two extreme thrust lines."""
+    from .asbuilt import fill_mesh
+
+    disc = result.limit.disc
+    out = {"fill": fill_mesh(disc)}
+    tr = getattr(result, "thrust", None)
+    if tr is not None:
+        for which in ("min", "max"):
+            e = tr.eccentricity(which) if (which == "min" or np.isfinite(tr.H_max)) else None
+            if e is not None:
+                out[f"thrust_{which}"] = line_mesh(tr.disc, {"eccentricity": e})
+    return out
