@@ -267,8 +267,26 @@ class _AsBuilt:
         return out
 
     def _extrados_rate(self, s: np.ndarray):
-        """``E(s)`` and ``E_x'(s)`` (fourth-order one-sided differences on the side of ``s`` with
-        more room before the next break or end, the stencil inside the smooth part)."""
+        """``E(s)`` and ``E_x'(s)``.  On sections normal to the mid-curve
+        ``E' = (1 + kappa t / 2) T - t' / 2 n`` (``dT/ds = kappa n``, ``dn/ds = -kappa T``), with
+        ``t'`` zero for a constant thickness; elsewhere (a pointed arch's crown wedges, a thickness
+        that varies) by :meth:`_difference`."""
+        s = np.asarray(s, float)
+        T, kap, t = self.tangent(s), self.curvature(s), np.asarray(self.thickness_at(s), float)
+        n = np.array([T[1], -T[0]])
+        E = self.position(s) - 0.5 * t * n
+        if not self._built.setdefault("constant_t", _constant_thickness(self)):
+            return E, self._difference(s, E)
+        d = (1.0 + 0.5 * kap * t) * T[0]
+        fan = ~self.admissible(s)
+        if np.any(fan):
+            d = np.array(d, float)
+            d[fan] = self._difference(s[fan], E[:, fan])
+        return E, np.maximum(d, 0.0)
+
+    def _difference(self, s: np.ndarray, E: np.ndarray) -> np.ndarray:
+        """``E_x'(s)`` by fourth-order one-sided differences on the side of ``s`` with more room
+        before the next break or end (the stencil inside the smooth part of the curve)."""
         L = float(self.length)
         marks = np.concatenate([[0.0], np.asarray(self.breaks, float), [L]])
         j = np.clip(np.searchsorted(marks, s, side="right"), 1, marks.size - 1)
@@ -277,9 +295,16 @@ class _AsBuilt:
         h = np.minimum(2e-4 * L, np.maximum(room_r, room_l) / 4.5)
         h = np.where(forward, h, -h)
         ex = [extrados(self, s + i * h)[0] for i in range(1, 5)]
-        E = extrados(self, s)
         d = (-25.0 * E[0] + 48.0 * ex[0] - 36.0 * ex[1] + 16.0 * ex[2] - 3.0 * ex[3]) / (12.0 * h)
-        return E, np.maximum(d, 0.0)
+        return np.maximum(d, 0.0)
+
+
+def _constant_thickness(curve: MidCurve) -> bool:
+    """Whether the thickness of ``curve``'s normal sections is one constant (sampled exactly)."""
+    s = np.linspace(0.0, curve.length, 1001)
+    s = s[curve.admissible(s)]
+    t = np.asarray(curve.thickness_at(s), float)
+    return bool(np.all(t == t[0]))
 
 
 def build(curve: MidCurve, density: float | None = None, fill_density: float | None = None,

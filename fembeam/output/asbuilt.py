@@ -46,7 +46,7 @@ def draw_as_built(ax, curve, nodes_s: np.ndarray | None = None, loads=None, fact
         ax.plot(b["X_m"][0], b["X_m"][1], "s", ms=7, color="#6b4e16", label="point masses", zorder=5)
     if loads is not None:
         span = float(curve.position(curve.length)[0] - curve.position(0.0)[0])
-        h = 0.12 * span
+        h = 0.08 * span
         for (x, P), X in zip(loads.pairs, loads.X.T):
             ax.annotate("", xy=(X[0], X[1]), xytext=(X[0], X[1] + h),
                         arrowprops=dict(arrowstyle="-|>", color="darkred", lw=2.0), zorder=6)

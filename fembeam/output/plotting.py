@@ -38,9 +38,13 @@ def line_points(disc: Discretization, eccentricity: np.ndarray) -> np.ndarray:
 
 def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] | Mechanism = (),
                       hinges_after: Sequence[Hinge] | Mechanism = (), impulse_e: np.ndarray | None = None,
-                      thrust_e: np.ndarray | None = None, title: str = "") -> None:
-    """Draw on the matplotlib axes ``ax`` (see the module docstring)."""
+                      thrust_e: np.ndarray | None = None, title: str = "", loads=None) -> None:
+    """Draw on the matplotlib axes ``ax`` (see the module docstring); an arch as built with its
+    fill columns and point masses, and the live ``loads`` (:class:`~fembeam.analysis.loads.PointLoads`)."""
     c = disc.curve
+    if getattr(c, "_built", None) is not None or loads is not None:
+        from .asbuilt import draw_as_built
+        draw_as_built(ax, c, disc.nodes_s, loads)
     hinges_before, hinges_after = as_hinges(hinges_before), as_hinges(hinges_after)
     s = np.linspace(0.0, c.length, 721)
     X, n, t = c.position(s), c.normal(s), c.thickness_at(s)
@@ -69,12 +73,12 @@ def draw_paper_figure(ax, disc: Discretization, hinges_before: Sequence[Hinge] |
     ax.axis("off")
     ax.legend(loc="lower center", ncol=2, frameon=False, fontsize=9, bbox_to_anchor=(0.5, -0.12))
     if title:
-        ax.set_title(title)
+        ax.set_title(title, pad=24 if loads is not None else None)
 
 
 def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Sequence[Hinge] | Mechanism = (),
                       hinges_after: Sequence[Hinge] | Mechanism = (), impulse_e: np.ndarray | None = None,
-                      thrust_e: np.ndarray | None = None, title: str = "", dpi: int = 150) -> Path:
+                      thrust_e: np.ndarray | None = None, title: str = "", dpi: int = 150, loads=None) -> Path:
     """:func:`draw_paper_figure` on a new figure saved to ``path`` (format from the suffix)."""
     import matplotlib
     matplotlib.use("Agg", force=False) if matplotlib.get_backend().lower() != "agg" else None
@@ -82,7 +86,7 @@ def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Seq
 
     fig, ax = plt.subplots(figsize=(7.5, 4.6))
     try:
-        draw_paper_figure(ax, disc, hinges_before, hinges_after, impulse_e, thrust_e, title)
+        draw_paper_figure(ax, disc, hinges_before, hinges_after, impulse_e, thrust_e, title, loads)
         fig.tight_layout()
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -105,4 +109,4 @@ def plot_paper_figure(result, path: str | Path, dpi: int = 150) -> Path:
     disc = imp.disc if imp is not None else lim.disc
     return save_paper_figure(path, disc, result.hinges_before, result.hinges_after,
                              imp.eccentricity if imp is not None else None, lim.eccentricity,
-                             title_of(result), dpi)
+                             title_of(result), dpi, getattr(result, "loads", None))
