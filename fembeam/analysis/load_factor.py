@@ -72,8 +72,9 @@ def load_factor(curve: MidCurve, loads, elements: int | None = None, voussoirs: 
     """Load factor of the downward point ``loads`` ``[(x, P), ...]`` (m from the left springing,
     kN per metre of width) on ``curve`` (with its fill and masses), on ``elements`` rigid
     elements (continuous arch, default 200; ``continuum`` True by default) or ``voussoirs``;
-    ``nodes``: the mesh instead (arc lengths, m); ``disc``: its discretisation, when
-    ``continuum`` is False (loads moved over one mesh share its factorised statics)."""
+    ``nodes``: the mesh instead (arc lengths, m); ``disc``: its discretisation, used when its
+    nodes are those of the analysis (loads moved over one mesh, or a mesh with nodes at the
+    loads already, share its factorised statics)."""
     live = PointLoads.of(curve, loads)
     if live is None:
         raise InputError("the load factor needs at least one live load (x in m, P > 0 in kN/m)")
@@ -92,8 +93,8 @@ def load_factor(curve: MidCurve, loads, elements: int | None = None, voussoirs: 
         keep = keep + mass_nodes(curve)
         nodes = nodes_through(nodes, live.s, keep=keep)
         keep = keep + tuple(live.s.tolist())
-    if disc is None or continuum or disc.curve is not curve:
-        disc = discretize(curve, nodes)
+    if disc is None or disc.curve is not curve or not np.array_equal(disc.nodes_s, nodes):
+        disc = discretize(curve, nodes, like=disc if disc is not None and disc.curve is curve else None)
     lim = limit_analysis(disc, 1, verify=verify, live=live)
     out = LoadFactor(lim.status, lim.A_L if lim.status == "ok" else float("nan"), live, lim,
                      verification={"limit_mesh": lim.verification})

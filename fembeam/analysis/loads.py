@@ -56,6 +56,18 @@ class PointLoads:
         s = extrados_s(curve, pairs[:, 0])
         return cls(curve, pairs, s, extrados(curve, s), per_g(pairs[:, 1]))
 
+    @classmethod
+    def each(cls, curve: MidCurve, xs, P: float) -> list["PointLoads"]:
+        """One load ``P`` (kN/m) at each of the positions ``xs`` (m): a list of single loads,
+        their sections found together (a load scan)."""
+        _, span = span_of(curve)
+        pairs = point_pairs([(x, P) for x in xs], "load", "kN/m", positive=True, span=span)
+        _check_advancing(plain(curve), "a point load")
+        s = extrados_s(curve, pairs[:, 0])
+        X = extrados(curve, s)
+        return [cls(curve, pairs[i:i + 1], s[i:i + 1], X[:, i:i + 1], per_g(pairs[i:i + 1, 1]))
+                for i in range(pairs.shape[0])]
+
     @property
     def key(self) -> tuple:
         return tuple(map(tuple, self.pairs.tolist()))

@@ -267,7 +267,9 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
     nodes = uniform_nodes(curve, n)
     if continuum and mass_nodes(curve):     # the internal forces jump at a point mass: a node there
         nodes = nodes_through(nodes, np.array(mass_nodes(curve)), keep=curve.fixed_nodes)
-    disc = discretize(curve, nodes)
+    if continuum and live is not None:      # and at a live load (one mesh for A_L and the load factor)
+        nodes = nodes_through(nodes, live.s, keep=curve.fixed_nodes + mass_nodes(curve))
+    disc = disc0 = discretize(curve, nodes)
     res.timings["assembly"] = time.perf_counter() - clock
     t0 = time.perf_counter()
     lim = limit_analysis(disc, direction, verify=verify, friction=mu)
@@ -321,7 +323,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
         if thrust and statics_determinate(disc) is False:
             res.thrust = thrust_range(disc, continuum=continuum)
         if live is not None:
-            res.load = load_factor(curve, live, nodes=nodes, continuum=continuum, verify=verify)
+            res.load = load_factor(curve, live, nodes=nodes, continuum=continuum, verify=verify, disc=disc0)
         res.timings["loads_and_thrust"] = time.perf_counter() - t0
     if lim.status == "ok" and lim.slides:
         res.outcome = "sliding"    # the arch starts to slide: no rocking impact follows

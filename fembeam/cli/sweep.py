@@ -39,6 +39,11 @@ def register(sub) -> None:
     g.add_argument("--elements", type=int, default=DEFAULT_ELEMENTS, metavar="N",
                    help=f"rigid elements per arch (default {DEFAULT_ELEMENTS}; hinges before impact are refined)")
     g.add_argument("--direction", type=int, choices=(1, -1), default=1, help="load direction (default +1)")
+    g.add_argument("--fill-density", type=finite_float, default=None, metavar="RHO_F",
+                   help="fill on every arch (kg/m^3) up to a road --fill-depth above the crown's extrados; the "
+                        "arches have R = 1 m (circular) or a span of 1 m, masonry 2000 kg/m^3")
+    g.add_argument("--fill-depth", type=finite_float, default=None, metavar="D",
+                   help="with --fill-density: the road's height above the crown's extrados (m, default 0)")
     g.add_argument("--backend", choices=IMPACT_BACKENDS, default="auto", help="impact QP solver (default auto)")
     e = p.add_argument_group("minimum-thickness envelope")
     e.add_argument("--no-envelope", action="store_true", help="skip the envelope")
@@ -101,11 +106,18 @@ def run(args: argparse.Namespace) -> int:
             import distributed  # noqa: F401
         except ImportError:
             raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
+    fill = None
+    if args.fill_density is not None or args.fill_depth is not None:
+        from ..geometry.asbuilt import Fill
+        if args.fill_density is None:
+            raise InputError("--fill-depth needs --fill-density (the fill's density, kg/m^3)")
+        f = Fill(args.fill_density, 0.0 if args.fill_depth is None else args.fill_depth)
+        fill = None if f.density == 0 else (f.density, f.depth)
     journal = study_journal(args, "sweep")
     res = sweep(a, b, elements=args.elements, backend=args.backend, direction=args.direction,
                 envelope=not args.no_envelope, envelope_embrace=env,
                 tmin_elements=args.tmin_elements, tmin_tol=args.tmin_tol, above=args.above, workers=args.workers,
-                scheduler=args.scheduler, progress=not args.quiet, shape=shape, journal=journal)
+                scheduler=args.scheduler, progress=not args.quiet, shape=shape, journal=journal, fill=fill)
     write_outputs(res, args, "sweep", plot_sweep)
     if journal is not None:
         journal.remove()

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..analysis.load_factor import LoadFactor, load_factor
+from ..analysis.loads import PointLoads
 from ..errors import InputError
 from ..fem import discretize, uniform_nodes
 from ..geometry import MidCurve
@@ -92,8 +93,8 @@ def load_scan(curve: MidCurve, P: float, positions: int = 101, voussoirs: int | 
     nodes = uniform_nodes(curve, n)
     disc = None if continuum else discretize(curve, nodes)
     factor, status, results = np.full(positions, np.nan), [], []
-    for i, x in enumerate(xs):
-        lf = load_factor(curve, [(float(x), P)], nodes=nodes, continuum=continuum, verify=verify, disc=disc)
+    for i, live in enumerate(PointLoads.each(curve, xs, P)):
+        lf = load_factor(curve, live, nodes=nodes, continuum=continuum, verify=verify, disc=disc)
         results.append(lf)
         status.append(lf.status)
         if lf.status == "ok":

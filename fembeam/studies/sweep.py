@@ -33,6 +33,7 @@ from ..analysis import DEFAULT_ELEMENTS, analyze, minimum_thickness
 from ..analysis.thickness import MinimumThickness
 from ..errors import FembeamError, InputError
 from ..fem import discretize, uniform_nodes
+from ..geometry.asbuilt import build
 from ..geometry import CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch
 from ..geometry.arch import MIN_T_OVER_SPAN
 from ..analysis import limit_analysis
@@ -73,21 +74,25 @@ class Family:
         """What rows and results add to name the shape (nothing for the circle, whose keys say it)."""
         return {} if self.shape == "circular" else {"shape": self.shape}
 
-    def make(self, a: float, b: float) -> MidCurve:
-        """The arch ``a``, ``b`` (InputError if it cannot be built)."""
+    def make(self, a: float, b: float, fill=None) -> MidCurve:
+        """The arch ``a``, ``b`` (InputError if it cannot be built); ``fill``: ``(density, depth)``
+        of a fill up to a road ``depth`` m above the crown's extrados (kg/m^3, m;
+        :mod:`fembeam.geometry.asbuilt`)."""
         if self.shape == "circular":
-            return CircularArch.from_ratio(a, b)
-        if not (a > 0 and b > 0):
-            raise InputError(f"{self.a_label} and {self.b_label} must be positive")
-        return _SHAPE_CLASSES[self.shape](span=1.0, rise=a, thickness=b)
+            arch = CircularArch.from_ratio(a, b)
+        else:
+            if not (a > 0 and b > 0):
+                raise InputError(f"{self.a_label} and {self.b_label} must be positive")
+            arch = _SHAPE_CLASSES[self.shape](span=1.0, rise=a, thickness=b)
+        return arch if fill is None else build(arch, fill_density=fill[0], fill_depth=fill[1])
 
-    def base(self, a: float) -> float:
+    def base(self, a: float, fill=None) -> float:
         """Thickness ratio at which the minimum-thickness bisection starts: t/R = 0.5, or
         t/span = rise/span / 2 (the same arch for the semicircle), at most half the
         thickness at which the intrados folds."""
         if self.shape == "circular":
             return 0.5
-        fold = MIN_T_OVER_SPAN * self.make(a, MIN_T_OVER_SPAN).max_thickness_scale
+        fold = MIN_T_OVER_SPAN * self.make(a, MIN_T_OVER_SPAN, fill).max_thickness_scale
         return min(0.5 * a, 0.5 * fold)
 
     def t_min(self, th: MinimumThickness | None, b: float) -> float | None:
@@ -95,13 +100,13 @@ class Family:
         0 if it stands at any thickness, None if at none (or not computed)."""
         return None if th is None else _num(th.scale * b)
 
-    def check(self, a_values: list[float], b_values: list[float]) -> None:
+    def check(self, a_values: list[float], b_values: list[float], fill=None) -> None:
         """InputError, once and naming the case, if an arch of the grid cannot be built."""
         bs = sorted(set(b_values))
         for a in a_values:
             for b in (bs[0], bs[-1]) if bs else ():
                 try:
-                    self.make(a, b)
+                    self.make(a, b, fill)
                 except InputError as e:
                     raise InputError(f"{self.a_label} = {a:g}, {self.b_label} = {b:g}: {e}") from None
 
@@ -121,20 +126,22 @@ def family(shape: str) -> Family:
 
 
 def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEMENTS, backend: str = "auto",
-               direction: int = 1, t_min_over_r: float | None = None, shape: str = "circular") -> dict:
+               direction: int = 1, t_min_over_r: float | None = None, shape: str = "circular",
+               fill=None) -> dict:
     """One case of the sweep as a flat dict (never raises on solver trouble: the outcome
     is ``"solver_error"`` with the message in ``error``).  For a ``shape`` other than the
     circle, ``embrace_deg`` and ``t_over_r`` are its rise/span and t/span.
 
     ``t_min_over_r``: the minimum thickness if already known (envelope).  Below it the
     uniform-mesh LP is tried first and, if the arch cannot stand, that is reported with
-    this t_min, saving ``analyze`` its own bisection (0.3-0.5 s)."""
+    this t_min, saving ``analyze`` its own bisection (0.3-0.5 s).  ``fill``: ``(density, depth)``
+    of the fill (:meth:`Family.make`)."""
     fam = family(shape)
     a, b = float(embrace_deg), float(t_over_r)
     t0 = time.perf_counter()
     row = {"kind": "case", **fam.ident, fam.a_key: a, fam.b_key: b}
     try:
-        arch = fam.make(a, b)
+        arch = fam.make(a, b, fill)
         if t_min_over_r is not None and b < t_min_over_r:
             lim = limit_analysis(discretize(arch, uniform_nodes(arch, elements)), direction)
             if lim.status == "cannot_stand":
@@ -162,7 +169,7 @@ def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEM
 
 def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_elements: int = 400,
                   tmin_tol: float = 1e-6, above: float = 1e-3, backend: str = "auto",
-                  direction: int = 1, shape: str = "circular") -> dict:
+                  direction: int = 1, shape: str = "circular", fill=None) -> dict:
     """Minimum thickness of the arch ``embrace_deg`` (rise/span for a ``shape``) and the
     case at t_min (1 + above); without a t_min > 0 the outcome of the bisection
     (``stands_at_any_thickness``: t_min 0, ``never_stands``: None) and no case.
@@ -175,8 +182,8 @@ def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_ele
     t0 = time.perf_counter()
     head = {"kind": "envelope", **fam.ident, fam.a_key: a, fam.b_key: None}
     try:
-        base = fam.base(a)
-        th = minimum_thickness(fam.make(a, base), elements=tmin_elements, tol=tmin_tol)
+        base = fam.base(a, fill)
+        th = minimum_thickness(fam.make(a, base, fill), elements=tmin_elements, tol=tmin_tol)
     except FembeamError as e:
         return {**head, "outcome": "solver_error", "error": f"{type(e).__name__}: {e}",
                 "time_s": time.perf_counter() - t0}
@@ -185,8 +192,8 @@ def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_ele
         return {**head, "outcome": th.outcome, "A_L": None, "r": None, fam.tmin_key: tmin, "error": None,
                 "time_s": time.perf_counter() - t0}
     # just above t_min, but inside the shape's limit (where the intrados folds)
-    fold = base * fam.make(a, base).max_thickness_scale * (1.0 - 1e-9)
-    row = sweep_case(a, min(tmin * (1.0 + above), fold), elements, backend, direction, shape=shape)
+    fold = base * fam.make(a, base, fill).max_thickness_scale * (1.0 - 1e-9)
+    row = sweep_case(a, min(tmin * (1.0 + above), fold), elements, backend, direction, shape=shape, fill=fill)
     row.update({"kind": "envelope", fam.tmin_key: float(tmin), "time_s": time.perf_counter() - t0})
     return row
 
@@ -250,23 +257,27 @@ class SweepResult:
 def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_ELEMENTS, backend: str = "auto",
           direction: int = 1, envelope: bool = True, envelope_embrace: list[float] | None = None,
           tmin_elements: int = 400, tmin_tol: float = 1e-6, above: float = 1e-3, workers: int | None = None,
-          scheduler=None, progress: bool = True, shape: str = "circular", journal: Journal | None = None
-          ) -> SweepResult:
+          scheduler=None, progress: bool = True, shape: str = "circular", journal: Journal | None = None,
+          fill=None) -> SweepResult:
     """Every (beta, t/R) case plus, per beta of ``envelope_embrace`` (default
     ``embrace``), the minimum-thickness envelope point; see the module docstring.  For a
     ``shape`` other than the circle the values are rise/span and t/span (:func:`sweep_shape`).
     ``journal``: finished cases are kept there and taken from there
-    (:class:`~fembeam.studies.parallel.Journal`: an interrupted sweep resumes)."""
+    (:class:`~fembeam.studies.parallel.Journal`: an interrupted sweep resumes).  ``fill``:
+    ``(density, depth)`` of a fill on every arch (kg/m^3, m above the crown's extrados; the
+    arches have a radius of 1 m, or a span of 1 m)."""
     fam = family(shape)
     n_cases = len(embrace) * len(t_over_r) + (len(envelope_embrace or embrace) if envelope else 0)
     if n_cases > MAX_CASES:
         raise InputError(f"{len(embrace)} x {len(t_over_r)} cases plus the envelope: {n_cases}; a sweep has at most "
                          f"{MAX_CASES} (about 0.3 s of CPU each)")
-    fam.check(list(embrace) + list(envelope_embrace or []), list(t_over_r))  # bad input fails here, once
+    fill = None if fill is None else [float(fill[0]), float(fill[1])]
+    fam.check(list(embrace) + list(envelope_embrace or []), list(t_over_r), fill)  # bad input fails here, once
     env_as = list(envelope_embrace or embrace) if envelope else []
     # never more local workers than the tasks of the larger phase
     workers = min(workers or default_workers(), max(len(env_as), len(embrace) * len(t_over_r), 1))
-    common = {"elements": elements, "backend": backend, "direction": direction, "shape": shape}
+    common = {"elements": elements, "backend": backend, "direction": direction, "shape": shape,
+              **({} if fill is None else {"fill": fill})}
     clock = time.perf_counter()
     client = None
     if isinstance(scheduler, str):  # one connection for both phases
@@ -292,7 +303,8 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
               "lp": round(sum(c.get("time_lp_s", 0.0) for c in cases), 3),
               "hinge_refinement": round(sum(c.get("time_refine_s", 0.0) for c in cases), 3),
               "qp": round(sum(c.get("time_qp_s", 0.0) for c in cases), 3)}
-    settings = {**fam.ident, "elements": elements, "backend": backend, "direction": direction,
+    settings = {**fam.ident, "fill": None if fill is None else {"density": fill[0], "depth": fill[1]},
+                "elements": elements, "backend": backend, "direction": direction,
                 "tmin_elements": tmin_elements, "tmin_tol": tmin_tol, "above": above,
                 "executor": ("dask" if scheduler is not None else f"local ({workers} workers)")}
     return SweepResult(list(embrace), list(t_over_r), cases, env, settings, wall, timing, shape)
