@@ -53,6 +53,11 @@ def static_lines(d: dict) -> list[str]:
         lines.append(f"  A_L = {a('+1')} (+1: inertia to the right, a_g < 0), {a('-1')} (-1: to the left, a_g > 0)")
         for k in ("+1", "-1"):
             lines.append(f"    hinges at A_L ({k}): {_hinges(st['hinges'][k], d['geometry'].get('shape') == 'block')}")
+    tr = st.get("thrust_range")
+    if tr is not None:
+        top = f"{tr['H_max']:.6g} kN/m" if tr["H_max"] is not None else "unbounded"
+        lines.append(f"  thrust range under the dead loads: H_min = {tr['H_min']:.6g} kN/m, H_max = {top} "
+                     f"(weight {st['weight_kN_per_m']:.6g} kN/m)")
     mt = st["minimum_thickness"]
     if mt["outcome"] == "ok":
         size = ", ".join(f"{k.replace('_', ' ')} {v:.6g} m" for k, v in mt["thickness_min"].items())

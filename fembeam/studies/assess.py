@@ -28,6 +28,7 @@ import numpy as np
 
 from ..analysis import analyze, minimum_thickness
 from ..dynamics.ground import GroundMotion
+from ..units import kN
 from ..errors import InputError
 from ..geometry import MidCurve
 from . import spectrum
@@ -104,6 +105,10 @@ def static_answers(curve: MidCurve, voussoirs: int | None, elements: int, fricti
     need["friction"] = friction
     need["sliding_risk"] = None if friction is None or need["max"] is None else bool(need["max"] > friction)
     out["friction_needed"] = need
+    tr = res[1].thrust                      # the thrust range does not depend on the direction
+    out["thrust_range"] = None if tr is None else {"H_min": tr.H_min, "H_max": tr.H_max if tr.H_max < float("inf")
+                                                   else None, "unit": "kN/m"}
+    out["weight_kN_per_m"] = kN(res[1].mass)
     th = minimum_thickness(curve, elements=n, voussoirs=voussoirs, tol=tol)
     mt = th.to_dict()
     law = curve.describe() if hasattr(curve, "describe") else {}
