@@ -19,7 +19,7 @@ def register(sub) -> None:
                                    "self weight, fill, masses, at their values): the smallest factor, the critical "
                                    "position and its mechanism, the curve of load factor against position.")
     add_arch(p)
-    p.add_argument("--load", type=finite_float, required=True, metavar="P",
+    p.add_argument("--load", "--load-scan", dest="load", type=finite_float, required=True, metavar="P",
                    help="the moving point load, kN per metre of width (> 0)")
     add_scan_options(p)
     add_mesh(p)

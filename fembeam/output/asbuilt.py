@@ -10,7 +10,7 @@ import numpy as np
 from ..geometry.asbuilt import extrados
 from .files import atomic
 
-__all__ = ["fill_columns", "draw_as_built", "plot_thrust_range", "fill_mesh"]
+__all__ = ["fill_columns", "moving_fill", "draw_as_built", "plot_thrust_range", "fill_mesh"]
 
 
 def fill_columns(curve, nodes_s: np.ndarray, samples: int = 8) -> list[np.ndarray]:
@@ -25,6 +25,25 @@ def fill_columns(curve, nodes_s: np.ndarray, samples: int = 8) -> list[np.ndarra
         top = np.maximum(road, E[1])
         poly = np.concatenate([E.T, [[E[0, -1], top[-1]], [E[0, 0], top[0]]]])
         out.append(poly)
+    return out
+
+
+def moving_fill(curve, mechanism=None, theta: float = 0.0) -> list[np.ndarray]:
+    """The fill of each piece of ``mechanism`` moved rigidly with it by a rotation ``theta``
+    (rad) of its free parameter: one polygon (k, 2) per piece (at rest without a mechanism)."""
+    if getattr(curve, "road_level", None) is None:
+        return []
+    if mechanism is None:
+        return fill_columns(curve, np.array([0.0, curve.length]), 48)
+    ends = np.concatenate([[0.0], np.asarray(mechanism.s, float), [curve.length]])
+    polys = fill_columns(curve, np.unique(ends), 24)
+    conf = mechanism.configuration(float(theta))
+    k = mechanism.piece_of(0.5 * (np.unique(ends)[:-1] + np.unique(ends)[1:]))
+    out = []
+    for poly, p in zip(polys, k):
+        c, s = np.cos(conf.rotation[p]), np.sin(conf.rotation[p])
+        r = poly.T - conf.anchor[:, p:p + 1]
+        out.append((conf.moved[:, p:p + 1] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])).T)
     return out
 
 

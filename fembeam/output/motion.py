@@ -370,7 +370,7 @@ def write_gif(result: "RockingResult", path: str | Path, frames: int = 120, fps:
     history rows (:func:`frame_rows`, the last one included) shown at ``fps`` frames per
     second, equal aspect, fixed axis limits covering every frame, the rest outline dashed,
     the ground line at the lowest point of the member at rest, the hinges of the current
-    mechanism as dots, a scale bar (m) in place of the axes (tick labels would dominate the
+    mechanism as dots, the fill of an arch as built moving with its pieces, a scale bar (m) in place of the axes (tick labels would dominate the
     drawing time), and a text with ``t`` (s) and ``a_g`` (g).  ``dpi``: pixels per inch of
     the 6 x 4.5 in frames.  Written atomically."""
     p = check_output(path, "write_gif", (".gif",))
@@ -383,14 +383,17 @@ def write_gif(result: "RockingResult", path: str | Path, frames: int = 120, fps:
     h = _history(result)
     rows = frame_rows(h["t"], frames)
     curve, mechs = result.curve, list(result.mechanisms)
-    polys, pivots = [], []
+    from .asbuilt import moving_fill
+
+    polys, pivots, fills = [], [], []
     for i in rows:
         k = int(h["mechanism"][i])
         m = mechs[k] if k >= 0 else None
         polys.append(outline(curve, m, float(h["theta"][i]), sections))
+        fills.append(moving_fill(curve, m, float(h["theta"][i])))
         pivots.append(m.configuration(float(h["theta"][i])).hinge_points() if m is not None else np.zeros((2, 0)))
     rest = outline(curve, None, 0.0, sections)
-    allp = np.hstack([rest, *polys])
+    allp = np.hstack([rest, *polys, *(f.T for fs in fills for f in fs)])
     allp = allp[:, np.all(np.isfinite(allp), axis=0)]
     lo, hi = allp.min(axis=1), allp.max(axis=1)
     ground_y = float(rest[1].min())
@@ -417,6 +420,9 @@ def write_gif(result: "RockingResult", path: str | Path, frames: int = 120, fps:
         ax.text(xb - 0.2 * pad, yb, f"{bar:g} m", ha="right", va="center", fontsize=8)
         closed = np.hstack([rest, rest[:, :1]])
         ax.plot(closed[0], closed[1], color="grey", lw=0.8, ls="--")
+        from matplotlib.collections import PolyCollection
+        fill = PolyCollection(fills[0], facecolor="#e8d9b5", edgecolor="#b89f6a", lw=0.6)   # moves with its piece
+        ax.add_collection(fill)
         (body,) = ax.fill(polys[0][0], polys[0][1], facecolor="lightsteelblue", edgecolor="black", lw=1.2)
         (dots,) = ax.plot([], [], "o", color="tab:red", ms=4, ls="none")
         # title and the running text in a strip above the axes: they never cover the member
@@ -427,9 +433,10 @@ def write_gif(result: "RockingResult", path: str | Path, frames: int = 120, fps:
         def draw(j):
             i = rows[j]
             body.set_xy(polys[j].T)
+            fill.set_verts(fills[j])
             dots.set_data(pivots[j][0], pivots[j][1])
             text.set_text(f"t = {h['t'][i]:.4f} s    a_g = {h['a_g'][i]:+.3f} g")
-            return body, dots, text
+            return body, fill, dots, text
 
         save_gif(fig, draw, len(rows), p, fps, dpi)
     finally:

@@ -57,6 +57,7 @@ class LoadScan:
             "geometry": self.geometry, "mode": self.mode, "elements": self.n,
             "load": {"P": self.P, "unit": "kN/m"},
             "min_load_factor": self.min_factor,
+            "load_factor": self.min_factor,             # the smallest: the load factor of the moving load
             "critical_x": None if i is None else float(self.x[i]),
             "collapse_load_kN_per_m": None if i is None else float(self.factor[i] * self.P),
             "load_mechanism": [] if res is None else [h.to_dict() for h in res.hinges],
