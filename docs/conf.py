@@ -49,9 +49,10 @@ templates_path = ["_templates"]
 
 # ------------------------------------------------------------------ Markdown pages
 # The pages of docs/ are Markdown, read as they are on a code host; headings up to ### get
-# anchors so that links like shapes.md#the-crown-of-a-pointed-arch resolve.
+# anchors so that links like shapes.md#the-crown-of-a-pointed-arch resolve; ``$$ ... $$`` blocks
+# are display math (MathJax), as a code host renders them.
 myst_heading_anchors = 3
-myst_enable_extensions = ["colon_fence"]
+myst_enable_extensions = ["colon_fence", "dollarmath"]
 
 # ------------------------------------------------------------------ API reference
 autosummary_generate = True
