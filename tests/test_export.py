@@ -135,7 +135,9 @@ def test_continuous_hinges_on_edges_and_multiblock(paper_result, tmp_path):
     files = write_vtk(res, tmp_path / "c" / "arch")       # suffix added
     assert files["body"].name == "arch.vtu" and files["multiblock"].name == "arch.vtm"
     mb = pv.read(files["multiblock"])
-    assert mb.n_blocks == 5 and "velocity_after" in mb["body"].point_data
+    # body, joints, impulse, thrust, hinges, and the thrust lines of H_min and H_max
+    assert mb.n_blocks == 7 and "velocity_after" in mb["body"].point_data
+    assert {"thrust_min", "thrust_max"} <= set(mb.keys())
     h = meshio.read(files["hinges"])
     r = np.hypot(h.points[:, 0], h.points[:, 1])
     assert np.allclose(r, 1.0 - h.point_data["side"] * 0.075, atol=1e-12)

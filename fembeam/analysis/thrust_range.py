@@ -107,7 +107,7 @@ def thrust_range(disc: Discretization, continuum: bool = False, tol: float = 1e-
             ver[f"{name}_unbounded_ray"] = 1.0
             continue
         rows = Rc @ np.r_[lp.z, 0.0, 1.0]
-        if rows.min() < -max(tol, 1e-9):
+        if rows.min() < -max(tol, 1e-9 * max(1.0, float(np.max(np.abs(rows))))):   # the LP's tolerance, relative
             raise SolverError(f"thrust range: the {name}imum thrust state is not admissible "
                               f"(fibre force {rows.min():.2e} weights)")
         H = float(h @ z)

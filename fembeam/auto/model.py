@@ -189,7 +189,7 @@ class AutoModel:
             self.rest_limit = {}
             for d in (1, -1):
                 res = analyze(curve, elements=None if voussoirs is not None else elements, voussoirs=voussoirs,
-                              direction=d, backend=backend, friction=self.friction)
+                              direction=d, backend=backend, friction=self.friction, thrust=False)
                 if res.outcome == "cannot_stand":
                     self.slides_at_rest = True
                 self.rest_limit[d] = res.A_L if res.outcome == "sliding" else math.inf

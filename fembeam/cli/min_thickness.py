@@ -69,7 +69,7 @@ def min_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int |
             out["t_min_over_span"] = th.scale * law["thickness"] / span
         # the collapse certificate just below, on the mesh refined through its hinges (analyze's)
         lim = analyze(curve.with_thickness_scaled(th.lower), elements=elements, voussoirs=voussoirs,
-                      friction=friction, tmin_tol=0.1).limit
+                      friction=friction, tmin_tol=0.1, thrust=False).limit
         if lim.status == "cannot_stand":
             out["hinges"] = [h.to_dict() for h in lim.hinges]
             out["slides"] = list(lim.slides)

@@ -97,7 +97,7 @@ class Rocker:
         self.stands = True
         for d in (1, -1):
             res = analyze(curve, elements=None if voussoirs is not None else elements, voussoirs=voussoirs,
-                          direction=d, backend=backend)
+                          direction=d, backend=backend, thrust=False)
             if res.outcome == "cannot_stand":
                 self.stands = False
                 self.A = {1: math.nan, -1: math.nan}

@@ -83,7 +83,7 @@ def discrete_series(curve: MidCurve, voussoirs, exhaustive_max: int = 31) -> lis
     counts = _check(voussoirs, exhaustive_max)
     rows = []
     for n in counts:
-        res = analyze(curve, voussoirs=n)
+        res = analyze(curve, voussoirs=n, thrust=False)
         r4, why = None, ""
         if not _four_hinge(res):
             why = _why_not(res)
@@ -92,7 +92,7 @@ def discrete_series(curve: MidCurve, voussoirs, exhaustive_max: int = 31) -> lis
         else:
             r4 = best_four_hinge_discrete(res.impact.disc.joint_s, _pre(curve, res)).r
         rows.append(_row(n, res, r4, why))
-    res = analyze(curve)
+    res = analyze(curve, thrust=False)
     r4 = best_four_hinge_continuous(_pre(curve, res)).r if _four_hinge(res) else None
     rows.append(_row("continuous", res, r4, _why_not(res)))
     return rows

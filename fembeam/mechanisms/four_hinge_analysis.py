@@ -239,7 +239,7 @@ def four_hinge_impact(curve: MidCurve, *, voussoirs: int | None = None, elements
     if after is not None:
         after = _hinges(curve, after, joints, "hinges after the impact")
 
-    res = analyze(curve, elements=elements, voussoirs=voussoirs, direction=direction)
+    res = analyze(curve, elements=elements, voussoirs=voussoirs, direction=direction, thrust=False)
     out = FourHingeImpact(curve, res, picture_n=voussoirs or elements or 200)
     out.time_s = time.perf_counter() - clock
     if res.outcome not in ("rocking", "arrested"):

@@ -29,7 +29,7 @@ def plot_hinge_zone(out: str, embrace: float = 157.5, t_over_r: float = 0.15, me
     import matplotlib.pyplot as plt
 
     c = CircularArch.from_ratio(embrace, t_over_r)
-    res = {n: analyze(c, elements=n) for n in meshes}
+    res = {n: analyze(c, elements=n, thrust=False) for n in meshes}
     fine = res[meshes[-1]]
     pre = Mechanism.from_hinges(c, fine.hinges_before).closing()
     best = best_four_hinge_continuous(pre)

@@ -263,7 +263,7 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
     if mode == "voussoirs":
         t0 = time.perf_counter()
         ref = analyze(curve, elements=reference_elements, direction=direction, backend=backend,
-                      refine_hinges=refine_hinges)
+                      refine_hinges=refine_hinges, thrust=False)
         reference = {"elements": reference_elements, "outcome": ref.outcome, "A_L": _num(ref.A_L),
                      "A_L_mesh": _num(ref.A_L_mesh), "r": _num(ref.r),
                      "hinges_before": [h.to_dict() for h in ref.hinges_before],
@@ -278,7 +278,7 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
     for n in levels:
         t0 = time.perf_counter()
         kw = {"elements": n} if mode == "continuous" else {"voussoirs": n}
-        res = analyze(curve, direction=direction, backend=backend, refine_hinges=refine_hinges, **kw)
+        res = analyze(curve, direction=direction, backend=backend, refine_hinges=refine_hinges, **kw, thrust=False)
         rows.append(_row(res, n, mesh_size(curve, n), time.perf_counter() - t0))
         if tmin:
             rows[-1]["t_min_factor"] = _num(minimum_thickness(curve, tol=TMIN_TOL, **kw).scale)

@@ -150,7 +150,7 @@ def sweep_case(embrace_deg: float, t_over_r: float, elements: int = DEFAULT_ELEM
                             "time_s": time.perf_counter() - t0, "time_lp_s": time.perf_counter() - t0,
                             "error": None})
                 return row
-        res = analyze(arch, elements=elements, backend=backend, direction=direction)
+        res = analyze(arch, elements=elements, backend=backend, direction=direction, thrust=False)
     except FembeamError as e:
         row.update(outcome="solver_error", error=f"{type(e).__name__}: {e}", time_s=time.perf_counter() - t0)
         return row

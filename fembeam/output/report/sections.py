@@ -63,7 +63,7 @@ def section_exact(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
     say("exact: Housner's block")
     rows = []
     for tan_a in cfg.housner_tan_a + cfg.stocky_tan_a:
-        res = analyze(StraightMember(height=2.0, width=2.0 * tan_a), voussoirs=1)
+        res = analyze(StraightMember(height=2.0, width=2.0 * tan_a), voussoirs=1, thrust=False)
         s2 = math.sin(math.atan(tan_a)) ** 2
         rows.append({"tan_a": tan_a, "r": res.r, "A_L": res.A_L, "outcome": res.outcome,
                      "r_exact": (1 - 1.5 * s2) ** 2 if tan_a < math.sqrt(2) else 0.0,
@@ -103,7 +103,7 @@ def _oppenheim(beta: float) -> dict:
     from ...mechanisms.restricted import best_four_hinge_discrete
 
     c = CircularArch.from_ratio(beta, 0.15, radius=10.0)
-    res = analyze(c, voussoirs=7)
+    res = analyze(c, voussoirs=7, thrust=False)
     fb = Mechanism.from_hinges(c, res.hinges_before)
     pre = fb.closing()
     joints = res.impact.disc.joint_s
@@ -173,7 +173,7 @@ def section_paper(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
 
     say("paper: continuous arch, 157.5 deg")
     c = CircularArch.from_ratio(157.5, 0.15)
-    res = analyze(c)
+    res = analyze(c, thrust=False)
     pre = Mechanism.from_hinges(c, res.hinges_before).closing()
     qh = res.hinges_after
     starts = [Mechanism.from_hinges(c, qh)] if len(qh) == 4 else []
@@ -215,11 +215,12 @@ def _kkt_case(kind: str, a: float, b, n: int):
     from ...geometry import CircularArch, StraightMember
 
     if kind == "block":
-        return f"Housner block tan a = {a:g}", analyze(StraightMember(height=2.0, width=2.0 * a), voussoirs=1, verify=False)
+        return f"Housner block tan a = {a:g}", analyze(StraightMember(height=2.0, width=2.0 * a), voussoirs=1,
+                                                        verify=False, thrust=False)
     c = CircularArch.from_ratio(a, b)
     if kind == "voussoirs":
-        return f"{a:g} deg, t/R {b:g}, {n} voussoirs", analyze(c, voussoirs=n, verify=False)
-    return f"{a:g} deg, t/R {b:g}, {n} el.", analyze(c, elements=n, verify=False)
+        return f"{a:g} deg, t/R {b:g}, {n} voussoirs", analyze(c, voussoirs=n, verify=False, thrust=False)
+    return f"{a:g} deg, t/R {b:g}, {n} el.", analyze(c, elements=n, verify=False, thrust=False)
 
 
 def section_kkt(cfg: ReportSettings, say) -> tuple[list[Check], dict]:
