@@ -37,6 +37,7 @@ from ..errors import InputError, SolverError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms.hinge import merge_adjacent
+from ..units import kN
 from .continuum import ContinuumLimit, continuum_limit
 from .friction import bound_of, bounds, continuum_support, lower_bound, required_friction
 from .impact import ImpactResult, impact
@@ -45,6 +46,11 @@ from .rows import check_direction, check_friction
 from .sizes import DEFAULT_ELEMENTS, MAX_ELEMENTS, MIN_ELEMENTS, MIN_VOUSSOIRS, check_count
 from .thickness import MinimumThickness, thickness_on
 from .verification import THRESHOLDS, check
+
+# units of the impulse line (impulses and their moment per metre of width) for the normalised
+# mechanism: a mean horizontal speed of 1 m/s before the impact (docs/visualisation.md)
+IMPULSE_UNIT = "N s/m (for a mean horizontal speed of 1 m/s before the impact)"
+IMPULSE_MOMENT_UNIT = "N m s/m (for a mean horizontal speed of 1 m/s before the impact)"
 
 # DEFAULT_ELEMENTS and MAX_ELEMENTS live in fembeam.analysis.sizes; kept here for compatibility
 __all__ = ["AnalysisResult", "analyze", "DEFAULT_ELEMENTS", "MAX_ELEMENTS"]
@@ -175,6 +181,10 @@ class AnalysisResult:
             "verification": {**self.verification.get("impact", {}), **self.verification},
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
+        out["units"] = {"A_L": "g", "density": "kg/m^3", "radius": "m", "thickness": "m",
+                        "impulse_line.I_t": IMPULSE_UNIT, "impulse_line.I_n": IMPULSE_UNIT,
+                        "impulse_line.moment": IMPULSE_MOMENT_UNIT, "impulse_line.eccentricity": "m",
+                        "thrust_line.N": "kN/m", "thrust_line.eccentricity": "m", "angle_deg": "deg"}
         if fields and self.impact is not None:
             imp = self.impact
             out["impulse_line"] = {
@@ -186,7 +196,7 @@ class AnalysisResult:
         if fields and self.limit is not None and self.limit.N is not None:
             lim = self.limit
             out["thrust_line"] = {"angle_deg": lim.disc.joint_angle_deg.tolist(),
-                                  "N": (lim.N[0] + lim.N[1]).tolist(),
+                                  "N": kN(lim.N[0] + lim.N[1]).tolist(),
                                   "eccentricity": [None if not np.isfinite(e) else float(e) for e in lim.eccentricity]}
         return out
 
