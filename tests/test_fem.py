@@ -97,8 +97,9 @@ def test_fine_meshes_use_fewer_gauss_points_at_round_off(n):
     disc = discretize(c, nodes)
     a, b, B = R - t / 2, R + t / 2, math.radians(beta)
     tx, rot = disc.rigid((1, 0)), disc.rigid(omega=1.0)
-    assert tx @ disc.M @ tx == pytest.approx(0.5 * (b**2 - a**2) * B, rel=1e-13)
-    assert rot @ disc.M @ rot == pytest.approx((b**4 - a**4) / 4 * B, rel=1e-13)
+    rho = c.density                                               # the default, 2000 kg/m^3
+    assert tx @ disc.M @ tx == pytest.approx(rho * 0.5 * (b**2 - a**2) * B, rel=1e-13)
+    assert rot @ disc.M @ rot == pytest.approx(rho * (b**4 - a**4) / 4 * B, rel=1e-13)
     flat = EllipticalArch(span=1.0, rise=0.08, thickness=0.005)   # curvature varying fast at the springings
     for curve in (c, flat):
         nodes = uniform_nodes(curve, n)

@@ -197,7 +197,7 @@ def test_mass_on_midcurve_moves_only_the_first_moment():
     h = mass_on_midcurve(arch)
     s = np.linspace(0, arch.length, 7)
     (m0, m1, m2), (h0, h1, h2) = arch.inertia_densities(s), h.inertia_densities(s)
-    assert np.allclose(m0, h0) and np.allclose(m2, h2) and np.allclose(h1, arch.thickness * arch.position(s))
+    assert np.allclose(m0, h0) and np.allclose(m2, h2) and np.allclose(h1, arch.density * arch.thickness * arch.position(s))
     assert type(h.with_thickness_scaled(0.5)) is type(h) and h.with_thickness_scaled(0.5).t_over_r == 0.15
 
 

@@ -165,8 +165,8 @@ def test_voussoirs_and_joints_are_the_independent_ones(case):
         pieces, joints = voussoirs(SPAN, RISES[name], T, n // 2)
         assert nodes.size == len(pieces) + 1 == len(joints)
         m, S, _ = arch.segment_inertia(nodes[:-1], nodes[1:])
-        A_ref = np.array([p[0] for p in pieces])
-        S_ref = np.array([p[1] for p in pieces]).T
+        A_ref = arch.density * np.array([p[0] for p in pieces])      # masses: density times the areas
+        S_ref = arch.density * np.array([p[1] for p in pieces]).T
         assert np.allclose(m, A_ref, rtol=1e-12, atol=0)
         assert np.allclose(S, S_ref, rtol=0, atol=1e-13 * SPAN * A_ref.sum())
         h = 0.5 * arch.thickness_at(nodes)
@@ -265,7 +265,8 @@ def test_impact_and_dynamics_use_the_same_pieces(case):
     res = analyze(arch, elements=60)
     # the impact's mesh (through the hinges): mass and first moment
     disc = res.impact.disc
-    W, S = material(SPAN, rise, T, 0.0, arch.length)
+    rho = arch.density                          # the independent model's areas times the density
+    W, S = (rho * x for x in material(SPAN, rise, T, 0.0, arch.length))
     ex, ey, rot = disc.rigid(V=(1.0, 0.0)), disc.rigid(V=(0.0, 1.0)), disc.rigid(omega=1.0)
     assert ex @ disc.M @ ex == pytest.approx(W, rel=1e-12)
     assert ex @ disc.M @ rot == pytest.approx(-S[1], rel=1e-12)
@@ -275,12 +276,12 @@ def test_impact_and_dynamics_use_the_same_pieces(case):
     eq = EquationOfMotion(mech)
     br = np.r_[0.0, mech.s, arch.length]
     for p, k in zip(eq.pieces, np.flatnonzero(mech.moving)):
-        A, Sk = material(SPAN, rise, T, br[k], br[k + 1])
+        A, Sk = (rho * x for x in material(SPAN, rise, T, br[k], br[k + 1]))
         assert p.m == pytest.approx(A, rel=1e-12) and np.allclose(p.G0, Sk / A, rtol=0, atol=1e-13 * SPAN)
     # simulate's bodies on 16 voussoirs
     pieces, _ = voussoirs(SPAN, rise, T, 8)
     bodies = Bodies.from_curve(arch, 16)
-    assert np.allclose(bodies.m, [p[0] for p in pieces], rtol=1e-12)
+    assert np.allclose(bodies.m, [rho * p[0] for p in pieces], rtol=1e-12)
     assert np.allclose(bodies.G0, np.array([p[1] / p[0] for p in pieces]).T, rtol=0, atol=1e-13 * SPAN)
 
 

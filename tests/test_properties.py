@@ -131,8 +131,8 @@ def pairs(draw, kind):
     ends, crown = draw(st.floats(0.04, 0.2)), draw(st.sampled_from([None, 0.6, 1.0]))
     law = {"thickness": ends} if crown is None else {"thickness_springing": ends, "thickness_crown": crown * ends}
     try:
-        base = SHAPES[kind](span=1.0, rise=rise, **law)
-        other = SHAPES[kind](span=k, rise=rise * k, density=c, **{key: v * k for key, v in law.items()})
+        base = SHAPES[kind](span=1.0, rise=rise, **law)              # the default density, 2000 kg/m^3
+        other = SHAPES[kind](span=k, rise=rise * k, density=c * base.density, **{key: v * k for key, v in law.items()})
     except InputError:           # thicker than the shape admits (the intrados would fold)
         assume(False)
     return base, other, k, c

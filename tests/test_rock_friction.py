@@ -40,7 +40,7 @@ def test_impact_percussion_of_a_block():
     k2 = rk.index(tr.after)
     omega = -eq.sign * 1.7                         # closing at 1.7 rad/s
     f = impact_impulses(eq, rk.equations[k2], omega, 1.7 * tr.alpha_ratio, [0.0])
-    a, w, h, m = math.atan(0.25), BLOCK.width, BLOCK.height, BLOCK.width * BLOCK.height
+    a, w, h, m = math.atan(0.25), BLOCK.width, BLOCK.height, BLOCK.density * BLOCK.width * BLOCK.height
     rv = 1 - 1.5 * math.sin(a) ** 2
     assert f.residual < 1e-14
     assert f.N[0] == pytest.approx(m * w / 2 * 1.7 * (1 + rv), rel=1e-12)

@@ -240,7 +240,7 @@ def test_block_unstable_equilibrium_and_impact():
     eq = EquationOfMotion(Mechanism.from_hinges(b, analyze(b, voussoirs=1).hinges_before))
     assert eq.theta_unstable == pytest.approx(alpha, rel=1e-12)
     R = 0.5 * math.hypot(0.5, 2.0)
-    assert eq.coefficients(0.0)[0] == pytest.approx(4 / 3 * 0.5 * 2.0 * R**2, rel=1e-12)   # J about a corner
+    assert eq.coefficients(0.0)[0] == pytest.approx(4 / 3 * b.density * 0.5 * 2.0 * R**2, rel=1e-12)   # J, corner
     res = rock(b, GroundMotion.sine(0.5, 0.5), voussoirs=1, t_end=3.0, thrust_check=False)
     assert res.impacts
     for e in res.impacts:
@@ -422,7 +422,7 @@ def test_energy_block(case):
     assert e["ground_work"] == pytest.approx(W, rel=1e-3, abs=1e-6 * scale)
     assert e["V_min"] <= h["V"].min() + 1e-12 * scale and e["V_min"] >= h["V"].min() - 1e-6 * scale
     if case == "overturned":
-        assert e["V_min"] == pytest.approx(-0.1 * 1.0 * 0.5 * 2.0 * GRAVITY * 0.5, rel=1e-9)
+        assert e["V_min"] == pytest.approx(-0.1 * b.density * 0.5 * 2.0 * GRAVITY * 0.5, rel=1e-9)
         assert e["V_end"] == e["V_min"] and e["K_end"] > 0
     if case == "pushed_back":         # past the unstable equilibrium of the first mechanism, and back
         assert res.peak_theta > rk.equations[0].theta_unstable and e["V_min"] >= -1e-12 * scale
@@ -522,7 +522,8 @@ def test_overturning_reported_with_its_time():
     alpha, R = math.atan(w / h), 0.5 * math.hypot(w, h)
     assert res.peak_rotation == pytest.approx(alpha + math.acos((h / 2 - 0.1 * w) / R), rel=1e-9)
     assert res.t_peak == res.t_overturn and res.history["t"][-1] == res.t_overturn
-    assert res.history["V"][-1] == pytest.approx(-0.1 * (1.0 * w * h) * GRAVITY * w, rel=1e-9)   # density 1
+    rho = block(w, h).density                                     # the default, 2000 kg/m^3
+    assert res.history["V"][-1] == pytest.approx(-0.1 * (rho * w * h) * GRAVITY * w, rel=1e-9)
 
 
 def test_barrier_and_settles_agree_with_the_overturning_event():

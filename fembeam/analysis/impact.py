@@ -14,7 +14,7 @@ Impulses follow the paper's convention: ``I(s)`` is the impulse exerted on the p
 left of ``s`` by the part on its right, so compression is ``I_t < 0``:
 ``I_t = -(mu_+ + mu_-)``, ``I_n = -lam``, moment about the mid-curve point
 ``M = I_t+ y_+ + I_t- y_-`` and impulse-line eccentricity ``e = M / I_t`` (m, along
-``n``, + towards the intrados).  Units: N s per unit depth for unit ``d0`` velocities.
+``n``, + towards the intrados).  Units: N s/m for unit ``d0`` velocities.
 """
 from __future__ import annotations
 
@@ -68,7 +68,7 @@ class ImpactResult:
 
     @property
     def moment(self) -> np.ndarray:
-        """Moment of the fibre impulses about the mid-curve point (N m s)."""
+        """Moment of the fibre impulses about the mid-curve point (N m s/m)."""
         return -0.5 * self.disc.joint_thickness * (self.mu[0] - self.mu[1])
 
     @property

@@ -33,7 +33,7 @@ the associative dilatancy ``mu |gamma|`` at both fibres, and the same certificat
 Joints that slide without dilatancy may collapse below that ``A_L``: it is an upper bound
 for them, and ``friction=0`` gives the lower one (docs/friction.md, section 3).
 
-Forces are reported per unit g (multiply by g for newtons per unit depth).
+Forces are per unit g, in kg per metre of width (:func:`fembeam.units.kN` gives kN/m).
 """
 from __future__ import annotations
 

@@ -37,8 +37,8 @@ from ..errors import InputError, SolverError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..geometry.asbuilt import build
-from ..units import kN
 from ..mechanisms.hinge import merge_adjacent
+from ..units import kN
 from .continuum import ContinuumLimit, continuum_limit
 from .friction import bound_of, bounds, continuum_support, lower_bound, required_friction
 from .impact import ImpactResult, impact
@@ -50,6 +50,11 @@ from .sizes import DEFAULT_ELEMENTS, MAX_ELEMENTS, MIN_ELEMENTS, MIN_VOUSSOIRS, 
 from .thickness import MinimumThickness, thickness_on
 from .thrust_range import ThrustRange, thrust_range
 from .verification import THRESHOLDS, check
+
+# units of the impulse line (impulses and their moment per metre of width) for the normalised
+# mechanism: a mean horizontal speed of 1 m/s before the impact (docs/visualisation.md)
+IMPULSE_UNIT = "N s/m (for a mean horizontal speed of 1 m/s before the impact)"
+IMPULSE_MOMENT_UNIT = "N m s/m (for a mean horizontal speed of 1 m/s before the impact)"
 
 # DEFAULT_ELEMENTS and MAX_ELEMENTS live in fembeam.analysis.sizes; kept here for compatibility
 __all__ = ["AnalysisResult", "analyze", "DEFAULT_ELEMENTS", "MAX_ELEMENTS"]
@@ -205,9 +210,13 @@ class AnalysisResult:
             out["verification"]["load_factor"] = self.load.verification
             if fields:
                 out["load_thrust_line"] = self.load.thrust_line()
-        out["units"] = {"A_L": "g", "load_factor": "multiple of the live loads", "loads.P": "kN/m",
-                        "masses.M": "kg/m", "thrust_range": "kN/m", "x": "m from the left springing",
-                        "density": "kg/m^3", "fill.depth": "m"}
+        out["units"] = {"A_L": "g", "density": "kg/m^3", "radius": "m", "thickness": "m",
+                        "impulse_line.I_t": IMPULSE_UNIT, "impulse_line.I_n": IMPULSE_UNIT,
+                        "impulse_line.moment": IMPULSE_MOMENT_UNIT, "impulse_line.eccentricity": "m",
+                        "thrust_line.N": "kN/m", "thrust_line.eccentricity": "m", "angle_deg": "deg",
+                        "load_factor": "multiple of the live loads", "loads.P": "kN/m", "masses.M": "kg/m",
+                        "thrust_range": "kN/m", "x": "m from the left springing", "fill.density": "kg/m^3",
+                        "fill.depth": "m", "mass_kg_per_m": "kg/m", "weight_kN_per_m": "kN/m"}
         if fields and self.impact is not None:
             imp = self.impact
             out["impulse_line"] = {
@@ -219,7 +228,7 @@ class AnalysisResult:
         if fields and self.limit is not None and self.limit.N is not None:
             lim = self.limit
             out["thrust_line"] = {"angle_deg": lim.disc.joint_angle_deg.tolist(),
-                                  "N": (lim.N[0] + lim.N[1]).tolist(),
+                                  "N": kN(lim.N[0] + lim.N[1]).tolist(),
                                   "eccentricity": [None if not np.isfinite(e) else float(e) for e in lim.eccentricity]}
         return out
 

@@ -111,7 +111,7 @@ def bodies_state(eq: EquationOfMotion, theta: float, rate: float, bodies: Bodies
 def mechanism_of(bodies: Bodies, contacts: Contacts, q: np.ndarray, v: np.ndarray, *, g: float,
                  position_tol: float = 1e-5, velocity_tol: float = 1e-2):
     """The mechanism the multi-block state ``q``, ``v`` ``(n + 1, 3)`` moves on:
-    ``(mechanism, theta, rate, dropped)`` with ``dropped`` the kinetic energy (J per unit depth)
+    ``(mechanism, theta, rate, dropped)`` with ``dropped`` the kinetic energy (J/m)
     the projection on the mechanism's field leaves out; None when the state is not on a
     mechanism of the member: hinges not as many as the member's mechanisms have, a joint separated
     or slid (by ``position_tol`` of its thickness), the positions rebuilt from ``theta`` off by more

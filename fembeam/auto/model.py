@@ -70,7 +70,7 @@ REASONS = {
 class Segment:
     """One model over ``[t_start, t_end]`` (s): ``model`` ``"rock"`` or ``"simulate"``; ``end``:
     why it ended (a key of :data:`REASONS`); ``peak_rotation`` (rad) over it; ``impacts``;
-    ``dropped``: kinetic energy (J per unit depth) dropped by the hand-back that started it."""
+    ``dropped``: kinetic energy (J/m) dropped by the hand-back that started it."""
 
     model: str
     t_start: float
@@ -92,8 +92,8 @@ class AutoResult:
     """The verdict of :meth:`AutoModel.run`: ``outcome`` (:data:`fembeam.dynamics.OUTCOMES`),
     ``t_overturn``, the largest rotation of any piece or body ``peak_rotation`` (rad) and its time,
     the ``segments``, the first time the one-mechanism model failed (``first_failure``: ``(t,
-    reason)`` or None) and the ``history`` (``t``, ``model`` (0 rock, 1 simulate), ``K``, ``V`` (J per
-    unit depth), ``a_g`` (g), ``max_rotation`` (rad))."""
+    reason)`` or None) and the ``history`` (``t``, ``model`` (0 rock, 1 simulate), ``K``, ``V``
+    (J/m), ``a_g`` (g), ``max_rotation`` (rad))."""
 
     curve: MidCurve
     ground: GroundMotion
@@ -152,6 +152,9 @@ class AutoResult:
             "impacts_by_model": {m: sum(1 for _, k in self.impacts if k == m) for m in ("rock", "simulate")},
             "friction_demand": friction_demand(ratio, t, s, at, self.friction),
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
+            "units": {"A_L": "g", "density": "kg/m^3", "t": "s", "dt": "s", "peak_rotation": "rad",
+                      "segments.handback_energy_dropped": "J/m", "history.K": "J/m", "history.V": "J/m",
+                      "history.a_g": "g", "history.max_rotation": "rad", "friction_demand.s": "m"},
         }
         if history:
             out["history"] = {k: [float(x) for x in v] for k, v in self.history.items()}

@@ -12,6 +12,7 @@ from ..analysis import DEFAULT_ELEMENTS
 from ..errors import InputError
 from ..geometry import (CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch,
                         SurveyedArch)
+from ..geometry.base import DEFAULT_DENSITY
 from ..analysis.impact import IMPACT_BACKENDS
 
 
@@ -133,8 +134,10 @@ def add_arch(p: argparse.ArgumentParser, many: bool = False) -> None:
                         "(thickness, m; else give --thickness or --thickness-springing/--thickness-crown); "
                         "interpolated by a spline (docs: fembeam.geometry.surveyed); a regular file of at most "
                         "16 MB and 5000 points")
-    g.add_argument("--density", type=finite_float, default=1.0, metavar="RHO",
-                   help="density (default 1; only scales the impulses)")
+    g.add_argument("--density", type=finite_float, default=DEFAULT_DENSITY, metavar="RHO",
+                   help=f"masonry density in kg/m^3 per metre of barrel width (default {DEFAULT_DENSITY:g}; typical "
+                        "1800-2400); A_L, r and the thresholds in g of a bare arch do not depend on it (with fill "
+                        "or masses they depend on the ratio of the densities)")
     add_as_built(g)
 
 
@@ -217,7 +220,7 @@ def _bare_arch(args) -> MidCurve:
     given = sorted(set(getattr(args, "_arch_given", ())) & set(_CIRCULAR_OPTIONS), key=_CIRCULAR_OPTIONS.index)
     new = {opt: getattr(args, dest, None) for opt, dest in _SHAPE_OPTIONS}
     new_given = [opt for opt, v in new.items() if v is not None]
-    density = getattr(args, "density", 1.0)
+    density = getattr(args, "density", DEFAULT_DENSITY)
     if midcurve is not None:
         if shape is not None:
             raise InputError("--midcurve gives the shape of the arch: drop --shape")

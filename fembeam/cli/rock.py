@@ -142,7 +142,7 @@ def register(sub) -> None:
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
-    o.add_argument("--csv", metavar="PATH.csv", help="history: t, mechanism, theta, rate, K, V, a_g")
+    o.add_argument("--csv", metavar="PATH.csv", help="history: t (s), mechanism, theta (rad), rate (rad/s), K, V (J/m), a_g (g)")
     o.add_argument("--plot", metavar="PATH.png", help="figure of a_g, rotation and energy with the impacts")
     o.add_argument("--vtk", metavar="PATH.pvd", help="ParaView time series of the moving member")
     o.add_argument("--gif", metavar="PATH.gif", help="animation of the moving member")

@@ -46,7 +46,7 @@ def register(sub) -> None:
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
-    o.add_argument("--csv", metavar="PATH.csv", help="history: t, K, V, W_ground, dissipated, a_g, hinges, ...")
+    o.add_argument("--csv", metavar="PATH.csv", help="history: t (s), K, V, W_ground, dissipated (J/m), a_g (g), hinges, ...")
     o.add_argument("--plot", metavar="PATH.png", help="figure of a_g, rotations, open hinges and energies")
     o.add_argument("--vtk", metavar="PATH.pvd", help="ParaView time series of the bodies' polygons")
     o.add_argument("--gif", metavar="PATH.gif", help="animation of the moving bodies")
@@ -154,7 +154,7 @@ def history_figure(res):
     ax[3].plot(h["t"], h["K"], lw=0.8, label="K")
     ax[3].plot(h["t"], h["V"], lw=0.8, label="V")
     ax[3].plot(h["t"], h["dissipated"], lw=0.8, label="dissipated")
-    ax[3].set_ylabel("J per m")
+    ax[3].set_ylabel("energy [J/m]")
     ax[3].set_xlabel("t [s]")
     ax[3].legend(loc="upper right", fontsize=8)
     if res.t_overturn is not None:

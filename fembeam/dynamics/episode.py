@@ -78,7 +78,7 @@ def episode(eq: EquationOfMotion, k: int, sig: Signal, t: float, t_end: float, t
     """Integrate along ``eq`` from ``(t, theta, rate)`` to the first event.  Returns
     ``(event, t, theta, rate, energy_balance_error, ground_work)`` with event ``"impact"``,
     ``reason`` (the rotation ``sign * theta`` reaches ``top``: ``"overturn"`` or ``"locked"``,
-    :func:`overturning`) or ``"end"``; ``ground_work`` (J per unit depth): the ground's work over
+    :func:`overturning`) or ``"end"``; ``ground_work`` (J/m): the ground's work over
     the episode.
 
     :class:`~.dop853.Dop853` steps never cross a break of the signal (a kink): a step that would is

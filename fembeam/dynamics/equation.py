@@ -7,9 +7,9 @@ first hinge.  Lagrange's equation with a horizontal ground acceleration ``a_g(t)
 
     Lambda(theta) theta'' + 0.5 Lambda'(theta) theta'^2 + V'(theta) + a_g(t) Q(theta) = 0
 
-* ``Lambda = 2K / theta'^2`` (kg m^2 per unit depth): ``sum_k int |v|^2 dm`` over the
+* ``Lambda = 2K / theta'^2`` (kg m^2/m): ``sum_k int |v|^2 dm`` over the
   pieces for ``theta' = 1``;
-* ``V = g sum_k m_k y_Gk`` (J per unit depth, relative to ``theta = 0``);
+* ``V = g sum_k m_k y_Gk`` (J/m, relative to ``theta = 0``);
 * ``Q = g d/dtheta sum_k m_k x_Gk`` (the work of a unit horizontal acceleration).
 
 Four hinges C1, C13, C23, C2 make a four-bar linkage: crank I (C1-C13) turns by ``theta``
@@ -45,7 +45,7 @@ def _about(m: float, S: np.ndarray, J: float, C: np.ndarray) -> float:
 
 @dataclass(frozen=True)
 class _Piece:
-    m: float             # mass per unit depth (kg/m)
+    m: float             # mass per metre of width (kg/m)
     G0: np.ndarray       # centroid at theta = 0 (m)
     J: float             # polar moment about the piece's reference point (see EquationOfMotion)
 
@@ -151,7 +151,7 @@ class EquationOfMotion:
         return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
     def coefficients(self, theta: float) -> tuple[float, float, float, float]:
-        """``(Lambda, Lambda', V', Q)`` at ``theta`` (SI units per unit depth);
+        """``(Lambda, Lambda', V', Q)`` at ``theta`` (SI units per metre of width);
         SolverError when the linkage cannot reach ``theta``.  The integrator's right-hand
         side: the loop closure of :meth:`_closure`, the rotations of coupler and rocker as
         cosines and sines (their sides keep their lengths ``l3``, ``l2``)."""
@@ -193,7 +193,7 @@ class EquationOfMotion:
         return float(theta), k[2], k[3]
 
     def _moments(self, theta: float) -> np.ndarray:
-        """``sum_k m_k G_k`` (kg m per unit depth) at ``theta``."""
+        """``sum_k m_k G_k`` (kg m/m) at ``theta``."""
         if self.mechanism.n_hinges == 1:
             p = self.pieces[0]
             return p.m * (self.C + self._rot(theta, p.G0 - self.C))
@@ -206,7 +206,7 @@ class EquationOfMotion:
                 + p3.m * (B + self._rot(psi3, p3.G0 - self.C13)))
 
     def _height(self, theta: float) -> float:
-        """``sum_k m_k y_Gk`` (kg m per unit depth) at ``theta``, in plain floats."""
+        """``sum_k m_k y_Gk`` (kg m/m) at ``theta``, in plain floats."""
         c, s = math.cos(theta), math.sin(theta)
         if self._one:
             m, y = self.pieces[0].m, float(self.C[1])
@@ -221,7 +221,7 @@ class EquationOfMotion:
                 + m3 * (k[0][1] + math.sin(psi3) * x3 + math.cos(psi3) * y3))
 
     def potential(self, theta: float) -> float:
-        """``V(theta) - V(0)`` (J per unit depth)."""
+        """``V(theta) - V(0)`` (J/m)."""
         return self.g * (self._height(theta) - self._Y0)
 
     def horizontal_moment(self, theta: float) -> float:
@@ -229,7 +229,7 @@ class EquationOfMotion:
         return float(self._moments(theta)[0])
 
     def energy(self, theta: float, rate: float) -> float:
-        """``0.5 Lambda theta'^2 + V`` (J per unit depth), gravity only."""
+        """``0.5 Lambda theta'^2 + V`` (J/m), gravity only."""
         return 0.5 * self.coefficients(theta)[0] * rate * rate + self.potential(theta)
 
     def acceleration(self, theta: float, rate: float, a_g: float) -> float:

@@ -6,7 +6,7 @@
   than :data:`SLIDE_OUT` of its depth: the faces no longer hold the piece; only with Coulomb
   friction), ``cannot_stand`` (the member cannot carry its own weight).
 * **Overturning rule** (:func:`overturn_level`): the member has overturned at the first time its
-  potential energy ``V`` (J per unit depth, 0 at rest) falls below ``-OVERTURN_DROP m g t``, i.e.
+  potential energy ``V`` (J/m, 0 at rest) falls below ``-OVERTURN_DROP m g t``, i.e.
   its centroid is :data:`OVERTURN_DROP` of the mean thickness ``t`` below its height at rest.  Along
   any rocking mechanism ``V`` rises from rest to the unstable equilibrium and falls below rest
   only beyond it, so a member past that level is falling.  The level is far above the errors of a
@@ -41,7 +41,7 @@ def mean_thickness(curve) -> float:
 
 
 def overturn_level(curve, mass: float, g: float) -> float:
-    """``V`` (J per unit depth) below which the member of ``mass`` (kg per unit depth) has
+    """``V`` (J/m) below which the member of ``mass`` (kg/m) has
     overturned: ``-OVERTURN_DROP m g t`` with ``t`` the mean thickness."""
     return -OVERTURN_DROP * mass * g * mean_thickness(curve)
 

@@ -35,7 +35,7 @@ class ImpactEvent:
 @dataclass
 class RockingResult:
     """Outcome and history of :func:`rock`.  ``history`` columns: ``t`` (s), ``mechanism``
-    (index, -1 at rest), ``theta`` (rad), ``rate`` (rad/s), ``K``, ``V`` (J per unit depth),
+    (index, -1 at rest), ``theta`` (rad), ``rate`` (rad/s), ``K``, ``V`` (J/m),
     ``a_g`` (g)."""
 
     curve: MidCurve
@@ -56,7 +56,7 @@ class RockingResult:
     overturn_reason: str | None = None      # "below_rest" or "linkage_locked"
     thrust_line_exits_at: float | None = None
     energy_balance_error: float = 0.0
-    K_end: float = 0.0                      # J per unit depth, at the end (t_end or t_overturn)
+    K_end: float = 0.0                      # J/m, at the end (t_end or t_overturn)
     V_end: float = 0.0
     V_min: float = 0.0                      # the smallest V of the motion
     ground_work: float = 0.0                # the ground's work on the member
@@ -122,6 +122,9 @@ class RockingResult:
                        "ground_work": float(self.ground_work), "dissipated": float(self.dissipated)},
             "energy_balance_error": float(self.energy_balance_error),
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
+            "units": {"A_L": "g", "density": "kg/m^3", "t": "s", "theta": "rad", "peak_rotation": "rad",
+                      "rate": "rad/s", "energy": "J/m", "energy_balance_error": "relative", "history.K": "J/m",
+                      "history.V": "J/m", "history.a_g": "g", "friction_demand.s": "m"},
         }
         if history:
             out["history"] = {k: [float(x) for x in v] for k, v in self.history.items()}

@@ -107,7 +107,7 @@ class Rocker:
                 self.start[d] = Mechanism.from_hinges(curve, res.hinges_before)
         self.model = ImpactModel(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=qp)
         self.joints = uniform_nodes(curve, voussoirs) if voussoirs is not None else None
-        self.mass = float(curve.segment_inertia(0.0, curve.length)[0][0])     # kg per unit depth
+        self.mass = float(curve.segment_inertia(0.0, curve.length)[0][0])     # kg/m
         self.level = overturn_level(curve, self.mass, self.g)                 # V below it: overturned
         self.mechanisms: list[Mechanism] = []
         self.equations: list[EquationOfMotion] = []
@@ -175,7 +175,7 @@ class Rocker:
                     rest_limit, stop_at_violation)
 
     def barrier(self, k: int) -> float:
-        """The energy barrier of mechanism ``k`` (J per unit depth): the largest ``V`` from rest
+        """The energy barrier of mechanism ``k`` (J/m): the largest ``V`` from rest
         to its overturning angle (:func:`overturning`; ``V`` at the unstable equilibrium, or
         just before the linkage locks if it locks first).  A free motion whose energy stays
         below it turns back; one above it reaches the overturning angle."""

@@ -49,16 +49,16 @@ __all__ = ["SectionForces", "section_forces", "section_forces_many", "thrust_lin
 
 @dataclass(frozen=True)
 class SectionForces:
-    """Internal forces at the sections ``s`` (m) of a moving mechanism (per unit depth).
+    """Internal forces at the sections ``s`` (m) of a moving mechanism (per metre of width).
 
-    ``N`` (N, compression > 0), ``V`` (N, along the moved normal), ``M`` (N m, about the
+    ``N`` (N/m, compression > 0), ``V`` (N/m, along the moved normal), ``M`` (N m/m, about the
     section's mid point), ``eccentricity = M / N`` (m, + towards the intrados),
     ``thickness`` (m); ``margin = min (t/2 - |e|) / t`` over the sections (< 0: the thrust
     line leaves the section somewhere; a section with ``N <= 0`` counts as ``-inf``);
     ``residual``: relative residual of the equilibrium equations of the pieces (~1e-12
     when ``theta''`` satisfies the equation of motion).  From :func:`section_forces_many`
     the forces are arrays (instants, sections) and ``margin``, ``residual`` one per instant;
-    from :func:`impact_impulses` they are percussions (N s per unit depth)."""
+    from :func:`impact_impulses` they are percussions (N s/m)."""
 
     s: np.ndarray
     N: np.ndarray
@@ -308,8 +308,8 @@ def impact_impulses(before: EquationOfMotion, after: EquationOfMotion, rate_in: 
                     s) -> SectionForces:
     """Percussions at the sections ``s`` (m, inside the moving pieces of ``after``) of an impact
     in the undeformed shape from ``before`` at ``theta' = rate_in`` to ``after`` at
-    ``theta' = rate_out`` (rad/s): ``N`` (normal, compression > 0), ``V`` (tangential), ``M`` (N s
-    per unit depth); ``residual``: that of the balances of the pieces of ``after`` (~1e-12 when
+    ``theta' = rate_out`` (rad/s): ``N`` (normal, compression > 0), ``V`` (tangential), ``M`` (N s/m
+    and N m s/m); ``residual``: that of the balances of the pieces of ``after`` (~1e-12 when
     ``rate_out`` is the impact model's)."""
     curve = after.mechanism.curve
     pre, post = _velocity_fields(before), _velocity_fields(after)

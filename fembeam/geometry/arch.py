@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from .base import THICKNESS_RANGE, MidCurve, density_value, finite_positive, length_value
+from .base import DEFAULT_DENSITY, THICKNESS_RANGE, MidCurve, density_value, finite_positive, length_value
 from .thickness import ThicknessLaw, thickness_law
 
 __all__ = ["ShapedArch", "SymmetricArch", "MIN_T_OVER_SPAN"]
@@ -149,8 +149,8 @@ class ShapedArch(MidCurve):
 @dataclasses.dataclass(frozen=True)
 class SymmetricArch(ShapedArch):
     """An arch symmetric about the vertical axis, springings at ``(-span/2, 0)`` and
-    ``(span/2, 0)``, crown at ``(0, rise)``; lengths in m, ``density`` in kg/m^3 (per unit
-    depth).  Thickness: ``thickness`` (constant) or ``thickness_springing`` and
+    ``(span/2, 0)``, crown at ``(0, rise)``; lengths in m, ``density`` in kg/m^3 per metre of
+    barrel width (default masonry, 2000).  Thickness: ``thickness`` (constant) or ``thickness_springing`` and
     ``thickness_crown`` (linear in the arc length from each springing to the crown)."""
 
     span: float = 1.0
@@ -158,7 +158,7 @@ class SymmetricArch(ShapedArch):
     thickness: float | None = None
     thickness_springing: float | None = None
     thickness_crown: float | None = None
-    density: float = 1.0
+    density: float = DEFAULT_DENSITY
 
     shape = "symmetric"
 

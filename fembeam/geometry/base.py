@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["MidCurve", "finite_positive", "real_number", "length_value", "thickness_value", "density_value",
-           "LENGTH_RANGE", "THICKNESS_RANGE", "DENSITY_RANGE"]
+           "LENGTH_RANGE", "THICKNESS_RANGE", "DENSITY_RANGE", "DEFAULT_DENSITY"]
 
 # Admissible magnitudes (docs/user_guide.md, "Limits"): r and A_L/g do not depend on the
 # size or the density, but the mass matrix holds products like rho R^4 and the solvers'
@@ -34,6 +34,9 @@ __all__ = ["MidCurve", "finite_positive", "real_number", "length_value", "thickn
 LENGTH_RANGE = (1e-6, 1e6)       # m: radius, span, rise, block height, surveyed coordinates
 THICKNESS_RANGE = (1e-9, 1e7)    # m: thicknesses and the block width (the shapes bound them further)
 DENSITY_RANGE = (1e-6, 1e9)      # kg/m^3
+# Default density: masonry, kg/m^3 per metre of barrel width (typical values 1800-2400).  Masses,
+# forces, energies and impulses are proportional to it; A_L, r and the thresholds in g are not.
+DEFAULT_DENSITY = 2000.0
 
 
 class MidCurve:

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .base import THICKNESS_RANGE, MidCurve, density_value, length_value, thickness_value
+from .base import DEFAULT_DENSITY, THICKNESS_RANGE, MidCurve, density_value, length_value, thickness_value
 
 __all__ = ["StraightMember", "MIN_WIDTH_OVER_HEIGHT"]
 
@@ -19,12 +19,13 @@ class StraightMember(MidCurve):
     rigid base (bottom end a joint, top end free): Housner's rocking block.
 
     The mid-curve runs upwards from the base, so ``t = (0, 1)``, ``n = (1, 0)``:
-    the "intrados" fibre is on the right face, the "extrados" on the left face.
+    the "intrados" fibre is on the right face, the "extrados" on the left face.  ``density``
+    in kg/m^3 per metre of width out of the plane (default masonry, 2000).
     """
 
     height: float = 1.0
     width: float = 0.2
-    density: float = 1.0
+    density: float = DEFAULT_DENSITY
     ends: tuple[str, str] = ("joint", "free")
 
     def __post_init__(self):

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .base import MidCurve, density_value, finite_positive as _finite_positive, length_value, thickness_value
+from .base import DEFAULT_DENSITY, MidCurve, density_value, length_value, thickness_value
+from .base import finite_positive as _finite_positive
 
 __all__ = ["CircularArch", "MIN_T_OVER_R"]
 
@@ -24,13 +25,14 @@ class CircularArch(MidCurve):
     radius : mid-curve radius R (m), in :data:`~fembeam.geometry.base.LENGTH_RANGE`.
     thickness : t (m), 1e-3 R <= t < 2R.
     embrace_deg : total embrace angle beta (deg), 0 < beta < 360 (180 = semicircle).
-    density : rho (kg/m^3 per unit depth), in :data:`~fembeam.geometry.base.DENSITY_RANGE`.
+    density : rho (kg/m^3, per metre of barrel width), in :data:`~fembeam.geometry.base.DENSITY_RANGE`;
+        default :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (masonry, 2000; typical 1800-2400).
     """
 
     radius: float = 1.0
     thickness: float = 0.15
     embrace_deg: float = 157.5
-    density: float = 1.0
+    density: float = DEFAULT_DENSITY
 
     def __post_init__(self):
         R = length_value("radius", self.radius)
@@ -46,7 +48,7 @@ class CircularArch(MidCurve):
             object.__setattr__(self, name, value)
 
     @classmethod
-    def from_ratio(cls, embrace_deg: float, t_over_r: float, radius: float = 1.0, density: float = 1.0):
+    def from_ratio(cls, embrace_deg: float, t_over_r: float, radius: float = 1.0, density: float = DEFAULT_DENSITY):
         t_over_r = _finite_positive("t/R", t_over_r, "in (0, 2)")
         radius = length_value("radius", radius)
         return cls(radius=radius, thickness=t_over_r * radius, embrace_deg=embrace_deg, density=density)

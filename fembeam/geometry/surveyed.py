@@ -42,7 +42,7 @@ import numpy as np
 from ..errors import InputError
 from ..readers import read_text
 from .arch import ShapedArch
-from .base import LENGTH_RANGE, THICKNESS_RANGE, density_value, finite_positive
+from .base import DEFAULT_DENSITY, LENGTH_RANGE, THICKNESS_RANGE, density_value, finite_positive
 from .parametric import ParametricCurve
 from .thickness import thickness_law
 
@@ -129,7 +129,7 @@ def _segments_cross(P: np.ndarray) -> bool:
 class SurveyedArch(ParametricCurve, ShapedArch):
     """Arch through the points ``(x, y)`` (m, springing to springing), thickness from
     ``t`` (m, one per point) or from ``thickness`` / ``thickness_springing`` and
-    ``thickness_crown`` (see the module docstring); ``density`` in kg/m^3 per unit depth.
+    ``thickness_crown`` (see the module docstring); ``density`` in kg/m^3 per metre of barrel width (default 2000).
     Arrays are stored as tuples (the member is hashable and comparable)."""
 
     x: tuple = ()
@@ -138,13 +138,13 @@ class SurveyedArch(ParametricCurve, ShapedArch):
     thickness: float | None = None
     thickness_springing: float | None = None
     thickness_crown: float | None = None
-    density: float = 1.0
+    density: float = DEFAULT_DENSITY
 
     shape = "surveyed"
 
     @classmethod
     def from_csv(cls, path, thickness=None, thickness_springing=None, thickness_crown=None,
-                 density: float = 1.0) -> "SurveyedArch":
+                 density: float = DEFAULT_DENSITY) -> "SurveyedArch":
         """From a CSV file with columns ``x,y`` and optionally ``t`` (:func:`read_midcurve_csv`)."""
         d = read_midcurve_csv(path)
         return cls(d["x"], d["y"], d["t"], thickness, thickness_springing, thickness_crown, density)

@@ -44,8 +44,8 @@ def product(a: Mechanism, b: Mechanism) -> float:
 def momenta(field: Mechanism, breaks: np.ndarray) -> np.ndarray:
     """Linear and angular momenta of ``field`` on the intervals of ``breaks`` (m).
 
-    Returns ``(3, len(breaks) - 1)``: ``p_x, p_y`` (N s per unit depth) and the angular
-    momentum ``L_O`` about the origin (N m s), counter-clockwise; for a rigid piece
+    Returns ``(3, len(breaks) - 1)``: ``p_x, p_y`` (N s/m) and the angular
+    momentum ``L_O`` about the origin (N m s/m), counter-clockwise; for a rigid piece
     ``(V, Omega)``: ``p = m V + Omega k x S`` and ``L_O = S x V + Omega J``.
     """
     br = np.asarray(breaks, float)

@@ -33,6 +33,15 @@ __all__ = ["FourHingeImpact", "four_hinge_impact", "hinge_zones", "MODELS", "DEF
 MODELS = ("restricted", "prescribed", "classical")
 DEFAULT_SECTIONS = 720   # continuous arch: impulse line checked at 720 + 1 sections (+ the hinges)
 
+# units of the JSON of ``fembeam impact`` (per metre of width); the impulses and the inertia
+# figures are those of the pre-impact mechanism at a rate alpha = 1 rad/s
+_PER_RATE = " (pre-impact mechanism at alpha = 1 rad/s)"
+UNITS = {"A_L": "g", "density": "kg/m^3", "radius": "m", "thickness": "m", "angle_deg": "deg",
+         "Gamma": "kg m^2/m" + _PER_RATE, "Lambda": "kg m^2/m" + _PER_RATE,
+         "Lambda_after": "kg m^2/m (post-impact mechanism at 1 rad/s)",
+         "impulse_line.I_t": "N s/m" + _PER_RATE, "impulse_line.I_n": "N s/m" + _PER_RATE,
+         "impulse_line.moment": "N m s/m" + _PER_RATE, "impulse_line.eccentricity": "m"}
+
 
 @dataclass(frozen=True)
 class SizeLimit:
@@ -125,6 +134,7 @@ class FourHingeImpact:
             if r_max is None:
                 out["r_max_reason"] = f"no impact: outcome {res.outcome}"
             out["time_s"] = round(self.time_s, 3)
+            out["units"] = dict(UNITS)
             return out
         out.update({
             "model": self.model,
@@ -142,6 +152,7 @@ class FourHingeImpact:
         if fields:
             out["impulse_line"] = self.line.to_dict()
         out["time_s"] = round(self.time_s, 3)
+        out["units"] = dict(UNITS)
         return out
 
     def picture_fields(self) -> tuple:

@@ -53,8 +53,8 @@ def _cross(a, b):
 class ImpulseLine:
     """Internal impulses at the sections ``s`` (m) for post-impact field ``alpha' x after``.
 
-    ``I`` (2, n): impulse on the left part by the right part (N s per unit depth);
-    ``M``: its moment about the mid-curve point (N m s); ``thickness`` (m).
+    ``I`` (2, n): impulse on the left part by the right part (N s/m);
+    ``M``: its moment about the mid-curve point (N m s/m); ``thickness`` (m).
     """
 
     curve: MidCurve

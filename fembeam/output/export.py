@@ -18,9 +18,9 @@ One call writes five unstructured grids and a ParaView multiblock index::
 
 Conventions (docs/theory.md, Sect. 1): ``y`` is the offset along the inward normal ``n``, intrados at
 ``y = +t/2``; eccentricities are ``y`` of the line (m); velocities in m/s for the
-normalised mechanism (unit mean horizontal speed of ``u = -d0``); impulses in N s per
-unit depth for that velocity scale (paper sign: ``I_t < 0`` is compression); thrust
-forces per unit g.  Points are stored as ``(npoints, 3)`` with ``z = 0``.  A field may
+normalised mechanism (unit mean horizontal speed of ``u = -d0``); impulses in N s/m
+(per metre of width) for that velocity scale (paper sign: ``I_t < 0`` is compression); thrust
+forces in kN/m.  Points are stored as ``(npoints, 3)`` with ``z = 0``.  A field may
 be given as element DOFs or as a :class:`~fembeam.mechanisms.mechanism.Mechanism`
 (evaluated on the mesh), hinges as :class:`~fembeam.mechanisms.hinge.Hinge` objects or
 as a Mechanism (its hinges).
@@ -35,6 +35,7 @@ import numpy as np
 from ..fem import Discretization
 from ..mechanisms.hinge import Hinge, pivot_fractions, side_of
 from ..mechanisms.mechanism import Mechanism
+from ..units import kN
 
 __all__ = ["as_dofs", "as_hinges", "rigid_velocity", "body_mesh", "joints_mesh", "line_mesh", "hinges_mesh",
            "impulse_line", "thrust_line", "write_fields", "write_vtk", "meshes_of", "output_paths"]
@@ -188,8 +189,8 @@ def hinges_mesh(disc: Discretization, before: Sequence[Hinge], after: Sequence[H
 
 def impulse_line(imp) -> dict:
     """Impulse-line arrays of an :class:`~fembeam.analysis.impact.ImpactResult` (per joint):
-    ``eccentricity`` (m), ``I_t``, ``I_n`` (N s), ``moment`` (N m s), ``mu_intrados``,
-    ``mu_extrados`` (fibre impulses >= 0, compression)."""
+    ``eccentricity`` (m), ``I_t``, ``I_n`` (N s/m), ``moment`` (N m s/m), ``mu_intrados``,
+    ``mu_extrados`` (fibre impulses >= 0, compression, N s/m)."""
     return {"angle_deg": imp.disc.joint_angle_deg, "eccentricity": imp.eccentricity,
             "I_t": imp.I_t, "I_n": imp.I_n, "moment": imp.moment,
             "mu_intrados": imp.mu[0], "mu_extrados": imp.mu[1]}
@@ -197,9 +198,9 @@ def impulse_line(imp) -> dict:
 
 def thrust_line(lim) -> dict:
     """Thrust-line arrays of a :class:`~fembeam.analysis.limit.LimitResult`: ``eccentricity`` (m),
-    ``N`` (total normal force >= 0 compression, per g), ``S`` (shear, per g)."""
+    ``N`` (total normal force >= 0 compression, kN/m), ``S`` (shear, kN/m)."""
     return {"angle_deg": lim.disc.joint_angle_deg, "eccentricity": lim.eccentricity,
-            "N": lim.N[0] + lim.N[1], "S": lim.S}
+            "N": kN(lim.N[0] + lim.N[1]), "S": kN(lim.S)}
 
 
 def meshes_of(disc: Discretization, d0, d, hinges_before: Sequence[Hinge] | Mechanism = (),

@@ -2,14 +2,14 @@
 
 * :func:`plot_history` / :func:`history_figure`: ground acceleration ``a_g`` (g), rotation
   ``theta`` (rad) with the impacts, the overturning and the exit of the thrust line, and the
-  energies ``K``, ``V``, ``K + V`` (J per unit depth) against time (s);
+  energies ``K``, ``V``, ``K + V`` (J/m) against time (s);
 * :func:`outline`: the moved outline of the member, a closed polygon (extrados from ``s = 0``
   to ``s = L``, then intrados back), rigid pieces sampled separately so that the joints open;
 * :func:`write_pvd`: a ParaView time series (one ``.vtu`` per frame and a ``.pvd`` index);
 * :func:`write_gif`: an animation of the moving outline.
 
 Conventions: positions in m (``y`` along the normal ``n``, intrados at ``y = +t/2``), time
-in s, rotations in rad, energies in J per unit depth, ground acceleration in g.  The pieces
+in s, rotations in rad, energies in J/m, ground acceleration in g.  The pieces
 of a mechanism are numbered as the intervals between its ``breaks`` ``[0, *s, L]``; the
 zero-length pieces of hinges at the ends of the member (the abutment faces) are not drawn.
 Every file is written through :func:`~fembeam.output.files.atomic`.
@@ -173,7 +173,7 @@ def history_figure(result: "RockingResult"):
     """matplotlib Figure of the time history (3 panels sharing ``t``, s): ground acceleration
     ``a_g`` (g); rotation ``theta`` (rad) with the impacts (markers at ``theta = 0``), the
     overturning and the first exit of the thrust line (vertical lines); energies ``K``, ``V``
-    and ``K + V`` (J per unit depth).  The caller closes it (``plt.close(fig)``)."""
+    and ``K + V`` (J/m).  The caller closes it (``plt.close(fig)``)."""
     h = _history(result)
     plt = _pyplot()
     fig, (ax_a, ax_th, ax_e) = plt.subplots(3, 1, sharex=True, figsize=(8.0, 7.5))
@@ -209,7 +209,7 @@ def _energy_panel(fig, axes, t, K, V, title: str, total: bool = False) -> None:
     ax_e.plot(t, V, color="tab:green", lw=1.0, label="V (potential)")
     if total:
         ax_e.plot(t, K + V, color="black", lw=1.2, label="K + V")
-    ax_e.set_ylabel("energy (J per m depth)")
+    ax_e.set_ylabel("energy (J/m)")
     ax_e.set_xlabel("time t (s)")
     ax_e.legend(loc="best", fontsize=8)
     for ax in axes:
@@ -242,7 +242,7 @@ def auto_figure(result):
     """matplotlib Figure of a ``--model auto`` run (:class:`fembeam.auto.AutoResult`), 3 panels
     sharing ``t`` (s): ``a_g`` (g); the largest rotation of any piece or body (rad) with the
     intervals of the multi-block simulation shaded and the first failure of the one-mechanism
-    model marked; ``K``, ``V`` (J per unit depth).  The caller closes it."""
+    model marked; ``K``, ``V`` (J/m).  The caller closes it."""
     h = result.history
     if len(h.get("t", ())) == 0:
         raise InputError("the result has no history to plot")

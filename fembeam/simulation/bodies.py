@@ -3,8 +3,8 @@
 A member (arch or block, :class:`~fembeam.geometry.MidCurve`) is cut by normal sections at the
 nodes ``s_0 = 0 < s_1 < ... < s_n = L`` (m) into ``n`` rigid bodies: the voussoirs of a discrete
 arch, or the rigid elements of a continuous one (the same cuts as ``fembeam rock`` and the impact
-QP).  Each body has its exact mass ``m`` (kg per unit depth), centroid ``G0`` (m) and polar moment
-``I`` about the centroid (kg m^2 per unit depth) from :meth:`MidCurve.segment_inertia` (the
+QP).  Each body has its exact mass ``m`` (kg/m), centroid ``G0`` (m) and polar moment
+``I`` about the centroid (kg m^2/m) from :meth:`MidCurve.segment_inertia` (the
 integrals of :class:`~fembeam.dynamics.equation.EquationOfMotion`).
 
 Joints are the nodes whose section is a contact: the interior nodes (between bodies ``i - 1`` and
@@ -33,7 +33,7 @@ __all__ = ["Bodies"]
 @dataclass(frozen=True)
 class Bodies:
     """Rigid bodies between ``nodes`` of ``curve`` and their joints (rest configuration, SI units
-    per unit depth).  Arrays over bodies have length ``n``; ``G0`` is ``(2, n)``.  Arrays over
+    per metre of width).  Arrays over bodies have length ``n``; ``G0`` is ``(2, n)``.  Arrays over
     joints (length ``J``, ordered by arc length): ``joint_s``, ``ref``/``oth`` (body indices, ``n`` =
     the ground), ``corners`` ``(J, 2, 2)`` (joint, edge in the order of ``EDGES``, xy), ``nu`` and ``tau``
     ``(J, 2)`` (unit normal of the reference face into the other side, and its tangent), ``thickness``."""
@@ -138,6 +138,6 @@ class Bodies:
         return out
 
     def kinetic_energy(self, v: np.ndarray) -> float:
-        """``1/2 v^T M v`` (J per unit depth) of body velocities ``(n + 1, 3)``."""
+        """``1/2 v^T M v`` (J/m) of body velocities ``(n + 1, 3)``."""
         v = v[:-1]
         return 0.5 * float(self.m @ (v[:, 0] ** 2 + v[:, 1] ** 2) + self.I @ (v[:, 2] ** 2))

@@ -6,7 +6,7 @@ In the kinetic metric ``M``, the end-of-step velocity is
                                                           (H v)_i  = 0 (sliding rates, i in T),
 
 the impact QP of ``fembeam impact`` with the operators of the current configuration.  It is solved
-in its dual form, the mixed linear complementarity problem in the impulses ``P`` (N s per unit depth)
+in its dual form, the mixed linear complementarity problem in the impulses ``P`` (N s/m)
 
     w = W P + c,  W = H M^-1 H^T,  c = H v_free;   w_T = 0;   0 <= P_N  _|_  w_N >= 0,
 

@@ -28,8 +28,8 @@ class SimulationResult:
     ``friction_ratio``: the largest ``|P_t| / N`` of a joint over the steps and impacts (at
     ``t_friction``, joint at arc length ``s_friction``); ``max_slip`` (m) the largest slip carried
     by a joint (friction only).  ``history`` columns
-    (:data:`HISTORY_COLUMNS`): ``t`` (s), ``K``, ``V``, ``W_ground``, ``dissipated`` (J per unit
-    depth), ``a_g`` (g), ``hinges`` (joints with exactly one corner open), ``separated`` (joints with
+    (:data:`HISTORY_COLUMNS`): ``t`` (s), ``K``, ``V``, ``W_ground``, ``dissipated``
+    (J/m), ``a_g`` (g), ``hinges`` (joints with exactly one corner open), ``separated`` (joints with
     both corners open), ``max_rotation`` (rad); ``positions`` the ``(n, 3)`` states ``x, y, phi`` at
     the same times."""
 
@@ -144,6 +144,10 @@ class SimulationResult:
             "cut_steps": self.cut_steps,
             "pivots": self.pivots,
             "timings_s": {k: round(v, 4) for k, v in (self.timings or {"total": self.time}).items()},
+            "units": {"density": "kg/m^3", "t": "s", "dt": "s", "peak_rotation": "rad", "energy": "J/m",
+                      "energy_balance_error": "relative", "history.K": "J/m", "history.V": "J/m",
+                      "history.W_ground": "J/m", "history.dissipated": "J/m", "history.a_g": "g",
+                      "history.max_rotation": "rad", "sliding.max_slip": "m", "friction_demand.s": "m"},
         }
         if history:
             out["history"] = {k: [float(x) for x in v] for k, v in h.items()}

@@ -25,7 +25,7 @@ and its velocities ``(vx, vy, omega)``.  In the ground's frame every body carrie
    and zero slip at their joints: the drift of the hinges is removed without an artificial
    restitution.
 
-Energy bookkeeping (J per unit depth): ``K``, ``V = g sum m (y - y_0)``, the ground's work
+Energy bookkeeping (J/m): ``K``, ``V = g sum m (y - y_0)``, the ground's work
 ``W_ground`` (the inertia force times the displacements), the dissipation ``D`` (``K_- - K_+`` of the
 impacts of step 1); ``K + V = E_0 + W_ground - D`` up to the discretisation error of the smooth
 phases (their projections, step 4, and the position projections, step 5), reported as

@@ -14,7 +14,8 @@
   the margin).
 
 Units: accelerations in g (positive along +x; ``A_L(+1)`` is the threshold of an inertia load to
-the right, i.e. of ``a_g < 0``), times in s, rotations in rad, thicknesses in m.
+the right, i.e. of ``a_g < 0``), times in s, rotations in rad, thicknesses in m, energies in J per
+metre of width (the JSON's ``units``).
 """
 from __future__ import annotations
 
@@ -84,7 +85,10 @@ class AssessResult:
         return spectrum._json_safe({"command": "assess", "geometry": geo, "mode": self.mode,
                         "elements": self.elements, "settings": self.settings, "static": self.static,
                         "motions": self.motions,
-                        "timings_s": {k: round(v, 4) for k, v in self.timings.items()}})
+                        "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
+                        "units": {"A_L": "g", "density": "kg/m^3", "thickness": "m", "t": "s", "pga_g": "g",
+                                  "peak_rotation": "rad",
+                                  "motions.segments.handback_energy_dropped": "J/m"}})
 
 
 # --------------------------------------------------------------------------- statics

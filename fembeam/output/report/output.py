@@ -138,7 +138,8 @@ def markdown(rep: Report, command: str) -> str:
               "Past tan a = sqrt 2 the formula's alpha'/alpha = 1 - 1.5 sin^2 a is negative: the block would have "
               "to rotate about the new corner in the closing sense, which is not compatible, so the energy "
               "principle gives r = 0 (the block stops dead), not the squared formula.", ""]
-        L += ["Annular sector (R = 2, t = 0.3, 157.5 deg, rho = 1.7) from `d^T M d` of rigid motions on 9 elements:", ""]
+        L += ["Annular sector (R = 2 m, t = 0.3 m, 157.5 deg, rho = 1.7 kg/m^3) from `d^T M d` of rigid motions on "
+              "9 elements (per metre of width: mass in kg/m, static moment in kg m/m, polar inertia in kg m^2/m):", ""]
         L += _table(["quantity", "fembeam", "closed form", "rel. error"],
                     [[k, f"{e['sector']['fembeam'][k]:.15g}", f"{e['sector']['exact'][k]:.15g}",
                       _fmt(abs(e['sector']['fembeam'][k] / e['sector']['exact'][k] - 1))] for k in e["sector"]["exact"]])
