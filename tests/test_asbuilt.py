@@ -73,8 +73,13 @@ def test_as_built_member_pickles_and_scales(filled):
     assert d.describe() == c.describe()
     assert d.segment_inertia(0.0, d.length)[0][0] == c.segment_inertia(0.0, c.length)[0][0]
     thin = c.with_thickness_scaled(0.5)
-    assert thin.road_level == c.road_level and thin.fill == c.fill     # the road stays where it is
-    assert thin.segment_inertia(0.0, thin.length)[0][0] > c.segment_inertia(0.0, c.length)[0][0] - 0.5 * RHO * T * np.pi * R
+    top = np.max(extrados(thin, np.linspace(0.0, thin.length, 20001))[1])
+    assert thin.fill == c.fill and thin.road_level == pytest.approx(top + D, abs=1e-9)   # D above the new crown
+    assert thin != c and c == pickle.loads(pickle.dumps(c)) and hash(c) == hash(pickle.loads(pickle.dumps(c)))
+    assert build(filled, fill_density=1000.0) != build(filled, fill_density=2000.0)
+    direct = build(c._built["plain"].with_thickness_scaled(0.5), fill_density=RHO_F, fill_depth=D, masses=[(7.0, 500.0)])
+    assert thin == direct
+    assert thin.segment_inertia(0.0, thin.length)[0][0] == direct.segment_inertia(0.0, direct.length)[0][0]
 
 
 def test_nothing_added_is_the_member_itself(bare):

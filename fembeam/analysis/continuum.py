@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, SolverError
+from ..geometry.asbuilt import point_sections
 from .lp import SmallLP
 from .rows import STAND_TOL, append_section_rows, check_direction, joint_rows, main_lp, solve_unboxed, stand_lp
 from .statics import Statics, section_force_rows, section_forces, statics
@@ -332,7 +333,8 @@ def continuum_limit(disc, direction: int = 1, tol: float = 1e-10, max_rounds: in
     exact = False
     clusters = _clusters(disc, cuts, fib, main.y, J)
     # the LP's clusters, then (curves with breaks) those near a break moved onto it
-    for cand in [clusters] + _at_breaks(disc, *clusters):
+    corners = np.concatenate([point_sections(disc.curve), live.s if live is not None else []])
+    for cand in [clusters] + _at_breaks(disc, *clusters, corners=corners):
         polished = _polish(st, direction, *cand, main.z[:k], lam)
         if polished is None:
             continue
@@ -370,15 +372,17 @@ def _clusters(disc, cuts, fib, y, J):
     return sc[order], fc[order], ends[order]
 
 
-def _at_breaks(disc, s, fib, fixed) -> list:
+def _at_breaks(disc, s, fib, fixed, corners=()) -> list:
     """Candidate clusters with each free one lying within two elements of one of the
     curve's :attr:`~fembeam.geometry.MidCurve.breaks` (a kink, the crown of a thickness
     law) moved onto it and fixed there: the fibre force has a corner at a break, so a
     hinge there is a minimum without a vanishing slope, which :func:`_polish` cannot find
     as a free unknown.  At a kink the hinge may be on the kink's own cut or on either
     one-sided cut (one ulp off the kink: the normal cut of that side's branch), three
-    candidates each.  Empty when no cluster moves."""
-    br = np.asarray(getattr(disc.curve, "breaks", ()), float)
+    candidates each.  ``corners``: other sections where the fibre forces have a corner (point
+    masses, live loads).  Empty when no cluster moves."""
+    br = np.unique(np.concatenate([np.asarray(getattr(disc.curve, "breaks", ()), float),
+                                   np.asarray(corners, float)]))
     if br.size == 0 or s.size == 0:
         return []
     kinks = set(getattr(disc.curve, "kinks", ()))

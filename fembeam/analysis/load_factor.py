@@ -62,8 +62,8 @@ class LoadFactor:
 
 def mass_nodes(curve: MidCurve) -> tuple:
     """Arc lengths (m) of the point masses of ``curve`` (a continuous mesh puts nodes there)."""
-    b = getattr(curve, "_built", None)
-    return tuple(b["s_m"].tolist()) if b is not None else ()
+    b = getattr(curve, "_built", None)           # (the nearest section: none inside a crown wedge)
+    return tuple(curve.nearest_section(b["s_m"]).tolist()) if b is not None else ()
 
 
 def load_factor(curve: MidCurve, loads, elements: int | None = None, voussoirs: int | None = None,
@@ -91,8 +91,9 @@ def load_factor(curve: MidCurve, loads, elements: int | None = None, voussoirs: 
             nodes = nodes_through(nodes, np.array(mass_nodes(curve)), keep=keep)
     if continuum:
         keep = keep + mass_nodes(curve)
-        nodes = nodes_through(nodes, live.s, keep=keep)
-        keep = keep + tuple(live.s.tolist())
+        at = curve.nearest_section(live.s)      # a load over a crown wedge: the wedge's section
+        nodes = nodes_through(nodes, at, keep=keep)
+        keep = keep + tuple(at.tolist())
     if disc is None or disc.curve is not curve or not np.array_equal(disc.nodes_s, nodes):
         disc = discretize(curve, nodes, like=disc if disc is not None and disc.curve is curve else None)
     lim = limit_analysis(disc, 1, verify=verify, live=live)

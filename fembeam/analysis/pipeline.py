@@ -200,7 +200,9 @@ class AnalysisResult:
         out["mass_kg_per_m"] = num(self.mass)
         out["weight_kN_per_m"] = num(kN(self.mass))
         out["load_factor"] = self.load_factor
-        out["load_outcome"] = None if self.load is None else self.load.status
+        out["load_outcome"] = (self.load.status if self.load is not None
+                               else "cannot_stand" if self.loads is not None and self.outcome == "cannot_stand"
+                               else None)
         out["load_factor_lower_bound"] = (num(self.load.lower) if self.load is not None and self.load.status == "ok"
                                           else None)
         out["load_mechanism"] = [h.to_dict() for h in self.load.hinges] if self.load is not None else []
@@ -277,7 +279,7 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
     if continuum and mass_nodes(curve):     # the internal forces jump at a point mass: a node there
         nodes = nodes_through(nodes, np.array(mass_nodes(curve)), keep=curve.fixed_nodes)
     if continuum and live is not None:      # and at a live load (one mesh for A_L and the load factor)
-        nodes = nodes_through(nodes, live.s, keep=curve.fixed_nodes + mass_nodes(curve))
+        nodes = nodes_through(nodes, curve.nearest_section(live.s), keep=curve.fixed_nodes + mass_nodes(curve))
     disc = disc0 = discretize(curve, nodes)
     res.timings["assembly"] = time.perf_counter() - clock
     t0 = time.perf_counter()

@@ -121,6 +121,13 @@ def run(args) -> int:
     if args.load_scan is not None:
         if points_of(args, "load"):
             raise InputError("--load-scan moves one load across the span: drop --load")
+        other = [o for o, v in (("--friction", args.friction is not None), ("--direction", args.direction != 1),
+                                ("--vtk", args.vtk), ("--png", args.png), ("--figure", args.figure),
+                                ("--thrust-figure", args.thrust_figure), ("--fields", args.fields),
+                                ("--no-refine", args.no_refine), ("--backend", args.backend != "auto")) if v]
+        if other:
+            raise InputError(f"{other[0]} does not apply to --load-scan (its outputs: --json, --csv, --plot, "
+                             "--out-dir)")
         from .load_scan import scan
         return scan(args, args.load_scan)
     for opt in ("csv", "plot", "out_dir"):
@@ -210,7 +217,8 @@ def summary(res: AnalysisResult) -> str:
              + ("" if res.friction is None else f", Coulomb friction mu = {res.friction:g} at the joints")]
     lines += as_built_lines(res)
     if res.outcome == "cannot_stand":
-        lines.append("  outcome: the arch CANNOT STAND under its own weight: no thrust line fits inside it")
+        lines.append("  outcome: the arch CANNOT STAND under its own weight: no thrust line fits inside it"
+                     + (" (no load factor)" if res.loads is not None else ""))
         lines.append(f"  collapse mechanism under gravity alone: {_hinges(res.limit.hinges)}")
         th = res.thickness
         if th is not None and th.outcome == "ok":
@@ -307,7 +315,7 @@ def thrust_and_load_lines(res: AnalysisResult) -> list[str]:
         if lf.status == "ok":
             bounds = "" if not lf.lower == lf.lower else f", continuum bounds [{lf.lower:.9g}, {lf.value:.9g}]"
             at = ", ".join(f"{p:.6g}" for p in lf.collapse_loads_kN)
-            lines.append(f"  load factor = {lf.value:.6f}   (collapse at {at} kN/m{bounds})")
+            lines.append(f"  load factor = {lf.value:.6g}   (collapse at {at} kN/m{bounds})")
             lines.append(f"  collapse mechanism under the live loads: {_hinges(lf.hinges)}")
         elif lf.status == "no_mechanism":
             lines.append("  load factor: NO MECHANISM: no multiple of the live loads collapses the arch")

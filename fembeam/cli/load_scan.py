@@ -83,7 +83,9 @@ def table(res) -> str:
     lines = [f"fembeam load-scan: {arch_title(res.geometry)}",
              f"  {res.n} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements (continuous)'}; a point load "
              f"of {res.P:g} kN/m at {len(res.x)} positions from x = 0 to {res.x[-1]:.6g} m"]
-    if d["min_load_factor"] is None:
+    if d["min_load_factor"] is None and "cannot_stand" in res.status:
+        lines.append("  the arch CANNOT STAND under its dead loads: no load factor at any position")
+    elif d["min_load_factor"] is None:
         lines.append("  no position collapses the arch (no mechanism at any position)")
     else:
         hinges = ", ".join(f"{h['angle_deg']:.2f} deg {h['side']}" for h in d["load_mechanism"])

@@ -43,10 +43,11 @@ from ..errors import InputError
 from .base import MidCurve, real_number
 from .block import StraightMember
 
-__all__ = ["Fill", "as_built", "build", "is_built", "plain", "extrados_s", "extrados", "span_of", "point_pairs", "FILL_DENSITY_RANGE"]
+__all__ = ["Fill", "as_built", "build", "is_built", "plain", "point_sections", "extrados_s", "extrados", "span_of", "point_pairs", "FILL_DENSITY_RANGE"]
 
 FILL_DENSITY_RANGE = (0.0, 1e5)   # kg/m^3
 MASS_MAX = 1e12                   # kg per metre of width
+LOAD_RANGE = (1e-6, 1e9)          # kN per metre of width
 
 
 @dataclass(frozen=True)
@@ -121,11 +122,17 @@ def point_pairs(pairs, what: str, unit: str, positive: bool, span: float) -> np.
         if not -1e-12 * span <= x <= span * (1 + 1e-12):
             raise InputError(f"{what} at x = {x:g} m is outside the span: x must be from 0 to {span:g} m "
                              f"(horizontal distance from the left springing of the mid-curve)")
-        if (v <= 0 if positive else v < 0) or v > MASS_MAX:
-            raise InputError(f"{what} value must be {'> 0' if positive else '>= 0'} and at most {MASS_MAX:g} "
-                             f"{unit}, got {v:g}")
+        lo, hi = (LOAD_RANGE if positive else (0.0, MASS_MAX))
+        if not lo <= v <= hi:
+            raise InputError(f"{what} value must be from {lo:g} to {hi:g} {unit}, got {v:g}")
         out.append((min(max(x, 0.0), span), v))
     return np.array(out, float).reshape(-1, 2)
+
+
+def point_sections(curve: MidCurve) -> np.ndarray:
+    """Arc lengths (m) of the point masses of ``curve`` (where its internal forces jump)."""
+    b = getattr(curve, "_built", None)
+    return np.empty(0) if b is None else np.array(b["s_m"], float)
 
 
 def is_built(curve: MidCurve) -> bool:
@@ -164,6 +171,9 @@ def as_built(curve: MidCurve, fill: Fill | None = None, masses=(), road_level: f
     X_m = extrados(base, s_m) if pairs.shape[0] else np.empty((2, 0))
     road = None
     if fill is not None:
+        if fill.depth > 10.0 * span:
+            raise InputError(f"fill depth must be at most 10 spans ({10.0 * span:g} m) above the crown's extrados, "
+                             f"got {fill.depth:g} m")
         road = float(road_level) if road_level is not None else _top_of_extrados(base) + fill.depth
     built = {"plain": base, "fill": fill, "road": road, "pairs": pairs, "s_m": s_m, "X_m": X_m,
              "M": pairs[:, 1] if pairs.shape[0] else np.empty(0)}
@@ -227,9 +237,23 @@ class _AsBuilt:
         b = self._built
         return as_built, (b["plain"], b["fill"], b["pairs"], b["road"])
 
-    def with_thickness_scaled(self, factor: float) -> MidCurve:
+    def __eq__(self, other):
+        if not isinstance(other, _AsBuilt):
+            return NotImplemented
+        a, b = self._built, other._built
+        return (a["plain"] == b["plain"] and a["fill"] == b["fill"] and a["road"] == b["road"]
+                and np.array_equal(a["pairs"], b["pairs"]))
+
+    def __hash__(self):
         b = self._built
-        return as_built(b["plain"].with_thickness_scaled(factor), b["fill"], b["pairs"], road_level=b["road"])
+        return hash((b["plain"], b["fill"], b["road"], b["pairs"].tobytes()))
+
+    def with_thickness_scaled(self, factor: float) -> MidCurve:
+        """The same arch with its thickness law scaled by ``factor``, the fill up to a road the
+        same depth above the scaled crown's extrados (a family of arches defined by the depth),
+        the masses at the same ``x``."""
+        b = self._built
+        return as_built(b["plain"].with_thickness_scaled(factor), b["fill"], b["pairs"])
 
     def inertia_densities(self, s, power: int | None = None):
         mu0, mu1, mu2 = super().inertia_densities(s, power)
