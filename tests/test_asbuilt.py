@@ -231,3 +231,25 @@ def test_block_refuses_fill():
     r = _cli("rock", "--block", "0.3", "1.0", "--fill-density", "1800", "--pulse", "sine", "--amplitude", "1",
              "--period", "1")
     assert r.returncode == 2 and "not to a --block" in r.stderr
+
+
+def test_point_masses_counted_once_on_elements_across_breaks_and_over_a_crown_wedge():
+    """A pointed arch (crown wedges: elements integrated by segment_inertia) with a mass over its
+    crown: the mass matrix carries the mass once; the continuous arch meshes around the wedge."""
+    c = PointedArch(span=10.0, rise=7.0, thickness=0.6, density=RHO)
+    built = build(c, masses=[(5.0, 1000.0), (2.0, 300.0)])
+    for nodes in (uniform_nodes(built, 10), uniform_nodes(built, 7)):
+        disc = discretize(built, nodes)
+        total = built.segment_inertia(0.0, built.length)[0][0]
+        assert disc.M.diagonal()[::3].sum() == pytest.approx(total, rel=1e-12)
+        assert total == pytest.approx(c.segment_inertia(0.0, c.length)[0][0] + 1300.0, rel=1e-12)
+    res = analyze(c, elements=40, loads=[(5.0, 10.0)], masses=[(5.0, 500.0)])
+    assert res.load.status == "ok" and res.load.lower == pytest.approx(res.load_factor, rel=1e-9)
+
+
+def test_the_load_mechanism_is_that_of_the_reported_factor(filled):
+    """On the continuous arch the mechanism printed with the load factor has the same factor (its
+    hinges polished onto the corner under the load): the limit LP on a mesh through its hinges."""
+    res = analyze(filled, elements=40, loads=[(2.0, 50.0)])
+    assert res.to_dict()["verification"]["load_factor"]["hinge_refinement_gap"] < 1e-7
+    assert res.load.limit.A_L == pytest.approx(res.load_factor, rel=1e-7)
