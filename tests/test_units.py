@@ -40,7 +40,7 @@ def test_density_option_default_and_help():
     assert sub.parse_args([]).density == DEFAULT_DENSITY
     text = " ".join(sub.format_help().split())
     assert "kg/m^3 per metre of barrel width (default 2000; typical 1800-2400)" in text
-    assert "A_L, r and thresholds in g do not depend on it" in text
+    assert "A_L, r and the thresholds in g of a bare arch do not depend on it" in text
 
 
 def test_forces_and_impulses_scale_with_the_density_A_L_and_r_do_not():

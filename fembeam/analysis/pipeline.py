@@ -217,8 +217,9 @@ class AnalysisResult:
                         "impulse_line.moment": IMPULSE_MOMENT_UNIT, "impulse_line.eccentricity": "m",
                         "thrust_line.N": "kN/m", "thrust_line.eccentricity": "m", "angle_deg": "deg",
                         "load_factor": "multiple of the live loads", "loads.P": "kN/m", "masses.M": "kg/m",
-                        "thrust_range": "kN/m", "x": "m from the left springing", "fill.density": "kg/m^3",
-                        "fill.depth": "m", "mass_kg_per_m": "kg/m", "weight_kN_per_m": "kN/m"}
+                        "loads.x": "m from the left springing", "masses.x": "m from the left springing",
+                        "thrust_range": "kN/m", "geometry.fill.density": "kg/m^3", "geometry.fill.depth": "m",
+                        "mass_kg_per_m": "kg/m", "weight_kN_per_m": "kN/m", "collapse_loads_kN_per_m": "kN/m"}
         if fields and self.impact is not None:
             imp = self.impact
             out["impulse_line"] = {
