@@ -323,7 +323,7 @@ def _order(disc: Discretization) -> int:
     mid = 0.5 * (disc.nodes_s[:-1] + disc.nodes_s[1:])
     # a crown wedge's fan turns fast, but segment_inertia integrates it on its own rule
     kh = float(np.max(np.where(disc.curve.admissible(mid), np.abs(disc.curve.curvature(mid)), 0.0) * h))
-    if getattr(disc.curve, "fill", None) is not None and h.size <= 2000:
+    if getattr(disc.curve, "fill", None) is not None and h.size <= 100:
         return 24      # a coarse mesh of a filled arch: the columns vary faster than the ring
     return 3 if kh < 0.02 else (5 if kh < 0.2 else (10 if kh < 1.0 else 24))
 

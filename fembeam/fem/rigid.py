@@ -180,7 +180,7 @@ def _default_order(curve: MidCurve, nodes_s: np.ndarray) -> int:
     # mid-curve: those elements are integrated by segment_inertia
     kap = np.where(curve.admissible(s), np.abs(curve.curvature(s.ravel())).reshape(s.shape), 0.0)
     kh = float(np.max(kap.max(1) * np.diff(nodes_s)))
-    if getattr(curve, "fill", None) is not None and nodes_s.size <= 2001:
+    if getattr(curve, "fill", None) is not None and nodes_s.size <= 101:
         return 40      # a coarse mesh of a filled arch: the columns vary faster than the ring
     if kh <= 0.03:      # fine meshes: 3 or 4 points reach round-off (measured on flat ellipses too)
         return 5 if kh <= 0.005 else 7
