@@ -98,12 +98,19 @@ def test_large_mu_is_the_no_sliding_model():
 
 def test_friction_only_dissipates():
     """7 voussoirs, mu = 0.6, 0.6 g 0.56 s sine: no impact adds kinetic energy, the friction's work is
-    positive and the energy balance (friction included) holds to 2e-3."""
-    r = Simulator(ARCH, voussoirs=7, friction=0.6).run(GroundMotion.sine(0.6, 0.56), dt=1e-3, t_end=4.0)
+    positive and the energy balance (friction included) holds to 1e-3: measured 3.3e-4 (8.2e-5 at
+    dt = 5e-4, 2.0e-5 at 2.5e-4: second order), the same for the mirrored pulse.  It was 1.9e-3 to
+    6.0e-3 depending on the BLAS kernel, the density and the last bit of the input: the working set
+    of a frictional step took the sign of a round-off percussion (+-1e-17) at an opening corner, and
+    the position projection pulled that corner back to its face, creating energy."""
+    sim = Simulator(ARCH, voussoirs=7, friction=0.6)
+    r = sim.run(GroundMotion.sine(0.6, 0.56), dt=1e-3, t_end=4.0)
     assert r.sliding_steps > 0 and r.friction_work > 0
     K = np.array([(a, b) for _, a, b in r.impacts])
     assert np.all(K[:, 1] <= K[:, 0] * (1 + 1e-9))
-    assert r.energy_balance_error < 2e-3
+    assert r.energy_balance_error < 1e-3
+    mirrored = sim.run(GroundMotion.sine(-0.6, 0.56), dt=1e-3, t_end=4.0)
+    assert mirrored.energy_balance_error == pytest.approx(r.energy_balance_error, rel=1e-2)
     assert r.friction_ratio <= 0.6 * 1.02           # the cone, to the solver's tolerance
     assert r.coulomb_residual <= 1e-3
 
