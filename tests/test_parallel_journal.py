@@ -356,16 +356,27 @@ def sleepy(i: int) -> int:
     return i
 
 
+def sleepy_pid(i: int) -> int:
+    time.sleep(0.05)
+    return os.getpid()
+
+
 def test_workers_leave_ctrl_c_to_the_parent():
     """A terminal's Ctrl-C reaches the whole process group: the workers ignore it (no
     traceback of theirs), the parent stops them."""
-    from concurrent.futures import wait
-
     from fembeam.studies.parallel import _new_pool
 
     pool = _new_pool(2)
     try:
-        wait([pool.submit(pid, 0) for _ in range(4)])
+        # every worker has run a task (its initialiser, which ignores SIGINT, has finished): a
+        # worker still starting up when the signal lands would die of it, as any process would
+        seen: set = set()
+        for _ in range(200):
+            seen |= {f.result() for f in [pool.submit(sleepy_pid, 0) for _ in range(4)]}
+            if len(pool._processes) == 2 and seen >= set(pool._processes):
+                break
+        else:
+            raise AssertionError("the pool's two workers did not both run a task")
         workers = list(pool._processes.values())
         for w in workers:
             os.kill(w.pid, signal.SIGINT)
