@@ -113,6 +113,29 @@ def test_csv_records_say_what_is_wrong(tmp_path, rows, words):
         GroundMotion.record(f)
 
 
+@pytest.mark.parametrize("text, words", [
+    ("time,acc\n0,0\n0.01,0.1\nNaN,NaN\n0.03,0\n", "line 4: times and accelerations must be finite"),
+    ("time,acc\n0,0\nabc,def\n0.02,0\n", "line 3: a data line is 'time,acceleration'"),
+    ("0,0\n0.01,0.1\ntime,acc\n", "line 3: a data line"),        # a header after the data
+    ("time,acc\nunits,s\n0,0\n0.01,0\n", "line 2: a data line"),  # one header only
+    ("0,0\n0.01,0.1,0.2\n", "line 2: a data line"),
+    ("0,0\n 0.01 , 0.1 \n0.01,0\n", "line 3: times must be strictly increasing"),
+])
+def test_a_csv_line_that_is_not_data_is_named(tmp_path, text, words):
+    f = tmp_path / "r.csv"
+    f.write_text(text)
+    with pytest.raises(InputError, match=words):
+        GroundMotion.record(f)
+
+
+def test_comments_blank_lines_and_one_header_are_not_data(tmp_path):
+    f = tmp_path / "r.csv"
+    f.write_text("# El Centro, scaled\n\ntime (s), acc (g)\n0,0\n# mid-file note\n0.01,-0.5\n\n0.02,0.25\n")
+    g = GroundMotion.record(f)
+    assert list(g.t) == [0.0, 0.01, 0.02] and list(g.a) == [0.0, -0.5, 0.25]
+    assert g.pga == 0.5
+
+
 def test_a_record_longer_than_the_cap_is_refused_after_counting(tmp_path):
     f = tmp_path / "long.csv"
     n = MAX_RECORD_SAMPLES + 1

@@ -312,6 +312,31 @@ def study_journal(args, command: str):
     return noted(journal_for(args.csv or args.plot, command))
 
 
+def check_scheduler(address: str | None) -> None:
+    """``--scheduler``: None (local cores) or a non-empty address, with Dask installed; InputError
+    otherwise (whether the scheduler answers is checked when the study connects)."""
+    if address is None:
+        return
+    if not address.strip():
+        raise InputError("--scheduler needs the address of a Dask scheduler (tcp://host:8786), got an empty string")
+    try:
+        import distributed  # noqa: F401,F811
+    except ImportError:
+        raise InputError("--scheduler needs Dask, which is not installed: pip install 'fembeam[dask]'") from None
+
+
+def note_records(grounds) -> None:
+    """Say on stderr, one line each, which records look like m/s^2 rather than g
+    (:func:`~fembeam.dynamics.ground.unit_note`); they are run as given."""
+    from ..dynamics.ground import unit_note
+    from .main import one_line
+
+    for g in grounds:
+        text = unit_note(g)
+        if text:
+            print(f"fembeam: note: {one_line(text)}", file=sys.stderr)
+
+
 def noted(journal):
     """``journal``, its note (what of it was ignored) said in one line on stderr."""
     if journal is not None and journal.note:

@@ -14,11 +14,11 @@ from pathlib import Path
 
 from ..dynamics.ground import GroundMotion
 from ..errors import InputError
+from ..studies.suites import record_files
 from .analyze import friction_coefficient
-from .args import arch_title, finite_float, float_list
+from .args import arch_title, finite_float, float_list, note_records
 from .rock import add_ground, add_member, ground_from, member_from
 
-RECORD_SUFFIXES = (".at2", ".csv")
 
 
 def register(sub) -> None:
@@ -65,12 +65,13 @@ def grounds_from(args) -> tuple[list[GroundMotion], list[str]]:
     folder = Path(args.records)
     if not folder.is_dir():
         raise InputError(f"--records: {args.records!r} is not a directory")
-    files = sorted(f for f in folder.iterdir() if f.suffix.lower() in RECORD_SUFFIXES and f.is_file())
+    files = record_files(folder)
     if not files:
         raise InputError(f"--records: no .AT2 or .csv file in {args.records!r}")
     grounds = []
     for f in files:
         gm = GroundMotion.record(f)
+        note_records([gm])
         if args.scale is not None:
             gm = gm.scaled(args.scale)
         if args.pga is not None:

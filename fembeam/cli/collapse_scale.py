@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN, collapse_scale
 from ..studies.models import MODELS, check_model
 from ..studies.spectrum import DT
-from .args import finite_float
+from .args import finite_float, note_records
 from .rock import add_member, member_from
 from .spectrum import MODEL_HELP, model_line
 
@@ -68,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
     dt, friction = check_model(args.model, args.dt, args.friction, names=("--model", "--dt", "--friction"))
     curve, voussoirs, elements = member_from(args, args.model)
     ground = GroundMotion.record(args.record)
+    note_records([ground])
     bar = None
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm

@@ -18,7 +18,7 @@ from ..studies.models import DEFAULT_MODEL, MODELS
 from ..studies.parallel import journal_for
 from ..studies.spectrum import DT, T_END_FACTOR
 from ..studies.suites import FEMA_SUITES, load_suite
-from .args import arch_title, finite_float, print_result
+from .args import arch_title, check_scheduler, finite_float, note_records, noted, print_result
 from .rock import add_member, member_from
 
 FILES = {"csv": "fragility.csv", "json": "fragility.json", "plot": "fragility.png", "ida_csv": "ida.csv",
@@ -102,19 +102,16 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--elements must be >= 4, got {args.elements}")
     if args.voussoirs is not None and args.voussoirs < 1:
         raise InputError(f"--voussoirs must be >= 1, got {args.voussoirs}")
-    if args.scheduler:
-        try:
-            import distributed  # noqa: F401
-        except ImportError:
-            raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
+    check_scheduler(args.scheduler)
     from ..studies.intensity import parse_im
     from ..studies.models import check_model
     check_model(args.model, args.dt, names=("--model", "--dt", "--friction"))
     parse_im(args.im)
     curve, voussoirs, elements = member_from(args)
     suite = load_suite(args.suite)
-    journal = (journal_for(args.out_dir, "fragility", directory=True) if args.out_dir else
-               journal_for(paths["csv"] or paths["plot"] or paths["ida_plot"], "fragility"))
+    note_records([r.ground for r in suite.records])
+    journal = noted(journal_for(args.out_dir, "fragility", directory=True) if args.out_dir else
+                    journal_for(paths["csv"] or paths["plot"] or paths["ida_plot"], "fragility"))
     res = fragility(curve, suite, voussoirs=voussoirs, elements=elements, model=args.model, dt=args.dt, im=args.im,
                     resolution=args.resolution, span=args.factor_span, max_runs=args.max_runs,
                     t_end_factor=args.t_end_factor, design=args.design, bootstrap=args.bootstrap, seed=args.seed,

@@ -16,7 +16,7 @@ from ..errors import InputError
 from ..geometry import StraightMember
 from ..limits import bodies, check_block, check_discretisation, check_duration, check_history, check_steps
 from ..output.files import check_distinct, check_name, check_output, write_table
-from .args import add_arch, arch_from, arch_title, finite_float, print_result
+from .args import add_arch, arch_from, arch_title, finite_float, note_records, print_result
 
 PULSES = ("rect", "sine", "ricker")
 REASONS = {"below_rest": "centroid a tenth of the thickness below its height at rest",
@@ -104,6 +104,7 @@ def ground_from(args) -> GroundMotion:
     if args.amplitude is not None or args.duration is not None or args.period is not None:
         raise InputError("--amplitude, --duration and --period describe a --pulse, not a --record")
     gm = GroundMotion.record(args.record)
+    note_records([gm])
     if args.scale is not None:
         gm = gm.scaled(args.scale)
     if args.pga is not None:

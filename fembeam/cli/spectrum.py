@@ -11,13 +11,12 @@ from __future__ import annotations
 import argparse
 import csv
 
-from ..errors import InputError
 from ..limits import MAX_WORKERS, check_workers
 from ..output.files import atomic, check_distinct, check_output
 from ..studies.parallel import journal_for
 from ..studies.spectrum import (AMPLITUDE_SPAN, DT, MODELS, N_GRID, PULSES, T_END_FACTOR, SpectrumResult,
                                 check_model, plot_spectrum, spectrum)
-from .args import finite_float, float_list, noted, print_result
+from .args import check_scheduler, finite_float, float_list, noted, print_result
 from .rock import add_member, member_from
 
 MODEL_HELP = ("rock: one mechanism between impacts (default); simulate: the voussoirs, rigid elements or block "
@@ -86,11 +85,7 @@ def run(args: argparse.Namespace) -> int:
     plot_path = check_output(args.plot, "--plot", (".png", ".pdf", ".svg"))
     check_distinct({"--csv": csv_path, "--plot": plot_path})
     check_workers(args.workers)
-    if args.scheduler:
-        try:
-            import distributed  # noqa: F401
-        except ImportError:
-            raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
+    check_scheduler(args.scheduler)
     dt, friction = model_from(args)
     curve, voussoirs, elements = member_from(args, args.model)
     journal = noted(journal_for(csv_path or plot_path, "spectrum"))    # finished periods kept: a re-run resumes

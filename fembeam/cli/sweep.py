@@ -9,7 +9,7 @@ from ..errors import InputError
 from ..limits import MAX_WORKERS, check_workers
 from ..analysis.impact import IMPACT_BACKENDS
 from ..studies.sweep import FIG13_EMBRACE, FIG13_T_OVER_R, SweepResult, family, plot_sweep, sweep
-from .args import SHAPES, check_outputs, finite_float, float_list, study_journal, write_outputs
+from .args import SHAPES, check_outputs, check_scheduler, finite_float, float_list, study_journal, write_outputs
 
 CODES = {"rocking": "", "arrested": "A", "cannot_stand": "C", "no_mechanism": "N", "solver_error": "E"}
 _CIRCULAR = ("--embrace", "--t-over-r", "--envelope-embrace")
@@ -101,11 +101,7 @@ def run(args: argparse.Namespace) -> int:
     check_workers(args.workers)
     if not (0 < args.tmin_tol < 0.01) or not (0 < args.above < 1):
         raise InputError("--tmin-tol must be in (0, 0.01) and --above in (0, 1)")
-    if args.scheduler:
-        try:
-            import distributed  # noqa: F401
-        except ImportError:
-            raise InputError("--scheduler needs Dask: pip install 'fembeam[dask]'") from None
+    check_scheduler(args.scheduler)
     fill = None
     if args.fill_density is not None or args.fill_depth is not None:
         from ..geometry.asbuilt import Fill

@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..readers import read_text
 
 __all__ = ["GroundMotion", "Pulse", "RECORDS", "check_record", "MAX_RECORD_SAMPLES", "MAX_RECORD_DURATION",
-           "RECORD_DT_RANGE", "PERIOD_RANGE"]
+           "RECORD_DT_RANGE", "PERIOD_RANGE", "PLAUSIBLE_PGA", "unit_note"]
 
 RECORDS = {   # records shipped with fembeam (fembeam/data/ground_motions/README.md)
     "elcentro": "RSN6_IMPVALL.I_I-ELC180.AT2",
@@ -35,6 +35,16 @@ MAX_RECORD_DURATION = 1e4         # s: the longest record, and the latest start 
 RECORD_DT_RANGE = (1e-5, 1.0)     # s: the time step of a record (PEER: 0.001 to 0.02 s)
 MAX_RECORD_BYTES = 24 * 2 ** 20   # 24 MiB: 10^6 samples of an AT2 file take ~16 MB
 MAX_PGA = 100.0           # g: a ground acceleration above it is a unit mistake, not an earthquake
+PLAUSIBLE_PGA = 2.5       # g: above the largest horizontal peaks recorded (about 2-3 g): a note
+
+
+def unit_note(ground: "GroundMotion") -> str | None:
+    """A note when the peak of a record exceeds :data:`PLAUSIBLE_PGA` (values in m/s^2 rather
+    than g are the usual cause), else None.  Such a record is run as given."""
+    if ground.pga > PLAUSIBLE_PGA:
+        return (f"{ground.name}: peak ground acceleration {ground.pga:.4g} g, above {PLAUSIBLE_PGA:g} g (about the "
+                f"largest recorded); fembeam reads records in g: if its values are m/s^2, divide them by 9.81")
+    return None
 
 
 def _positive(name: str, value) -> float:
@@ -207,7 +217,7 @@ class GroundMotion:
             text = path.read_text(errors="replace")
         else:
             path = Path(key)
-            if not path.exists():
+            if not (path.exists() or path.is_symlink()):      # a broken link is said by read_text
                 raise InputError(f"no ground-motion file {key!r} (or one of the shipped records: "
                                  f"{', '.join(RECORDS)})")
             text = read_text(path, "the ground-motion file", MAX_RECORD_BYTES, errors="replace")
@@ -242,33 +252,55 @@ class GroundMotion:
 
     @classmethod
     def _from_csv(cls, text: str, name: str) -> "GroundMotion":
-        lines = (line.strip() for line in io.StringIO(text))
-        rows = list(itertools.islice((r for r in lines if r and (r[0].isdigit() or r[0] in "+-.")),
-                                     MAX_RECORD_SAMPLES + 1))     # '#' comments and a header skipped
-        if len(rows) > MAX_RECORD_SAMPLES:
-            raise InputError(f"{name}: more than {MAX_RECORD_SAMPLES} samples; a record has at most "
-                             f"{MAX_RECORD_SAMPLES}")
+        """Two columns ``time,acceleration`` (s, g).  Blank lines and lines starting with ``#``
+        are skipped; one header line (a line with a letter that is not a number) may precede the
+        data; every other line must hold two finite numbers, or the error names it."""
+        rows: list[tuple[int, str]] = []
+        header_allowed = True
+        for number, raw in enumerate(io.StringIO(text), start=1):
+            line = raw.strip()
+            if not line or line.startswith("#"):
+                continue
+            cells = [c.strip() for c in line.split(",")]
+            if header_allowed and not _numbers(cells) and re.search(r"[A-Za-z]", line):
+                header_allowed = False                   # the header: names of the columns
+                continue
+            header_allowed = False
+            rows.append((number, line))
+            if len(rows) > MAX_RECORD_SAMPLES:
+                raise InputError(f"{name}: more than {MAX_RECORD_SAMPLES} samples; a record has at most "
+                                 f"{MAX_RECORD_SAMPLES}")
         data = np.empty((len(rows), 2))
-        for i, r in enumerate(rows):
-            cells = r.split(",")
-            try:
-                if len(cells) < 2:
-                    raise ValueError
-                data[i] = float(cells[0]), float(cells[1])
-            except ValueError:
-                raise InputError(f"{name}: every data line must be 'time,acceleration' (s, g), got "
-                                 f"{r[:40]!r}") from None
+        for i, (number, line) in enumerate(rows):
+            cells = [c.strip() for c in line.split(",")]
+            if len(cells) != 2 or not _numbers(cells):
+                raise InputError(f"{name}, line {number}: a data line is 'time,acceleration' (two numbers, s "
+                                 f"and g), got {line[:40]!r}")
+            data[i] = float(cells[0]), float(cells[1])
+            if not np.all(np.isfinite(data[i])):
+                raise InputError(f"{name}, line {number}: times and accelerations must be finite numbers, "
+                                 f"got {line[:40]!r}")
         if len(rows) < 2:
             raise InputError(f"{name}: expected at least two lines 'time,acceleration' (s, g)")
         t = data[:, 0]
-        if not np.all(np.isfinite(data)):
-            raise InputError(f"{name}: times and accelerations must be finite numbers")
         steps = np.diff(t)
         if np.any(steps <= 0):
-            raise InputError(f"{name}: times must be strictly increasing")
+            k = int(np.argmax(steps <= 0)) + 1
+            raise InputError(f"{name}, line {rows[k][0]}: times must be strictly increasing, got "
+                             f"{t[k]:g} s after {t[k - 1]:g} s")
         check_record(len(rows), (float(np.min(steps)), float(np.max(steps))), float(t[-1] - t[0]), name,
                      start=float(t[0]))
         return cls(t, data[:, 1], name)
+
+
+def _numbers(cells: list[str]) -> bool:
+    """True if every cell is a number (``float`` accepts it; 'nan' and 'inf' included)."""
+    try:
+        for c in cells:
+            float(c)
+    except ValueError:
+        return False
+    return True
 
 
 def check_record(npts: int, dt, duration: float, name: str, start: float = 0.0) -> None:

@@ -31,7 +31,7 @@ from . import lognormal
 from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, default_t_end, onset_and_top, record_collapse
 from .intensity import IntensityMeasure, parse_im
 from .models import DEFAULT_MODEL, check_model
-from .parallel import Journal, default_workers, run_tasks
+from .parallel import Journal, executor_label, run_tasks
 from .spectrum import T_END_FACTOR, _check_runs, _json_safe
 from .suites import Record, Suite
 
@@ -62,10 +62,6 @@ def _lost_case(task, message: str) -> dict:
             "budget_exhausted": False, "errors": [{"factor": None, "outcome": "lost",
                                                    "error": f"the worker process died twice ({message})"}],
             "onset_factor": None, "max_factor": None, "runs": 0, "scan": [], "t_end": None, "steps": 0, "time_s": 0.0}
-
-
-def _n(workers: int) -> str:
-    return f"{workers} worker" + ("s" if workers != 1 else "")
 
 
 def _status(row: dict) -> str:
@@ -201,7 +197,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
                 "max_runs": max_runs, "t_end": f"end of the record + {t_end_factor:g} sqrt(L/g)",
                 "voussoirs": voussoirs, "elements": elements if voussoirs is None else None, "backend": backend,
                 "signs": list(SIGNS), "bootstrap": bootstrap, "seed": seed, "level": level, "design": design,
-                "executor": "dask" if scheduler is not None else f"local ({_n(workers or default_workers())})"}
+                "executor": executor_label(workers, scheduler, len(tasks))}
     timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
               "runs": sum(r["runs"] for r in rows), "steps": sum(r["steps"] for r in rows)}
     geo = curve.describe() if hasattr(curve, "describe") else {}

@@ -47,6 +47,15 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def executor_label(workers: int | None, scheduler, tasks: int) -> str:
+    """What runs ``tasks`` tasks: ``"dask"`` or ``"local (n workers)"`` with ``n`` the processes a
+    local pool starts (never more than the tasks, 1 without a pool)."""
+    if scheduler is not None:
+        return "dask"
+    n = max(1, min(workers or default_workers(), tasks))
+    return f"local ({n} worker{'s' if n != 1 else ''})"
+
+
 def _call(func, kwargs):
     """``func(**kwargs)`` with single-threaded BLAS and no warnings: the tasks are small, and BLAS
     threads only fight the other workers for the cores (measured on the Fig. 13 sweep,

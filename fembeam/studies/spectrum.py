@@ -56,7 +56,7 @@ from ..dynamics.ground import PERIOD_RANGE, GroundMotion
 from ..dynamics.rocking import Rocker
 from ..errors import CannotStandError, InputError, SolverError
 from ..geometry import MidCurve
-from .parallel import Journal, default_workers, run_tasks
+from .parallel import Journal, executor_label, run_tasks
 
 __all__ = ["overturning_amplitude", "spectrum", "spectrum_case", "SpectrumResult", "plot_spectrum",
            "collapse_scale", "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "check_model", "MultiBody",
@@ -503,8 +503,7 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
                 "backend": backend, "bisect_tol": bisect_tol, "t_end_factor": t_end_factor,
                 "t_end": "pulse end + t_end_factor sqrt(L/g)",
                 "grid": "given" if amplitudes is not None else f"geometric, {n_amplitudes} points, onset to {span:g} x",
-                "executor": ("dask" if scheduler is not None else
-                             f"local ({min(workers or default_workers(), len(ps))} workers)")}
+                "executor": executor_label(workers, scheduler, len(ps))}
     if model != "rock":
         settings.update(dt=dt, friction=friction)
     geo = curve.describe() if hasattr(curve, "describe") else {}

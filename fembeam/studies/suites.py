@@ -29,11 +29,13 @@ from ..dynamics.ground import GroundMotion
 from ..errors import InputError
 from .intensity import pga, pgv
 
-__all__ = ["Record", "Suite", "load_suite", "folder_suite", "fema_suite", "FEMA_SUITES", "MAX_RECORDS"]
+__all__ = ["Record", "Suite", "load_suite", "folder_suite", "fema_suite", "FEMA_SUITES", "MAX_RECORDS",
+           "RECORD_SUFFIXES", "record_files"]
 
 FEMA_SUITES = {"fema-p695-far-field": "farfield", "fema-p695-near-field": "nearfield",
                "fema-p695-near-field-pulse": "nearfield_pulse", "fema-p695-near-field-no-pulse": "nearfield_no_pulse"}
 MAX_RECORDS = 1000
+RECORD_SUFFIXES = (".at2", ".csv")
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -68,8 +70,17 @@ class Record:
         t = self.ground.t
         return {"record": self.name, "event": self.event, "station": self.station, "component": self.component,
                 "group": self.group, "normalisation": self.normalisation, "pga_g": pga(self.ground),
-                "pgv_m_s": pgv(self.ground), "dt_s": float(t[1] - t[0]), "duration_s": float(t[-1] - t[0]),
+                "pgv_m_s": pgv(self.ground), **_steps(t), "duration_s": float(t[-1] - t[0]),
                 **self.extra}
+
+
+def _steps(t: np.ndarray) -> dict:
+    """``dt_s``: the time step (s) of an even record (steps equal to 1e-9 relative), None for an
+    uneven one, whose smallest and largest steps are ``dt_min_s`` and ``dt_max_s``."""
+    steps = np.diff(t)
+    lo, hi = float(steps.min()), float(steps.max())
+    even = hi - lo <= 1e-9 * hi
+    return {"dt_s": float((t[-1] - t[0]) / (len(t) - 1)) if even else None, "dt_min_s": lo, "dt_max_s": hi}
 
 
 @dataclass(frozen=True)
@@ -113,10 +124,17 @@ def _at2_header(path: Path) -> tuple[str, str, str]:
     return "", "", ""
 
 
+def record_files(folder: str | Path) -> list[Path]:
+    """Every entry of ``folder`` named ``*.AT2`` or ``*.csv`` (any case), in name order, whatever
+    it is: one that is not a readable regular file (a FIFO, a directory, a broken or looping
+    link) is refused when it is read, with one line naming it, not left out."""
+    return sorted(p for p in Path(folder).iterdir() if p.suffix.lower() in RECORD_SUFFIXES)
+
+
 def folder_suite(folder: str | Path) -> Suite:
     """Every AT2 and CSV file of ``folder`` (see the module docstring)."""
     folder = Path(folder)
-    files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in (".at2", ".csv"))
+    files = record_files(folder)
     if not files:
         raise InputError(f"{str(folder)!r} holds no .AT2 or .csv record")
     if len(files) > MAX_RECORDS:

@@ -37,7 +37,7 @@ from ..geometry.asbuilt import build
 from ..geometry import CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch
 from ..geometry.arch import MIN_T_OVER_SPAN
 from ..analysis import limit_analysis
-from .parallel import Journal, connect, default_workers, run_tasks, shared_pool
+from .parallel import Journal, connect, default_workers, executor_label, run_tasks, shared_pool
 
 __all__ = ["Family", "FAMILIES", "family", "sweep_case", "envelope_case", "SweepResult", "sweep", "sweep_shape",
            "plot_sweep", "FIG13_EMBRACE", "FIG13_T_OVER_R"]
@@ -306,7 +306,7 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
     settings = {**fam.ident, "fill": None if fill is None else {"density": fill[0], "depth": fill[1]},
                 "elements": elements, "backend": backend, "direction": direction,
                 "tmin_elements": tmin_elements, "tmin_tol": tmin_tol, "above": above,
-                "executor": ("dask" if scheduler is not None else f"local ({workers} workers)")}
+                "executor": executor_label(workers, scheduler, len(cases))}
     return SweepResult(list(embrace), list(t_over_r), cases, env, settings, wall, timing, shape)
 
 
