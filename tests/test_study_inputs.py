@@ -100,3 +100,23 @@ def test_the_executor_says_the_processes_it_starts():
     assert executor_label(None, None, 1) == "local (1 worker)"
     assert executor_label(None, None, 10 ** 6) == f"local ({default_workers()} worker{'s' * (default_workers() > 1)})"
     assert executor_label(3, "tcp://x:1", 4) == "dask"
+
+
+def _square(x):
+    return x * x
+
+
+def test_no_progress_bar_on_a_stderr_that_is_not_a_terminal(capsys):
+    from fembeam.studies.parallel import run_tasks
+    assert run_tasks([(_square, {"x": k}) for k in range(3)], workers=1, progress=True) == [0, 1, 4]
+    assert capsys.readouterr().err == ""
+
+
+def test_the_friction_range_message_is_the_range_checked(capsys):
+    for command in ("simulate", "assess"):
+        for mu in ("0", "1000.0001"):
+            with pytest.raises(SystemExit) as e:      # argparse's exit
+                main([command, "--voussoirs", "5", "--pulse", "sine", "--amplitude", "1", "--period", "0.5",
+                      "--friction", mu])
+            err = capsys.readouterr().err
+            assert e.value.code == 2 and "[0.001, 1000]" in err and f"got '{mu}'" in err

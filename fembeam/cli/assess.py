@@ -15,9 +15,8 @@ from pathlib import Path
 from ..dynamics.ground import GroundMotion
 from ..errors import InputError
 from ..studies.suites import record_files
-from .analyze import friction_coefficient
 from .args import arch_title, finite_float, float_list, note_records
-from .rock import add_ground, add_member, ground_from, member_from
+from .rock import add_ground, add_member, coulomb, ground_from, member_from
 
 
 
@@ -34,7 +33,7 @@ def register(sub) -> None:
                    help="every .AT2 and .csv record of the folder DIR (time s, acceleration g), one after another "
                         "(--scale and --pga apply to each)")
     a = p.add_argument_group("auto model and margin")
-    a.add_argument("--friction", type=friction_coefficient, default=None, metavar="MU",
+    a.add_argument("--friction", type=coulomb, default=None, metavar="MU",
                    help="Coulomb coefficient of the joints in the auto model's simulation and admissibility "
                         "(default: joints never slide); the statics flag it against the friction needed")
     a.add_argument("--dt", type=finite_float, default=None, metavar="S",

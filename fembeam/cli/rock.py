@@ -153,13 +153,19 @@ def register(sub) -> None:
 
 
 def coulomb(text: str) -> float:
-    """A finite Coulomb coefficient > 0 (argparse type: exit 2 with one line otherwise)."""
+    """A Coulomb coefficient of the motion models, in
+    :data:`~fembeam.simulation.stepper.MU_RANGE` (argparse type: exit 2 with one line otherwise)."""
+    from ..simulation.stepper import MU_RANGE
+
+    lo, hi = MU_RANGE
     try:
         mu = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number > 0), got {text!r}") from None
-    if not (math.isfinite(mu) and mu > 0):
-        raise argparse.ArgumentTypeError(f"the friction coefficient must be a finite number > 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number in [{lo:g}, {hi:g}]), "
+                                         f"got {text!r}") from None
+    if not (math.isfinite(mu) and lo <= mu <= hi):
+        raise argparse.ArgumentTypeError(f"the friction coefficient of the motion must be in [{lo:g}, {hi:g}] "
+                                         f"(omit --friction for joints that never slide), got {text!r}")
     return mu
 
 

@@ -152,7 +152,7 @@ def check_friction(mu) -> float | None:
         raise InputError(f"the friction coefficient must be a number, got {mu!r}") from None
     lo, hi = MU_RANGE
     if not (math.isfinite(mu) and lo <= mu <= hi):
-        raise InputError(f"the friction coefficient must be in [{lo:g}, {hi:g}], got {mu:g}")
+        raise InputError(f"the friction coefficient must be in [{lo:g}, {hi:g}], got {mu!r}")
     return mu
 
 

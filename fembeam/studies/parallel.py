@@ -47,6 +47,15 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def _tty(stream) -> bool:
+    """Whether ``stream`` is a terminal (a progress bar is drawn only there: in a log or a pipe
+    its carriage returns are noise)."""
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
 def executor_label(workers: int | None, scheduler, tasks: int) -> str:
     """What runs ``tasks`` tasks: ``"dask"`` or ``"local (n workers)"`` with ``n`` the processes a
     local pool starts (never more than the tasks, 1 without a pool)."""
@@ -257,7 +266,8 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
     ``inproc://`` address of an in-process ``LocalCluster``) or a ``distributed.Client``.
     ``workers``: local worker processes (default :func:`default_workers`, at most
     :data:`~fembeam.limits.MAX_WORKERS`; 1 runs in this process, without a pool; a new pool
-    never has more processes than tasks to run).  ``progress``: a tqdm bar on stderr.
+    never has more processes than tasks to run).  ``progress``: a tqdm bar on stderr, when it
+    is a terminal.
     ``journal`` and ``lost``: see the module docstring.
     """
     from tqdm import tqdm
@@ -272,7 +282,7 @@ def run_tasks(tasks: list[Task], workers: int | None = None, scheduler=None, pro
         for i in set(range(len(tasks))) - set(todo):
             out[i] = journal.done[keys[i]]
     bar = tqdm(total=len(tasks), initial=len(tasks) - len(todo), desc=desc, file=sys.stderr,
-               disable=not progress, unit="case", dynamic_ncols=True)
+               disable=not (progress and _tty(sys.stderr)), unit="case", dynamic_ncols=True)
     finished = [len(tasks) - len(todo)]
 
     def done(i: int, result: Any, keep: bool = True) -> None:
