@@ -120,3 +120,87 @@ def test_the_friction_range_message_is_the_range_checked(capsys):
                       "--friction", mu])
             err = capsys.readouterr().err
             assert e.value.code == 2 and "[0.001, 1000]" in err and f"got '{mu}'" in err
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--plot", "same.png", "--ida-plot", "same.png"], "same"),
+    (["--out-dir", "D", "--plot", "D/ida.png"], "ida.png"),
+    (["--out-dir", "D", "--csv", "D/ida.csv"], "ida.csv"),
+])
+def test_two_outputs_of_fragility_naming_one_file_are_refused(tmp_path, capsys, monkeypatch, extra, words):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "D").mkdir()
+    _one_line(capsys, ["fragility", *BLOCK, "--suite", str(_suite(tmp_path)), *extra], words)
+
+
+@pytest.mark.parametrize("extra", [["--out-dir", "SUITE"], ["--csv", "SUITE/f.csv"]])
+def test_a_csv_output_in_the_suite_folder_is_refused(tmp_path, capsys, extra):
+    d = _suite(tmp_path)
+    _one_line(capsys, ["fragility", *BLOCK, "--suite", str(d), *[a.replace("SUITE", str(d)) for a in extra]],
+              "would be read as a record")
+
+
+class _Result:
+    def __init__(self, ida: bool):
+        self.ida = ida
+
+    def csv_rows(self):
+        return [{"record": "a", "collapse": 1.0}]
+
+    def ida_rows(self):
+        return [{"record": "a", "factor": 1.0}] if self.ida else []
+
+    def to_dict(self):
+        return {"n": 1}
+
+
+def test_a_fragility_out_dir_is_swapped_in_whole(tmp_path, monkeypatch):
+    import fembeam.cli.fragility as cli
+
+    out = tmp_path / "out"
+
+    def paths():
+        return {k: str(out / n) for k, n in cli.FILES.items()}
+
+    def figure(res, path):
+        Path(path).write_text("figure")
+    monkeypatch.setattr(cli, "plot_fragility", figure)
+    monkeypatch.setattr(cli, "plot_ida", figure)
+    cli.write(_Result(ida=True), paths(), str(out))
+    assert sorted(os.listdir(out)) == sorted(cli.FILES.values())
+
+    def broken(res, path):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cli, "plot_ida", broken)     # interrupted while writing: the old set stays
+    (out / "fragility.json").write_text("old")
+    with pytest.raises(KeyboardInterrupt):
+        cli.write(_Result(ida=True), paths(), str(out))
+    assert (out / "fragility.json").read_text() == "old" and sorted(os.listdir(out)) == sorted(cli.FILES.values())
+    fresh = tmp_path / "fresh"
+    with pytest.raises(KeyboardInterrupt):               # a new folder: not created at all
+        cli.write(_Result(ida=True), {k: str(fresh / n) for k, n in cli.FILES.items()}, str(fresh))
+    assert not fresh.exists() and [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+    monkeypatch.setattr(cli, "plot_ida", figure)
+    cli.write(_Result(ida=False), paths(), str(out))     # a study without IDA runs: no stale ida.csv
+    assert sorted(os.listdir(out)) == ["fragility.csv", "fragility.json", "fragility.png", "ida.png"]
+
+
+def test_an_assess_report_leaves_no_stale_motion_and_no_empty_folder(tmp_path, monkeypatch):
+    from fembeam.output.files import atomic_dir
+    d = tmp_path / "report"
+    with atomic_dir(d, ["a.png", "motion_01_x.png", "motion_02_x.png"], stale=["motion_*.png"]) as tmps:
+        for t in tmps:
+            Path(t).write_text("1")
+    (d / "notes.txt").write_text("the user's")
+    with atomic_dir(d, ["a.png", "motion_01_x.png"], stale=["motion_*.png"]) as tmps:
+        for t in tmps:
+            Path(t).write_text("2")
+    assert sorted(os.listdir(d)) == ["a.png", "motion_01_x.png", "notes.txt"]
+    e = tmp_path / "new" / "report"
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_dir(e, ["a.png"]) as tmps:
+            raise KeyboardInterrupt
+    assert not e.exists() and os.listdir(e.parent) == []
+    with atomic_dir(e, ["a.png"]) as (tmp,):
+        Path(tmp).write_text("3")
+    assert (e / "a.png").read_text() == "3" and oct(e.stat().st_mode & 0o777) != oct(0o700)

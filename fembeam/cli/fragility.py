@@ -11,7 +11,7 @@ import json
 import os
 
 from ..errors import InputError
-from ..output.files import PLOT_SUFFIXES, atomic, check_dir, check_output
+from ..output.files import PLOT_SUFFIXES, atomic, atomic_dir, check_dir, check_distinct, check_output
 from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN
 from ..studies.fragility import BOOTSTRAP, LEVEL, FragilityResult, fragility, plot_fragility, plot_ida
 from ..studies.models import DEFAULT_MODEL, MODELS
@@ -91,7 +91,22 @@ def _paths(args) -> dict:
             if os.path.isdir(full):
                 raise InputError(f"--out-dir: {full!r} is a directory")
             paths[key] = paths[key] or full
+    check_distinct({f"--{k.replace('_', '-')}" if k in ("csv", "plot", "ida_plot") else f"--out-dir ({FILES[k]})": v
+                    for k, v in paths.items()})
+    _outside_suite(args.suite, paths)
     return paths
+
+
+def _outside_suite(suite: str, paths: dict) -> None:
+    """InputError if a CSV output would land in the suite folder, where the next run would read it
+    as a record."""
+    if suite is None or not os.path.isdir(suite):
+        return
+    folder = os.path.realpath(suite)
+    for key, path in paths.items():
+        if path and str(path).lower().endswith(".csv") and os.path.dirname(os.path.realpath(path)) == folder:
+            raise InputError(f"{path}: a CSV output in the suite folder {suite!r} would be read as a record by "
+                             f"the next run; write it elsewhere")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -117,41 +132,46 @@ def run(args: argparse.Namespace) -> int:
                     t_end_factor=args.t_end_factor, design=args.design, bootstrap=args.bootstrap, seed=args.seed,
                     level=args.level, backend=args.backend, workers=args.workers, scheduler=args.scheduler,
                     progress=not args.quiet, journal=journal)
-    written = write(res, paths)
+    written = write(res, paths, args.out_dir)
     if journal is not None:
         journal.remove()
     return print_result(args.json, res.to_dict, lambda: table(res), written)
 
 
-def _write_csv(rows: list[dict], path) -> None:
-    with atomic(path) as tmp, open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+def write(res: FragilityResult, paths: dict, out_dir: str | None = None) -> list[str]:
+    """The files asked for; those of ``out_dir`` swapped in together (an earlier study's files
+    the new set lacks, such as ``ida.png``, removed), the others each atomically; their
+    descriptions."""
+    def table_writer(rows):
+        def write_csv(tmp):
+            with open(tmp, "w", newline="") as f:
+                w = csv.DictWriter(f, fieldnames=list(rows[0]))
+                w.writeheader()
+                w.writerows(rows)
+        return write_csv
 
-
-def write(res: FragilityResult, paths: dict) -> list[str]:
-    """The files asked for, each atomically; their descriptions."""
-    for path in paths.values():
-        if path:
-            os.makedirs(os.path.dirname(os.fspath(path)) or ".", exist_ok=True)
-    done = []
-    if paths["csv"]:
-        _write_csv(res.csv_rows(), paths["csv"])
-        done.append(f"table: {paths['csv']}")
-    if paths["ida_csv"] and res.ida_rows():
-        _write_csv(res.ida_rows(), paths["ida_csv"])
-        done.append(f"IDA runs: {paths['ida_csv']}")
-    if paths["json"]:
-        with atomic(paths["json"]) as tmp, open(tmp, "w") as f:
+    def write_json(tmp):
+        with open(tmp, "w") as f:
             json.dump(res.to_dict(), f, indent=1, allow_nan=False)
-        done.append(f"JSON: {paths['json']}")
-    for key, plot, what in (("plot", plot_fragility, "fragility figure"), ("ida_plot", plot_ida, "IDA figure")):
-        if paths[key]:
-            with atomic(paths[key]) as tmp:
-                plot(res, tmp)
-            done.append(f"{what}: {paths[key]}")
-    return done
+
+    ida = res.ida_rows()
+    writers = {"csv": (table_writer(res.csv_rows()), "table"), "ida_csv": (table_writer(ida), "IDA runs") if ida else None,
+               "json": (write_json, "JSON"), "plot": (lambda tmp: plot_fragility(res, tmp), "fragility figure"),
+               "ida_plot": (lambda tmp: plot_ida(res, tmp), "IDA figure")}
+    todo = {k: paths[k] for k in ("csv", "ida_csv", "json", "plot", "ida_plot") if paths[k] and writers[k]}
+    inside = {k: p for k, p in todo.items()
+              if out_dir is not None and os.path.realpath(os.path.dirname(os.fspath(p)) or ".")
+              == os.path.realpath(out_dir) and os.path.basename(os.fspath(p)) == FILES[k]}
+    if inside:
+        with atomic_dir(out_dir, [FILES[k] for k in inside], stale=list(FILES.values())) as tmps:
+            for k, tmp in zip(inside, tmps):
+                writers[k][0](tmp)
+    for k, path in todo.items():
+        if k not in inside:
+            os.makedirs(os.path.dirname(os.fspath(path)) or ".", exist_ok=True)
+            with atomic(path) as tmp:
+                writers[k][0](tmp)
+    return [f"{writers[k][1]}: {p}" for k, p in todo.items()]
 
 
 def _num(x, fmt: str = ".4g") -> str:

@@ -10,7 +10,7 @@
   the mechanism or the bodies of the simulation, :mod:`fembeam.output.motion`'s outline) over its
   outline at rest;
 * :func:`write_report`: ``report.md`` with those figures and ``assess.json`` in a directory, written
-  as one atomic group (:func:`fembeam.output.files.atomic_group`): all files or none.
+  as one atomic group (:func:`fembeam.output.files.atomic_dir`): all files or none.
 """
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .files import atomic_group, check_dir
+from .files import atomic_dir, check_dir
 
 __all__ = ["page", "statics_figure", "history_figure", "configuration_figure", "report_names", "check_report",
            "write_report"]
@@ -244,6 +244,10 @@ def configuration_figure(result, k: int):
 
 
 # --------------------------------------------------------------------------- report
+REPORT_PATTERNS = ("statics.png", "motion_*_history.png", "motion_*_configuration.png",
+                   "assess.json", "report.md")    # the files a report may hold: an earlier one's are replaced
+
+
 def report_names(n_motions: int) -> list[str]:
     """The files of a report of ``n_motions`` ground motions, ``report.md`` last."""
     names = ["statics.png"]
@@ -278,19 +282,19 @@ def _markdown(d: dict, member: str, command: str | None) -> str:
 
 def write_report(result, directory, member: str, command: str | None = None, dpi: int = 120) -> list[Path]:
     """``report.md``, ``assess.json`` and the figures of ``result`` in ``directory`` (created),
-    written together atomically; returns the paths.  ``member``: one line describing the member;
+    written together atomically (:func:`~fembeam.output.files.atomic_dir`: an earlier report's
+    figures of motions the new one lacks are removed); returns the paths.  ``member``: one line describing the member;
     ``command``: the command line, quoted in the report."""
     from .motion import _pyplot
     plt = _pyplot()
     p = check_report(directory, len(result.motions))
-    p.mkdir(parents=True, exist_ok=True)
     d = result.to_dict()
     names = report_names(len(result.motions))
     makers = [lambda: statics_figure(result)]
     for k in range(len(result.motions)):
         makers += [lambda k=k: history_figure(result, k), lambda k=k: configuration_figure(result, k)]
     paths = [p / n for n in names]
-    with atomic_group(paths) as tmps:
+    with atomic_dir(p, names, stale=REPORT_PATTERNS) as tmps:
         for make, tmp in zip(makers, tmps):
             fig = make()
             try:

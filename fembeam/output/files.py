@@ -10,7 +10,11 @@ half-written file; :func:`atomic_group` does it for a set of files (a ParaView s
 frames and their index) and swaps the whole set in at the end, the renames shielded from
 Ctrl-C and SIGTERM (:func:`fembeam.interrupts.deferred`), the files of the set it replaces
 that the new one lacks removed after it.  So an interrupted re-run leaves the previous
-complete set untouched, never an index pointing at files it deleted.
+complete set untouched, never an index pointing at files it deleted.  :func:`atomic_dir` does
+it for the files of an output folder (a report, a study's ``--out-dir``): a folder that does
+not exist yet is written whole under a temporary name beside it and renamed in at the end, so
+an interrupt leaves no empty or partial folder; in an existing folder the set is swapped in
+and the files of an earlier set that the new one lacks (``stale``) are removed.
 
 A path that is a symbolic link is written through: the file it points to is replaced and
 the link stays.  Temporary names are short (``.NAME.XXXXXXXX.SUF`` with NAME cut to 64
@@ -19,7 +23,9 @@ bytes), so a target name the file system accepts always has a temporary name it 
 from __future__ import annotations
 
 import contextlib
+import fnmatch
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Iterator, Mapping, Sequence
@@ -28,6 +34,7 @@ from .. import interrupts
 from ..errors import InputError
 
 __all__ = ["check_output", "check_dir", "check_name", "check_distinct", "target", "atomic", "atomic_group",
+           "atomic_dir",
            "write_table", "PLOT_SUFFIXES"]
 
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
@@ -187,6 +194,37 @@ def atomic(path) -> Iterator[str]:
     (including KeyboardInterrupt)."""
     with atomic_group([path]) as (tmp,):
         yield tmp
+
+
+@contextlib.contextmanager
+def atomic_dir(directory, names: Sequence[str], stale: Sequence[str] = ()) -> Iterator[list[str]]:
+    """Temporary paths for the files ``names`` of the folder ``directory``, swapped in together
+    once the writer has finished (see the module docstring); ``stale``: glob patterns of the
+    files an earlier set may have left there (``motion_*.png``), removed after the swap unless
+    the new set has them.  Nothing is left behind on any failure before the swap."""
+    d = Path(directory)
+    if d.is_dir():
+        new = set(names)
+        old = [str(d / n) for n in sorted(os.listdir(d))
+               if n not in new and any(fnmatch.fnmatchcase(n, pat) for pat in stale)]
+        with atomic_group([d / n for n in names], replaces=old) as tmps:
+            yield tmps
+        return
+    d.parent.mkdir(parents=True, exist_ok=True)
+    tmpdir = tempfile.mkdtemp(prefix=f".{os.fsencode(d.name)[:64].decode(errors='ignore')}.",
+                              dir=d.parent if str(d.parent) else ".")
+    try:
+        yield [os.path.join(tmpdir, n) for n in names]
+        umask = os.umask(0)
+        os.umask(umask)
+        with interrupts.deferred():
+            os.chmod(tmpdir, 0o777 & ~umask)       # mkdtemp's 0700 would outlive the rename
+            for n in names:
+                os.chmod(os.path.join(tmpdir, n), 0o666 & ~umask)
+            os.rename(tmpdir, d)
+    except BaseException:
+        shutil.rmtree(tmpdir, ignore_errors=True)
+        raise
 
 
 def write_table(path, columns: Mapping[str, Sequence], integer: Sequence[str] = (), chunk: int = 50_000) -> None:
