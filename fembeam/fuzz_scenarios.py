@@ -6,7 +6,8 @@ fresh scratch directory, and judges what a user would see:
 * ``signal-early``: SIGINT, SIGTERM or SIGHUP as soon as fembeam's handlers are installed
   (seen in ``/proc/PID/status``; NumPy and the command's modules still loading);
 * ``signal-late``: the same after a random 0-3 s (a computation, a study's workers, the
-  writing of CSV, figure, ParaView series and GIF);
+  writing of CSV, figure, ParaView series and GIF, an assessment's report folder, a
+  fragility study's output folder);
 * ``kill-parent``: SIGKILL to a study's parent process (``spectrum``/``sweep`` with two
   workers): its workers must end with it;
 * ``closed-stdout``: a drawn command line with descriptor 1 closed;
@@ -52,9 +53,13 @@ LONG = {
                  "--csv", "sp.csv", "--plot", "sp.png", "--quiet", "--bisect-tol", "AMP"],
     "sweep": ["sweep", "--embrace", "90,150", "--t-over-r", "0.1:0.3:0.02", "--elements", "16", "--tmin-elements",
               "16", "--workers", "2", "--out-dir", "sw", "--quiet", "--above", "AMP"],
+    "assess": ["assess", "--voussoirs", "7", "--t-end", "3", "--pulse", "sine", "--period", "0.3", "--amplitude", "AMP",
+               "--report", "rep"],
+    "fragility": ["fragility", "--block", "0.4", "1.6", "--model", "rock", "--suite", "suite", "--out-dir", "fr",
+                  "--quiet", "--bootstrap", "50", "--resolution", "AMP"],
 }
 AMPLITUDES = {"rock": ("0.45", "0.5"), "simulate": ("0.45", "0.5"), "spectrum": ("0.01", "0.02"),
-              "sweep": ("0.001", "0.002")}
+              "sweep": ("0.001", "0.002"), "assess": ("0.5", "0.45"), "fragility": ("0.1", "0.2")}
 SIGNALS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated", signal.SIGHUP: "hung up"}
 SCENARIOS = ("signal-early", "signal-late", "kill-parent", "closed-stdout", "ascii", "rerun")
 _TEMPORARY = re.compile(r"^\.(?!.*-journal\.jsonl$).+")     # a hidden file that is not a study's journal
@@ -219,6 +224,15 @@ def _judge_signal(p, argv, sig, sent: bool, out: str, err: str, d: str) -> str |
     return f"left behind: {', '.join(bad[:4])}" if bad else None
 
 
+def _prepare(d: str) -> None:
+    """The inputs of :data:`LONG` in the scenario's folder: a suite of one short record."""
+    from importlib import resources
+    os.mkdir(os.path.join(d, "suite"))
+    src = resources.files("fembeam") / "data" / "ground_motions" / "elcentro_1940_ns_chopra.csv"
+    with open(os.path.join(d, "suite", "elcentro.csv"), "w") as f:
+        f.write("".join(src.read_text().splitlines(keepends=True)[:400]))     # the first 8 s
+
+
 def _signal(kind: str, rng: random.Random, d: str, rep: ScenarioReport):
     name = rng.choice(sorted(LONG))
     argv = [a if a != "AMP" else AMPLITUDES[name][0] for a in LONG[name]]
@@ -324,6 +338,7 @@ def run_scenarios(n: int, rng: random.Random, draw_argv, kinds=SCENARIOS, progre
     todo = list(plan) if plan is not None else [rng.choice(list(kinds)) for _ in range(n)]
     for i, kind in enumerate(todo):
         d = tempfile.mkdtemp(prefix="fembeam-fuzz-scenario-")
+        _prepare(d)
         try:
             if kind.startswith("signal"):
                 argv, code, why, err = _signal(kind, rng, d, rep)
