@@ -433,7 +433,42 @@ class SupportsResult:
 
     def csv_rows(self) -> list[dict]:
         return [{"displacement_m": d, "H_kN_per_m": H, "V_left_kN_per_m": Vl, "V_right_kN_per_m": Vr,
-                 "hinges": n} for (d, H, Vl, Vr), (_, _, n) in zip(self.path, self.frames)]
+                 "hinges": f[2]} for (d, H, Vl, Vr), f in zip(self.path, self.frames)]
+
+    def placed(self, i: int, samples: int = 6) -> list[np.ndarray]:
+        """Outlines ``(2, k)`` (m) of the pieces at the row ``i`` of the path (extrados then
+        intrados back), each moved rigidly with its piece."""
+        ch = self.chain
+        d, th, _, side, _ = self.frames[i]
+        uL, _ = self.movement_supports(d)
+        phi, c, Rj, _ = ch.place(th, side, uL)
+        curve = ch.curve
+        out = []
+        for e in range(ch.J - 1):
+            s = np.linspace(ch.nodes[e], ch.nodes[e + 1], samples)
+            h = curve.thickness_at(s)
+            pts = np.hstack([curve.point(s, -0.5 * h), curve.point(s[::-1], 0.5 * h[::-1])])
+            out.append(Rj[:, :, e] @ pts + c[:, e:e + 1])
+        return out
+
+    def movement_supports(self, d: float):
+        vL, vR = self.movement.velocities
+        return vL * d, vR * d
+
+    def thrust_points(self, i: int) -> np.ndarray:
+        """Points (2, J) (m) where the line of thrust crosses the joints at the row ``i`` (the
+        centre of the fibre forces on each current face)."""
+        ch = self.chain
+        d, th, _, side, z = self.frames[i]
+        uL, _ = self.movement_supports(d)
+        A, b, _ = ch.rows(th, side, uL)
+        N = A @ z + b
+        Np, Nm = N[:ch.J], N[ch.J:]
+        phi, c, Rj, _ = ch.place(th, side, uL)
+        I = np.einsum("ijk,jk->ik", Rj, ch.I) + c
+        E = np.einsum("ijk,jk->ik", Rj, ch.E) + c
+        tot = np.where(np.abs(Np + Nm) > 1e-300, Np + Nm, 1.0)
+        return (Np * I + Nm * E) / tot
 
 
 class _Path:
@@ -1003,7 +1038,6 @@ def _handle(res: SupportsResult, P: _Path, d, th, lam, what) -> str:
     th2, lam2 = sol
     ev = P.reduced_hessian(d, th2, new, lam2)
     curv = float(ev.min()) if ev.size else 0.0
-    res.verification.setdefault("event_curvatures", 0.0)
     if curv <= 0.0:
         # unstable: with the supports held the pieces turn along the free mode, downhill, until an
         # older hinge closes; when that three-hinge state is admissible and lower in energy the
@@ -1061,4 +1095,5 @@ def _record(res: SupportsResult, P: _Path, d: float, z: np.ndarray, th=None) -> 
     H, Vl = kN(z[0] * W), kN(z[1] * W)
     Vr = kN(W) - Vl
     res.path.append((float(d), float(H), float(Vl), float(Vr)))
-    res.frames.append((float(d), (P.theta if th is None else th).copy(), int(np.count_nonzero(P.side))))
+    res.frames.append((float(d), (P.theta if th is None else th).copy(), int(np.count_nonzero(P.side)),
+                       P.side.copy(), np.asarray(z, float).copy()))
