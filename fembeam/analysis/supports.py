@@ -799,7 +799,7 @@ def _continuum_rest_nodes(curve: MidCurve, nodes: np.ndarray, mv: Movement) -> n
                 extra_f.append(f)
     else:
         return nodes
-    hinge_s = []
+    refined = set()
     for _ in range(3):                         # the touching sections located, the LP solved again
         lp, A, b = solve()
         if lp.status != "optimal":
@@ -817,17 +817,23 @@ def _continuum_rest_nodes(curve: MidCurve, nodes: np.ndarray, mv: Movement) -> n
                 Ax, bx = ch.section_rows(th, side, u0, np.array([x]), np.array([e]))
                 return float(Ax[f] @ lp.z + bx[f])
             opt = minimize_scalar(margin, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * ch.L})
-            new_s.append(float(opt.x))
+            x = float(opt.x)
+            at_bound = min(x - lo, hi - x) <= 1e-6 * ell[e] and not np.any(np.abs(nodes - x) <= 1e-6 * ell[e])
+            if at_bound:              # the minimum lies beyond this sub-section's bracket: another row has it
+                continue
+            new_s.append(x)
             new_f.append(f)
         if not new_s:
             break
+        refined.update(range(len(extra_s), len(extra_s) + len(new_s)))
         extra_s += new_s
         extra_f += new_f
     lp, A, b = solve()
     if lp.status != "optimal":
         return nodes
     r = (A @ lp.z + b)[A0.shape[0]:]
-    hinge_s = [x for x, v in zip(extra_s, r) if v <= 1e-7 * max(1.0, float(np.max(np.abs(lp.z))))]
+    hinge_s = [x for i, (x, v) in enumerate(zip(extra_s, r))
+               if i in refined and v <= 1e-7 * max(1.0, float(np.max(np.abs(lp.z))))]
     if not hinge_s:
         return nodes
     pts = np.sort(np.array(hinge_s))
