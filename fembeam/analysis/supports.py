@@ -48,7 +48,11 @@ is the sign of the second derivative of the potential energy along it: negative,
 form a mechanism under gravity alone, the arch collapses (the edge reached last is reported);
 positive, the path goes on with four hinges (equilibrium through the four pivots imposed by
 Newton's method on closure plus stationarity) until one of the older hinges closes: the hinge
-has migrated.  An open hinge whose pivot force reaches zero, and three collinear pivots (the
+has migrated; negative, the new hinge takes the rotation of an older one when that three-hinge
+state is admissible and lower in energy (a snap-through migration), else the arch collapses.
+On the continuous arch a hinge reaching the joint next to it on the same side rolls onto it
+(the element between them stands for a thin slice of the continuum).  A hinge that closes
+hands the choice back to the LP on the deformed geometry.  An open hinge whose pivot force reaches zero, and three collinear pivots (the
 thrust becomes unbounded), are collapses too.
 """
 from __future__ import annotations
