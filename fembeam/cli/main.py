@@ -34,6 +34,8 @@ COMMANDS = {
     "fragility": ("fragility", "collapse fragility over a record suite: IDA of every record and sign, lognormal fit, "
                                "collapse margin ratio"),
     "simulate": ("simulate", "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"),
+    "supports": ("supports", "supports that spread, settle or move, followed to collapse: capacity, thrust against "
+                             "displacement, hinge migrations"),
     "assess": ("assess", "one page: A_L, minimum thickness, friction needed, auto verdict and margin"),
 }
 

@@ -1,0 +1,142 @@
+"""Arches on moving supports (fembeam.analysis.supports, ``fembeam supports``)."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from fembeam import CircularArch
+from fembeam.analysis.supports import Movement, supports
+from fembeam.analysis.thrust_range import thrust_range
+from fembeam.cli.main import main
+from fembeam.fem import discretize, uniform_nodes
+from fembeam.units import kN
+
+ARCH = CircularArch.from_ratio(157.5, 0.15)
+
+
+@pytest.fixture(scope="module")
+def spread24():
+    return supports(ARCH, Movement.of("spread"), voussoirs=24)
+
+
+def test_rest_thrust_is_the_minimum_thrust(spread24):
+    H_min = thrust_range(discretize(ARCH, uniform_nodes(ARCH, 24))).H_min
+    assert spread24.path[0][1] == pytest.approx(H_min, rel=1e-9)
+    assert spread24.H_min == pytest.approx(H_min, rel=1e-9)
+
+
+def test_symmetric_arch_spreads_symmetrically(spread24):
+    res = spread24
+    J = res.chain.J
+    joints = sorted(h["joint"] for h in res.hinges)
+    assert joints == sorted(J - 1 - j for j in joints)
+    for i in (len(res.frames) // 2, len(res.frames) - 1):
+        d, th, _, side, _ = res.frames[i]
+        uL, _ = res.movement_supports(d)
+        C = res.chain.centroids(th, side, uL)
+        assert np.allclose(C[0], -C[0][::-1], atol=1e-10)      # mirror image about x = 0
+        assert np.allclose(C[1], C[1][::-1], atol=1e-10)
+    assert res.path[-1][2] == pytest.approx(res.path[-1][3], rel=1e-9)   # equal vertical reactions
+    assert res.outcome == "collapsed" and 0.02 < res.capacity_over_span < 0.15
+
+
+def test_three_hinge_arch_against_closed_form():
+    """Two voussoirs: a three-hinge arch (springings on the intrados, crown on the extrados).  The
+    half turns about its springing pivot, which moves out by delta/2, with the crown pivot on the
+    axis; the thrust from the moments about the crown pivot of the half."""
+    res = supports(ARCH, Movement.of("spread"), voussoirs=2, steps=40)
+    assert [(h["joint"], h["side"]) for h in res.hinges] == [(0, "intrados"), (1, "extrados"), (2, "intrados")]
+    ch = res.chain
+    PL0, PC0 = ch.I[:, 0], ch.E[:, 1]
+    ell = float(np.hypot(*(PC0 - PL0)))
+    Wh = ch.W[0]
+    G0 = ch.C[:, 0]
+    for d, H, Vl, Vr in res.path[1:]:
+        if d > 0.9 * res.capacity:       # near the collinear pivots the thrust is ill-conditioned
+            continue
+        PL = PL0 + np.array([-d / 2, 0.0])
+        PC = np.array([0.0, PL[1] + math.sqrt(ell ** 2 - PL[0] ** 2)])
+        a0 = math.atan2(*(PC0 - PL0)[::-1])
+        a = math.atan2(*(PC - PL)[::-1])
+        R = np.array([[math.cos(a - a0), -math.sin(a - a0)], [math.sin(a - a0), math.cos(a - a0)]])
+        G = PL + R @ (G0 - PL0)
+        H_exact = kN(Wh * (PL[0] - G[0]) / (PL[1] - PC[1]))
+        assert H == pytest.approx(H_exact, rel=1e-9)
+        assert Vl == pytest.approx(kN(Wh), rel=1e-9)
+    # collapse: the three pivots in line (the thrust grows without bound)
+    capacity = 2 * (ell - abs(PL0[0]))
+    assert res.outcome == "collapsed" and res.last_edge is None
+    assert res.capacity == pytest.approx(capacity, rel=1e-3)
+
+
+def test_capacity_converges_with_the_increments():
+    """Events located inside the increments: the capacity does not depend on their number; put at
+    the end of the increment where they are seen, it converges at first order."""
+    exact = [supports(ARCH, Movement.of("spread"), voussoirs=12, steps=n).capacity for n in (20, 80)]
+    assert exact[0] == pytest.approx(exact[1], rel=1e-9)
+    errs = []
+    for n in (20, 40, 80, 160):
+        c = supports(ARCH, Movement.of("spread"), voussoirs=12, steps=n, refine=False).capacity
+        assert c >= exact[1] - 1e-12
+        errs.append(c - exact[1])
+    rates = [math.log2(errs[i] / errs[i + 1]) for i in range(3) if errs[i + 1] > 0]
+    assert rates and 0.5 < float(np.mean(rates)) < 1.6
+
+
+def test_continuous_arch_capacity_converges_with_the_elements():
+    c = [supports(ARCH, Movement.of("spread"), elements=n).capacity_over_span for n in (25, 50)]
+    assert c[0] == pytest.approx(c[1], rel=1e-3)
+    assert 0.05 < c[1] < 0.15
+
+
+def test_settlement_and_up_to():
+    res = supports(ARCH, Movement.of("settle"), voussoirs=12, up_to=0.01, steps=5)
+    assert res.outcome == "reached_up_to" and res.capacity is None
+    assert res.path[-1][0] == pytest.approx(0.01)
+    W = kN(res.chain.Wtot)
+    for d, H, Vl, Vr in res.path:                 # the weight on the two supports
+        assert Vl + Vr == pytest.approx(W, rel=1e-9)
+
+
+def _cli(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as e:                      # argparse's errors
+        code = e.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.mark.parametrize("argv", [
+    ["supports", "--voussoirs", "8"],
+    ["supports", "--move", "0,0"],
+    ["supports", "--move", "nan,1"],
+    ["supports", "--move", "1"],
+    ["supports", "--spread", "--left"],
+    ["supports", "--spread", "--settle"],
+    ["supports", "--spread", "--up-to", "0"],
+    ["supports", "--spread", "--up-to", "inf"],
+    ["supports", "--spread", "--steps", "0"],
+])
+def test_bad_input_exits_2_with_one_line(argv, capsys):
+    code, out, err = _cli(argv, capsys)
+    assert code == 2
+    assert out == "" and err.count("\n") == 1 and "error" in err
+
+
+def test_json_interface_and_up_to_beyond_capacity(capsys, tmp_path):
+    code, out, err = _cli(["supports", "--voussoirs", "12", "--spread", "--up-to", "5", "--json",
+                           "--csv", str(tmp_path / "p.csv")], capsys)
+    assert code == 0
+    d = json.loads(out)
+    for key in ("capacity", "capacity_over_span", "hinges", "migrations", "last_edge", "path", "units", "outcome",
+                "settings"):
+        assert key in d
+    assert d["outcome"] == "collapsed" and d["capacity"] < 5
+    assert d["capacity_over_span"] == pytest.approx(d["capacity"] / d["span"])
+    assert set(d["path"][0]) >= {"displacement", "H", "V"}
+    assert d["units"]["H"] == "kN/m" and d["units"]["capacity"] == "m"
+    assert (tmp_path / "p.csv").read_text().startswith("displacement_m,H_kN_per_m")
