@@ -107,11 +107,11 @@ def test_housner_pulses_collapse_at_the_closed_form_threshold(housner):
     # below the fit of the upper ends taken as exact, by about half a bracket
     y = np.log(up)
     assert 0 < math.exp(y.mean()) / housner.fit["theta"] - 1 < math.log(1.02)
+    # the margin and the probability at the design PGA from the independent maximum
     d = housner.design
-    assert d["margin_ratio"] == pytest.approx(housner.fit["theta"] / 0.03, rel=1e-12)
+    assert d["margin_ratio"] == pytest.approx(theta / 0.03, rel=1e-6)
     from scipy.stats import norm
-    assert d["probability_of_collapse"] == pytest.approx(norm.cdf(math.log(0.03 / housner.fit["theta"])
-                                                                  / housner.fit["beta"]), rel=1e-9)
+    assert d["probability_of_collapse"] == pytest.approx(norm.cdf(math.log(0.03 / theta) / beta), rel=1e-4)
     b = housner.bootstrap
     assert b["groups"] == 3 and b["theta"][0] <= housner.fit["theta"] <= b["theta"][1]
     json.dumps(housner.to_dict(), allow_nan=False)

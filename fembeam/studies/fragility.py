@@ -234,6 +234,8 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
     _check(design, bootstrap, level, t_end_factor)
     if not isinstance(suite, Suite):
         raise InputError(f"fragility needs a Suite (fembeam.studies.suites.load_suite), got {type(suite).__name__}")
+    if not isinstance(mirror, bool):
+        raise InputError(f"mirror must be True or False, got {mirror!r}")
     if voussoirs is not None and voussoirs < 1:
         raise InputError(f"voussoirs must be >= 1, got {voussoirs}")
     if voussoirs is None and elements < 4:
