@@ -2,8 +2,13 @@
 
 * IDA of Housner's slender block under a suite of rectangular pulses: each pulse's collapse PGA
   lies within one resolution step above the closed-form threshold ``a / (g alpha) = 1 / (1 -
-  exp(-p t1))`` (plus its nonlinear excess, 1.27e-4 to 1.42e-4 by bisection), both signs alike, and the fit is the
-  maximum-likelihood lognormal of those PGAs;
+  exp(-p t1))`` (plus its nonlinear excess, 1.27e-4 to 1.42e-4 by bisection), and the fit is the
+  interval-censored maximum likelihood of the brackets, found here by a generic optimiser;
+* the block is symmetric: sign -1 is the mirror of +1 (``mirrored``), the same rows as a real run
+  of sign -1 (``mirror=False``) at half the runs; an asymmetric member runs both signs;
+* censored and error rows (a runner whose collapsing, safe and failing factors are known): the
+  intervals the fit takes, the error censored at its last safe factor and counted; one group,
+  records without a group;
 * the same rows for 1 and 2 local workers and on a Dask ``LocalCluster``;
 * ``--model simulate``: every run's outcome that of a direct run of the Simulator;
 * a block 0.3 x 1.5 m under El Centro overturns at 0.841 (a window 0.24 % wide) below the 1.032
@@ -23,7 +28,7 @@ import pytest
 from fembeam import StraightMember
 from fembeam.cli import main
 from fembeam.dynamics import GRAVITY, GroundMotion, Rocker
-from fembeam.errors import InputError
+from fembeam.errors import InputError, SolverError
 from fembeam.simulation import Simulator
 from fembeam.studies import fragility as fr
 from fembeam.studies.collapse import collapse_scale
@@ -31,6 +36,7 @@ from fembeam.studies.fragility import fragility
 from fembeam.studies.models import check_model
 from fembeam.studies.parallel import Journal
 from fembeam.studies.suites import Record, Suite
+from fembeam.studies import models
 
 WIDTH, HEIGHT = 0.04, 2.0
 SLENDER = StraightMember(height=HEIGHT, width=WIDTH)
@@ -47,6 +53,24 @@ def pulse_suite(p_t1=P_T1, amplitude=1.0) -> Suite:
 
 def strip(rows):
     return [{k: v for k, v in r.items() if k != "time_s"} for r in rows]
+
+
+def interval_mle(lo, up):
+    """The interval-censored lognormal maximum likelihood by Nelder-Mead on ``-sum ln(Phi(z(up)) -
+    Phi(z(lo)))`` in ``(ln theta, ln beta)`` (``up`` None or inf: right-censored), with scipy's
+    normal distribution only: ``(theta, beta)``."""
+    from scipy import optimize, stats
+    llo = np.log(np.asarray(lo, float))
+    lup = np.log(np.array([math.inf if u is None else u for u in up], float))
+
+    def nll(p):
+        mu, beta = p[0], math.exp(p[1])
+        pr = stats.norm.cdf((lup - mu) / beta) - stats.norm.cdf((llo - mu) / beta)
+        return -float(np.sum(np.log(np.maximum(pr, 1e-300))))
+    mid = np.where(np.isfinite(lup), 0.5 * (llo + lup), llo)
+    r = optimize.minimize(nll, [mid.mean(), math.log(max(mid.std(), 1e-2))], method="Nelder-Mead",
+                          options={"xatol": 1e-11, "fatol": 1e-13, "maxiter": 20000, "maxfev": 40000})
+    return math.exp(r.x[0]), math.exp(r.x[1])
 
 
 @pytest.fixture(scope="module")
@@ -68,19 +92,26 @@ def test_housner_pulses_collapse_at_the_closed_form_threshold(housner):
         assert r["bracket"][1] / r["bracket"][0] <= 1.02 * (1 + 1e-9) and r["bracket"][0] < lo
         assert r["onset_factor"] == pytest.approx(math.tan(ALPHA), rel=1e-9)
         assert r["collapse"] == "overturned" and not r["errors"] and r["converged"]
-    # the block is symmetric: the mirrored pulse gives the same search
+    # the block is symmetric: sign -1 is the mirror image of +1, the same search
+    assert housner.settings["symmetric"] and housner.settings["signs_run"] == [1]
     for a, b in zip(rows[::2], rows[1::2]):
-        unsigned = [{k: v for k, v in row.items() if k != "sign"} for row in (a, b)]
+        assert not a["mirrored"] and b["mirrored"] and b["sign"] == -1
+        unsigned = [{k: v for k, v in row.items() if k not in ("sign", "mirrored")} for row in (a, b)]
         assert strip(unsigned[:1]) == strip(unsigned[1:])
-    # the fit: the maximum-likelihood lognormal of the collapse PGAs
-    y = np.log([r["im_at_collapse"] for r in rows])
-    assert housner.fit["theta"] == pytest.approx(math.exp(y.mean()), rel=1e-12)
-    assert housner.fit["beta"] == pytest.approx(y.std(), rel=1e-12)
+    # the fit: the interval-censored maximum likelihood of the brackets [last safe PGA, first collapse]
+    lo, up = [r["bracket"][0] for r in rows], [r["im_at_collapse"] for r in rows]
+    theta, beta = interval_mle(lo, up)
+    assert housner.fit["method"] == "interval_censored" and housner.to_dict()["method"] == "interval_censored"
+    assert housner.fit["theta"] == pytest.approx(theta, rel=1e-6)
+    assert housner.fit["beta"] == pytest.approx(beta, rel=1e-5)
+    # below the fit of the upper ends taken as exact, by about half a bracket
+    y = np.log(up)
+    assert 0 < math.exp(y.mean()) / housner.fit["theta"] - 1 < math.log(1.02)
+    # the margin and the probability at the design PGA from the independent maximum
     d = housner.design
-    assert d["margin_ratio"] == pytest.approx(housner.fit["theta"] / 0.03, rel=1e-12)
+    assert d["margin_ratio"] == pytest.approx(theta / 0.03, rel=1e-6)
     from scipy.stats import norm
-    assert d["probability_of_collapse"] == pytest.approx(norm.cdf(math.log(0.03 / housner.fit["theta"])
-                                                                  / housner.fit["beta"]), rel=1e-9)
+    assert d["probability_of_collapse"] == pytest.approx(norm.cdf(math.log(0.03 / theta) / beta), rel=1e-4)
     b = housner.bootstrap
     assert b["groups"] == 3 and b["theta"][0] <= housner.fit["theta"] <= b["theta"][1]
     json.dumps(housner.to_dict(), allow_nan=False)
@@ -186,9 +217,9 @@ ARGV = ["fragility", "--block", "0.5", "2", "--model", "rock", "--resolution", "
 
 
 def test_command_files_and_journal(tmp_path, monkeypatch, capsys):
-    """Ctrl-C on the third record-sign: exit 130, two kept; the re-run computes the rest only and
-    writes what an uninterrupted run writes."""
-    suite = str(write_pulses(tmp_path / "suite"))
+    """Ctrl-C on the third task (the block is symmetric: one task a record, sign +1): exit 130, two
+    kept; the re-run computes the rest only and writes what an uninterrupted run writes."""
+    suite = str(write_pulses(tmp_path / "suite", (0.3, 0.6, 0.9)))
     out = tmp_path / "out"
     real, calls = fr.fragility_case, []
 
@@ -201,25 +232,34 @@ def test_command_files_and_journal(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(fr, "fragility_case", case)
     argv = ARGV + ["--suite", suite, "--out-dir", str(out)]
     assert main(argv) == 130
-    assert "2 of 4 cases kept in" in capsys.readouterr().err
+    assert "2 of 3 cases kept in" in capsys.readouterr().err
     assert len(Journal(out / ".fembeam-fragility-journal.jsonl").done) == 2
     calls.clear()
     assert main(argv) == 0
-    assert calls == [("rect0.6.csv", 1), ("rect0.6.csv", -1)]
+    assert calls == [("rect0.9.csv", 1)]
     text = capsys.readouterr().out
-    assert "collapsed 4" in text and "collapse margin ratio" in text and "fragility figure" in text
+    assert "collapsed 6" in text and "collapse margin ratio" in text and "fragility figure" in text
+    assert "its mirror images" in text and "interval-censored" in text
     assert sorted(p.name for p in out.iterdir()) == ["fragility.csv", "fragility.json", "fragility.png", "ida.csv",
                                                      "ida.png"]
     data = json.loads((out / "fragility.json").read_text())
     rows = list(csv.DictReader((out / "fragility.csv").open()))
-    names = ["rect0.3.csv"] * 2 + ["rect0.6.csv"] * 2
+    names = ["rect0.3.csv"] * 2 + ["rect0.6.csv"] * 2 + ["rect0.9.csv"] * 2
     assert [r["record"] for r in rows] == [r["record"] for r in data["rows"]] == names
+    assert [r["mirrored"] for r in data["rows"]] == [False, True] * 3 and data["method"] == "interval_censored"
+    assert [r["mirrored"] for r in rows] == ["False", "True"] * 3
     assert data["settings"]["model"] == "rock" and data["design"]["intensity"] == 0.2
     ida = list(csv.DictReader((out / "ida.csv").open()))
     assert len(ida) == sum(r["runs"] for r in data["rows"])
     monkeypatch.setattr(fr, "fragility_case", real)
     assert main(ARGV + ["--suite", suite, "--json"]) == 0                     # no files: no journal
     assert strip(json.loads(capsys.readouterr().out)["rows"]) == strip(data["rows"])
+    # both signs run: the rows of sign -1 are those of the mirror
+    assert main(ARGV + ["--suite", suite, "--json", "--both-signs"]) == 0
+    both = json.loads(capsys.readouterr().out)
+    assert not any(r["mirrored"] for r in both["rows"]) and both["timing_s"]["runs"] == 2 * data["timing_s"]["runs"]
+    unsigned = [{k: v for k, v in r.items() if k not in ("mirrored", "time_s")} for r in both["rows"]]
+    assert unsigned == [{k: v for k, v in r.items() if k not in ("mirrored", "time_s")} for r in data["rows"]]
 
 
 @pytest.mark.parametrize("extra", [
@@ -248,3 +288,123 @@ def test_bad_input_exits_2_with_one_line(tmp_path, extra, capsys):
         code = e.code
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1 and "error" in err, err
+
+
+# --------------------------------------------------------------------------- mirror
+def test_mirrored_rows_are_the_runs_of_the_other_sign():
+    """Sign -1 run for real (``mirror=False``) gives the rows the mirror gave, for ``rock`` and
+    ``simulate``; the mirror runs half as many time histories."""
+    block = StraightMember(height=2.0, width=0.5)
+    suite = Suite("two pulses", (Record("rect 0.4 s", GroundMotion.rectangular(1.0, 0.4), group="a"),
+                                 Record("rect 0.8 s", GroundMotion.rectangular(1.0, 0.8), group="b")))
+    for kw in (dict(model="rock"), dict(model="simulate", dt=4e-3)):
+        common = dict(voussoirs=1, resolution=0.05, t_end_factor=3, bootstrap=20, workers=1, progress=False, **kw)
+        half, full = fragility(block, suite, **common), fragility(block, suite, mirror=False, **common)
+        assert half.settings["symmetric"] and full.settings["symmetric"]
+        assert half.settings["signs_run"] == [1] and full.settings["signs_run"] == [1, -1]
+        assert [r["mirrored"] for r in half.rows] == [False, True] * 2 and not any(r["mirrored"] for r in full.rows)
+        assert 2 * half.timing["runs"] == full.timing["runs"] > 0 and half.counts()["mirrored"] == 2
+        for m, r in zip(half.rows, full.rows):
+            assert (m["record"], m["sign"], m["status"]) == (r["record"], r["sign"], r["status"])
+            assert m["first_overturning"] == r["first_overturning"] and m["bracket"] == r["bracket"]
+            assert [(s["factor"], s["outcome"], s["steps"]) for s in m["scan"]] == \
+                [(s["factor"], s["outcome"], s["steps"]) for s in r["scan"]]
+            assert [s["peak_rotation"] for s in m["scan"]] == pytest.approx([s["peak_rotation"] for s in r["scan"]],
+                                                                            rel=1e-9)
+        assert half.fit == pytest.approx(full.fit) if half.fit else full.fit is None
+
+
+def test_an_asymmetric_member_runs_both_signs(monkeypatch):
+    from fembeam import CircularArch
+    from fembeam.geometry import as_built
+    from fembeam.studies.fragility import symmetric_model
+    arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
+    assert symmetric_model(arch, 7, 200, {1: 0.37, -1: 0.37})
+    assert not symmetric_model(as_built(arch, None, [(1.0, 500.0)]), 7, 200, {1: 0.37, -1: 0.37})
+    assert not symmetric_model(arch, 7, 200, {1: 0.37, -1: 0.38})
+    # the study runs both signs of a member it is told is not symmetric
+    monkeypatch.setattr(fr, "is_symmetric", lambda *a, **k: False)
+    res = fragility(SLENDER, pulse_suite((1.5,)), voussoirs=1, model="rock", resolution=0.05, bootstrap=20,
+                    workers=1, progress=False)
+    assert not res.settings["symmetric"] and res.settings["signs_run"] == [1, -1]
+    assert [(r["sign"], r["mirrored"]) for r in res.rows] == [(1, False), (-1, False)]
+    assert "mirror" not in fr_table(res)
+
+
+def fr_table(res):
+    from fembeam.cli.fragility import table
+    return table(res)
+
+
+# --------------------------------------------------------------------------- censored and error rows
+COLLAPSE_AT, FAIL_AT = 0.3, 0.4        # PGA (g) of the known runner: collapse from, solver error from
+
+
+def known_runner(curve, *, voussoirs, elements, thresholds, dt, friction, backend):
+    """Rectangular pulses of 1 g: 0.5 s collapses from COLLAPSE_AT, 0.6 s never does, 0.7 s fails
+    from FAIL_AT (safe below); the scaled record's PGA is the factor."""
+    def run(ground, t_end):
+        pga, T = ground.pga, round(float(ground.t[-1]), 6)
+        if T == 0.5 and pga >= COLLAPSE_AT:
+            return {"outcome": "overturned", "peak_rotation": 1.0, "steps": 0}
+        if T == 0.7 and pga >= FAIL_AT:
+            raise SolverError("singular contact system")
+        return {"outcome": "rest", "peak_rotation": 0.01 * pga, "steps": 0}
+    return run
+
+
+def known_suite(groups=("a", "b", "c")):
+    return Suite("known", tuple(Record(name, GroundMotion.rectangular(1.0, T), group=g) for (name, T), g in
+                                zip((("collapses", 0.5), ("never", 0.6), ("fails", 0.7)), groups)))
+
+
+def known_study(monkeypatch, groups=("a", "b", "c")):
+    monkeypatch.setitem(models.RUNNERS, "rock", known_runner)
+    block = StraightMember(height=1.6, width=0.4)                     # A_L = 0.25 g: onset factor 0.25
+    return fragility(block, known_suite(groups), voussoirs=1, model="rock", resolution=0.05, bootstrap=200,
+                     design=0.35, workers=1, progress=False)
+
+
+def test_censored_and_error_rows_enter_the_fit(monkeypatch):
+    res = known_study(monkeypatch)
+    rows = {(r["record"], r["sign"]): r for r in res.rows}
+    assert [r["status"] for r in res.rows] == ["collapsed"] * 2 + ["censored"] * 2 + ["error"] * 2
+    assert res.counts() == {"collapsed": 2, "censored": 2, "error": 2, "smallest": 2, "mirrored": 3}
+    # collapsed: the bracket holds the known threshold, at most one resolution step wide
+    lo, up = rows["collapses", 1]["im_interval"]
+    assert lo < COLLAPSE_AT <= up and up / lo <= 1.05 * (1 + 1e-9) and up == rows["collapses", 1]["im_at_collapse"]
+    # censored: at the largest factor, 20 x the onset (0.25 g)
+    never = rows["never", 1]
+    assert never["im_interval"] == [pytest.approx(5.0, rel=1e-12), None]
+    assert never["censored_at"] == never["im_interval"][0]
+    # error: censored at its last safe factor, which lies below the failing PGA, above every safe run
+    fails = rows["fails", -1]
+    (err,) = fails["errors"]
+    safe = [s["factor"] for s in fails["scan"] if s["outcome"] == "rest"]
+    assert err["factor"] >= FAIL_AT and "singular contact system" in err["error"]
+    assert fails["censored_at"] == fails["im_interval"][0] == max(safe) < FAIL_AT and fails["im_interval"][1] is None
+    # the fit: the interval-censored maximum of those six intervals, four of them censored
+    theta, beta = interval_mle([r["im_interval"][0] for r in res.rows], [r["im_interval"][1] for r in res.rows])
+    assert res.fit["n_collapsed"] == 2 and res.fit["n_censored"] == 4 and res.fit["method"] == "interval_censored"
+    assert res.fit["theta"] == pytest.approx(theta, rel=1e-6) and res.fit["beta"] == pytest.approx(beta, rel=1e-5)
+    assert res.bootstrap["groups"] == 3 and res.bootstrap["records_without_group"] == 0
+    text = fr_table(res)
+    assert "error 2 (censored at the last safe factor)" in text and "censored 2" in text
+    assert text.count("search stopped at factor") == 1                # listed once: not again for its mirror
+    assert [r["status"] for r in res.csv_rows()] == [r["status"] for r in res.rows]
+    json.dumps(res.to_dict(), allow_nan=False)
+
+
+def test_one_group_has_no_bootstrap_interval(monkeypatch):
+    res = known_study(monkeypatch, groups=("one recording",) * 3)
+    assert res.fit is not None and "at least two groups" in res.bootstrap["error"]
+    assert "no bootstrap interval: a bootstrap over groups needs at least two groups" in fr_table(res)
+    json.dumps(res.to_dict(), allow_nan=False)
+
+
+def test_records_without_a_group_are_groups_of_their_own(monkeypatch):
+    res = known_study(monkeypatch, groups=("", "", "c"))
+    b = res.bootstrap
+    assert b["groups"] == 3 and b["records_without_group"] == 2 and "2 records without a group" in b["grouping"]
+    assert "bootstrap groups: 2 records without a group" in fr_table(res)
+    assert res.to_dict()["bootstrap"]["grouping"] == b["grouping"]

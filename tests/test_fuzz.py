@@ -138,6 +138,15 @@ def test_a_bounded_fuzz_run_finds_nothing():
     assert rep.codes.get(2, 0) > 0 and rep.codes.get(0, 0) > 0     # it reached both kinds of run
 
 
+def test_every_class_of_hostile_study_input_gives_its_exit_code():
+    """The fixed command lines of the classes of hostile input of the study commands (suite folders
+    with special files, CSV records with bad lines, two outputs naming one file, an empty scheduler,
+    a member that cannot stand in every study command): refused with one line, or answered."""
+    from fembeam.fuzz import CLASSES
+    rep = fuzz(runs=0, timeout=HANG_GUARD_S, classes=True)
+    assert rep.runs == len(CLASSES) and not rep.timeouts and not rep.failures, rep.summary()
+
+
 @pytest.mark.parametrize("argv, words", [
     (["analyze", "--midcurve", "BIN", "--thickness", "0.3"], "not a text CSV file"),
     (["spectrum", "--voussoirs", "7", "--pulse", "sine", "--periods", "0.3", "--scheduler", "out.xyz", "--quiet"],

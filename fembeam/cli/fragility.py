@@ -9,6 +9,7 @@ import argparse
 import csv
 import json
 import os
+import sys
 
 from ..errors import InputError
 from ..output.files import PLOT_SUFFIXES, atomic, atomic_dir, check_dir, check_distinct, check_output
@@ -31,8 +32,12 @@ def register(sub) -> None:
                        description="Incremental dynamic analysis of the member under every record of a suite, both "
                                    "signs: the scale factor at which each first collapses (hunt-and-fill search at a "
                                    "stated resolution), the intensity at collapse, the lognormal fragility fitted by "
-                                   "maximum likelihood with bootstrap intervals, and with --design the collapse "
-                                   "margin ratio and the probability of collapse there (docs/fragility.md). Runs on "
+                                   "interval-censored maximum likelihood (each first collapse known between the last "
+                                   "safe intensity and the collapse found; no collapse, or a solver error, censored "
+                                   "at the last safe intensity) with bootstrap intervals over the recordings, and "
+                                   "with --design the collapse margin ratio and the probability of collapse there "
+                                   "(docs/fragility.md). A member symmetric about its vertical axis runs sign +1 and "
+                                   "gives sign -1 as its mirror image (--both-signs runs both). Runs on "
                                    "local processes or a Dask cluster; with output files, finished records are kept "
                                    "in a journal and a re-run resumes.")
     add_member(p)
@@ -60,11 +65,14 @@ def register(sub) -> None:
                    help=f"largest factor, in onset factors (default {SPAN:g})")
     s.add_argument("--max-runs", type=int, default=MAX_RUNS, metavar="N",
                    help=f"time histories per record and sign at most (default {MAX_RUNS})")
+    s.add_argument("--both-signs", action="store_true",
+                   help="run sign -1 even for a symmetric member (default: its rows are the mirror images of +1's)")
     s.add_argument("--t-end-factor", type=finite_float, default=T_END_FACTOR, metavar="F",
                    help=f"each run lasts to the end of the record + F sqrt(L/g) (default {T_END_FACTOR:g})")
     f = p.add_argument_group("fit")
     f.add_argument("--bootstrap", type=int, default=BOOTSTRAP, metavar="N",
-                   help=f"bootstrap resamples of the recordings (default {BOOTSTRAP})")
+                   help=f"bootstrap resamples of the recordings (the records' groups; a record without a group "
+                        f"is its own; default {BOOTSTRAP})")
     f.add_argument("--level", type=finite_float, default=LEVEL, metavar="P",
                    help=f"confidence level of the intervals (default {LEVEL:g})")
     f.add_argument("--seed", type=int, default=0, help="seed of the bootstrap (default 0)")
@@ -131,7 +139,12 @@ def run(args: argparse.Namespace) -> int:
                     resolution=args.resolution, span=args.factor_span, max_runs=args.max_runs,
                     t_end_factor=args.t_end_factor, design=args.design, bootstrap=args.bootstrap, seed=args.seed,
                     level=args.level, backend=args.backend, workers=args.workers, scheduler=args.scheduler,
-                    progress=not args.quiet, journal=journal)
+                    progress=not args.quiet, journal=journal, mirror=not args.both_signs)
+    if res.outcome == "cannot_stand":        # no run: only the JSON answer is a file
+        files = [f"--{k.replace('_', '-')}" for k in ("csv", "plot", "ida_plot") if getattr(args, k)]
+        if files:
+            print(f"fembeam: note: outcome cannot_stand: nothing written for {', '.join(files)}", file=sys.stderr)
+        paths = {k: (v if k == "json" else None) for k, v in paths.items()}
     written = write(res, paths, args.out_dir)
     if journal is not None:
         journal.remove()
@@ -186,6 +199,12 @@ def _interval(boot: dict | None, key: str, fmt: str = ".4g") -> str:
 
 
 def table(res: FragilityResult) -> str:
+    if res.outcome == "cannot_stand":
+        geo = res.geometry
+        head = (f"block {geo['width']:g} m x {geo['height']:g} m" if geo.get("shape") == "block" else arch_title(geo))
+        return "\n".join([f"fembeam fragility: {head}; suite {res.suite}",
+                          "  outcome: cannot_stand (the member does not stand under its own weight: fembeam analyze); "
+                          "no run, no fragility"])
     st, u = res.settings, res.im.unit
     disc = (f"{st['voussoirs']} voussoirs" if st["voussoirs"] else f"{st['elements']} elements")
     geo = res.geometry
@@ -195,13 +214,14 @@ def table(res: FragilityResult) -> str:
              "auto": f"auto (rock while its mechanism is admissible, then rigid bodies in contact, dt = "
                      f"{st['dt']:g} s)"}.get(st["model"], st["model"]) if st["dt"] is not None else st["model"]
     n = res.counts()
-    out = [f"fembeam fragility: {head}; suite {res.suite} ({len(res.rows) // 2} records x 2 signs)",
+    mirrored = "; -1 the mirror image of +1" if n["mirrored"] else ""
+    out = [f"fembeam fragility: {head}; suite {res.suite} ({len(res.rows) // 2} records x 2 signs{mirrored})",
            f"  model: {model}; intensity: {res.im.label} ({u}); A_L = {res.A_L['+1']:.6g} g (+1), "
            f"{res.A_L['-1']:.6g} g (-1)",
            f"  search: hunt and fill, resolution {st['resolution']:g} (relative), factors up to {st['span']:g} x the "
            f"onset factor, at most {st['max_runs']} runs a record-sign; runs to {st['t_end']}",
            f"  {'record':<28} {'sign':>4} {'onset':>7} {'first':>8} {'smallest':>8} {'IM at collapse':>14} "
-           f"{'safe above':>10} {'runs':>5}"]
+           f"{'safe above':>10} {'runs':>6}"]
     for r in res.rows:
         if r["status"] == "collapsed":
             first, im = _num(r["first_overturning"], ".5g"), _num(r["im_at_collapse"], ".5g")
@@ -209,24 +229,33 @@ def table(res: FragilityResult) -> str:
         elif r["status"] == "censored":
             first, im, smallest = "none", f"> {r['censored_at']:.5g}", "-"
         else:
-            first, im, smallest = "?", "-", "-"
+            first, im, smallest = "error", f"> {r['censored_at']:.5g}", "-"
         safe = str(len(r["safe_factors_above"])) if r["safe_factors_above"] else "-"
+        runs = "mirror" if r["mirrored"] else str(r["runs"])
         out.append(f"  {r['record'][:28]:<28} {r['sign']:+4d} {_num(r['onset_factor'], '7.4g')} {first:>8} "
-                   f"{smallest:>8} {im:>14} {safe:>10} {r['runs']:5d}")
+                   f"{smallest:>8} {im:>14} {safe:>10} {runs:>6}")
     for r in res.rows:
-        for e in r["errors"]:
+        for e in ([] if r["mirrored"] else r["errors"]):
             where = "" if e["factor"] is None else f" at factor {e['factor']:.6g}"
             out.append(f"  {r['record']} sign {r['sign']:+d}: search stopped{where}: {e.get('error') or e['outcome']}")
     out.append(f"  collapsed {n['collapsed']} (the smallest at the resolution: {n['smallest']}), censored "
-               f"{n['censored']} (no collapse up to the largest factor run), excluded {n['excluded']}")
+               f"{n['censored']} (no collapse up to the largest factor run), error {n['error']} (censored at the last "
+               "safe factor)")
+    if n["mirrored"]:
+        out.append(f"  the member is symmetric about its vertical axis: sign +1 run, the {n['mirrored']} rows of "
+                   "sign -1 its mirror images (runs marked 'mirror'; --both-signs runs them)")
+    elif st.get("symmetric"):
+        out.append("  the member is symmetric about its vertical axis; both signs run (--both-signs)")
     b = res.bootstrap if res.bootstrap and "error" not in res.bootstrap else None
     if res.fit is None:
         out.append(f"  no lognormal fit: {res.fit_error}")
     else:
         lv = (f"{100 * b['level']:g} % bootstrap intervals, {b['fitted']} of {b['resamples']} resamples of "
               f"{b['groups']} groups" if b else f"no bootstrap interval: {res.bootstrap['error']}")
-        out.append(f"  lognormal fit (maximum likelihood): median {res.fit['theta']:.4g} {u}"
+        out.append(f"  lognormal fit (interval-censored maximum likelihood): median {res.fit['theta']:.4g} {u}"
                    f"{_interval(b, 'theta')}, beta {res.fit['beta']:.3g}{_interval(b, 'beta', '.3g')} ({lv})")
+    if res.bootstrap and res.bootstrap.get("grouping"):
+        out.append(f"  bootstrap groups: {res.bootstrap['grouping']}")
     if res.design is not None:
         d = res.design
         out.append(f"  design {d['intensity']:g} {u}: collapse margin ratio {d['margin_ratio']:.4g}"

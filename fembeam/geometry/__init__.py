@@ -9,6 +9,7 @@ from .elliptical import EllipticalArch
 from .parabolic import ParabolicArch
 from .pointed import PointedArch
 from .surveyed import SurveyedArch
+from .symmetry import is_symmetric
 
 __all__ = ["Fill", "as_built", "MidCurve", "CircularArch", "StraightMember", "PointedArch", "EllipticalArch", "ParabolicArch",
-           "CatenaryArch", "SurveyedArch"]
+           "CatenaryArch", "SurveyedArch", "is_symmetric"]

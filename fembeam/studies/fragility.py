@@ -7,10 +7,26 @@ intensity measure (:mod:`~fembeam.studies.intensity`) at collapse is the factor 
 own; the lognormal fit and its bootstrap intervals (:mod:`~fembeam.studies.lognormal`) follow,
 and, given a design intensity, the collapse margin ratio and the probability of collapse there.
 
-A record-sign whose search found a collapse is a collapse sample (at the first overturning factor
-found; ``smallest`` says whether the scan below it reached the resolution); one without a collapse
-up to the largest factor run is censored there (its collapse intensity is larger); one whose search
-stopped at a failed solve without a collapse is left out of the fit and listed.
+**Mirror.**  For a member, loads and model cuts symmetric about a vertical axis
+(:func:`~fembeam.geometry.symmetry.is_symmetric`, decided from the geometry to round-off; and
+``A_L(+1) = A_L(-1)`` to round-off) the motion under ``-a_g`` is the mirror image of that under
+``a_g``: sign +1 is run and the row of sign -1 is its mirror (``mirrored: true``; the same search,
+no run of its own).  Asymmetric members run both signs; ``mirror=False`` runs both anyway.
+
+**What each record-sign tells the fit** (``status``, and ``im_interval`` in the intensity's unit):
+
+* ``collapsed``: the first collapse lies in ``[IM at the last safe factor run below the first
+  collapse found, IM at that collapse]`` (``smallest`` says whether the scan below it reached the
+  resolution);
+* ``censored``: no collapse up to the largest factor run: right-censored there, ``[IM there, inf)``;
+* ``error``: the search stopped at a run that is neither safe nor a collapse (a solver error, or a
+  worker process lost twice) before finding a collapse: right-censored at its last safe factor
+  (the onset factor if none), counted in the fit, the error listed.
+
+The fit is the interval-censored maximum likelihood of those intervals
+(:func:`~fembeam.studies.lognormal.fit_interval`, ``method: interval_censored``).  The bootstrap
+resamples the records' groups (recordings); a record without a group is a group of its own, and
+the result says how many there were.
 
 Tasks run on local processes or a Dask cluster (:func:`~fembeam.studies.parallel.run_tasks`): each
 is computed on its own, so the table is the same whatever the executor and the number of workers;
@@ -25,8 +41,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..dynamics.rocking import Rocker
-from ..errors import CannotStandError, InputError
+from ..errors import InputError, SolverError
+from ..fem import uniform_nodes
 from ..geometry import MidCurve
+from ..geometry.symmetry import is_symmetric
 from . import lognormal
 from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, default_t_end, onset_and_top, record_collapse
 from .intensity import IntensityMeasure, parse_im
@@ -35,7 +53,7 @@ from .parallel import Journal, executor_label, run_tasks
 from .spectrum import T_END_FACTOR, _check_runs, _json_safe
 from .suites import Record, Suite
 
-__all__ = ["fragility", "fragility_case", "FragilityResult", "plot_fragility", "plot_ida", "SIGNS"]
+__all__ = ["fragility", "fragility_case", "FragilityResult", "plot_fragility", "plot_ida", "SIGNS", "symmetric_model"]
 
 SIGNS = (1, -1)
 BOOTSTRAP = 1000        # default resamples
@@ -54,28 +72,51 @@ def fragility_case(curve: MidCurve, record: Record, sign: int, model: str, thres
 
 
 def _lost_case(task, message: str) -> dict:
-    """The row of a record-sign whose worker process died twice: no answer, the error listed."""
+    """The row of a record-sign whose worker process died twice: no run kept, the error listed;
+    its last safe factor is the onset factor (nothing moves below it)."""
     kw = task[1]
+    onset, top = onset_and_top(kw["record"].ground, kw["thresholds"], kw["sign"], kw["span"])
     return {"record": kw["record"].name, "sign": kw["sign"], "first_overturning": None, "smallest": False,
-            "converged": False, "none_up_to_max": False, "collapse": None, "bracket": [None, None],
+            "converged": False, "none_up_to_max": False, "collapse": None, "bracket": [onset, None],
             "resolution": kw["resolution"], "resolution_reached": None, "safe_above": False, "safe_factors_above": [],
             "budget_exhausted": False, "errors": [{"factor": None, "outcome": "lost",
                                                    "error": f"the worker process died twice ({message})"}],
-            "onset_factor": None, "max_factor": None, "runs": 0, "scan": [], "t_end": None, "steps": 0, "time_s": 0.0}
+            "onset_factor": onset, "max_factor": top, "runs": 0, "scan": [], "t_end": None, "steps": 0, "time_s": 0.0}
 
 
 def _status(row: dict) -> str:
     if row["first_overturning"] is not None:
         return "collapsed"
-    return "excluded" if row["errors"] else "censored"
+    return "error" if row["errors"] else "censored"
+
+
+def _mirror(row: dict) -> dict:
+    """The row of sign -1 given by the mirror image of ``row`` (sign +1): the same search."""
+    import copy
+    out = copy.deepcopy(row)
+    out.update(sign=-int(row["sign"]), mirrored=True, time_s=0.0)
+    return out
+
+
+def symmetric_model(curve: MidCurve, voussoirs: int | None, elements: int, A_L: dict) -> bool:
+    """Whether the member as modelled is its own mirror image: the shape, its as-built fill and
+    masses and the cuts of ``voussoirs`` voussoirs (else ``elements`` elements) symmetric about a
+    vertical axis (:func:`~fembeam.geometry.symmetry.is_symmetric`), and ``A_L`` (g, ``{+1, -1}``)
+    the same both ways to 1e-9 (relative)."""
+    a, b = float(A_L[1]), float(A_L[-1])
+    if not abs(a - b) <= 1e-9 * max(abs(a), abs(b)):
+        return False
+    return is_symmetric(curve, nodes=uniform_nodes(curve, voussoirs if voussoirs is not None else elements))
 
 
 @dataclass
 class FragilityResult:
     """Rows per record-sign (the search's dict, the record's metadata, ``im_record`` the record's
-    own intensity, ``im_at_collapse``, ``status``: collapsed, censored or excluded), the ``fit``
-    (``theta`` in the intensity's unit, ``beta``; None when it does not exist, ``fit_error``
-    says why), the ``bootstrap`` intervals, the ``design`` margin, and the settings."""
+    own intensity, ``im_at_collapse`` (the first collapse found), ``im_interval`` (what the fit
+    takes: ``[lower, upper]``, upper None when censored), ``censored_at``, ``status``: collapsed,
+    censored or error, ``mirrored``), the ``fit`` (``theta`` in the intensity's unit, ``beta``,
+    ``method``; None when it does not exist, ``fit_error`` says why), the ``bootstrap`` intervals
+    (or its ``error``), the ``design`` margin, and the settings (``symmetric``, ``signs_run``)."""
 
     suite: str
     im: IntensityMeasure
@@ -88,6 +129,7 @@ class FragilityResult:
     geometry: dict
     settings: dict
     timing: dict = field(default_factory=dict)
+    outcome: str = "computed"
 
     @property
     def _unit(self) -> str:
@@ -95,16 +137,18 @@ class FragilityResult:
         return self.im.unit.replace("/", "_")
 
     def counts(self) -> dict:
-        out = {"collapsed": 0, "censored": 0, "excluded": 0}
+        out = {"collapsed": 0, "censored": 0, "error": 0}
         for r in self.rows:
             out[r["status"]] += 1
         out["smallest"] = sum(1 for r in self.rows if r["smallest"])
+        out["mirrored"] = sum(1 for r in self.rows if r["mirrored"])
         return out
 
     def to_dict(self) -> dict:
-        return _json_safe({"study": "fragility", "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
+        return _json_safe({"study": "fragility", "outcome": self.outcome, "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
                            "geometry": self.geometry, "A_L": self.A_L, "settings": self.settings,
-                           "counts": self.counts(), "fit": self.fit, "fit_error": self.fit_error,
+                           "counts": self.counts(), "method": "interval_censored", "fit": self.fit,
+                           "fit_error": self.fit_error,
                            "bootstrap": self.bootstrap, "design": self.design, "rows": self.rows,
                            "timing_s": self.timing})
 
@@ -115,10 +159,11 @@ class FragilityResult:
             out.append({"record": r["record"], "sign": r["sign"], "event": r["event"], "station": r["station"],
                         "component": r["component"], "group": r["group"], "normalisation": r["normalisation"],
                         "pga_g": r["pga_g"], "pgv_m_s": r["pgv_m_s"], f"im_record_{self._unit}": r["im_record"],
-                        "status": r["status"], "onset_factor": r["onset_factor"],
+                        "status": r["status"], "mirrored": r["mirrored"], "onset_factor": r["onset_factor"],
                         "first_overturning": r["first_overturning"], "smallest": r["smallest"],
                         "resolution_reached": r["resolution_reached"], "bracket_lo": r["bracket"][0],
                         f"im_at_collapse_{self._unit}": r["im_at_collapse"],
+                        f"im_lower_{self._unit}": r["im_interval"][0], f"im_upper_{self._unit}": r["im_interval"][1],
                         "censored_at": r["censored_at"], "safe_factors_above": ";".join(
                             f"{x:.6g}" for x in r["safe_factors_above"]),
                         "runs": r["runs"], "steps": r["steps"], "time_s": round(r["time_s"], 4),
@@ -149,18 +194,45 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
               span: float = SPAN, max_runs: int = MAX_RUNS, t_end_factor: float = T_END_FACTOR,
               design: float | None = None, bootstrap: int = BOOTSTRAP, seed: int = 0, level: float = LEVEL,
               backend: str = "clarabel", workers: int | None = None, scheduler=None, progress: bool = True,
-              journal: Journal | None = None) -> FragilityResult:
-    """The study of the module docstring.  ``im``: ``pga``, ``pgv`` or ``sa:T``; ``design``: a
-    design intensity in its unit (g, or m/s for PGV); ``bootstrap`` resamples with ``seed`` give
-    intervals at ``level``.  Search: ``resolution``, ``span`` (largest factor over the onset
-    factor), ``max_runs`` per record-sign; each run lasts to the end of the record plus
-    ``t_end_factor sqrt(L/g)``.  Bad input raises :class:`InputError` before any run."""
+              journal: Journal | None = None, mirror: bool = True) -> FragilityResult:
+    """The study of the module docstring.
+
+    Parameters
+    ----------
+    curve, voussoirs, elements
+        The member and its pieces (``voussoirs``, else ``elements`` rigid elements).
+    suite
+        The records (:func:`~fembeam.studies.suites.load_suite`).
+    model, dt, backend
+        The model of each run and its time step (s; simulate and auto).
+    im
+        ``pga``, ``pgv`` or ``sa:T``.
+    resolution, span, max_runs, t_end_factor
+        The search: relative step below a collapse, largest factor over the onset factor, runs
+        per record-sign; each run lasts to the end of the record plus ``t_end_factor sqrt(L/g)``.
+    design
+        A design intensity in the measure's unit (g, or m/s for PGV): margin and probability.
+    bootstrap, seed, level
+        Resamples of the groups, their seed and the intervals' confidence level.
+    workers, scheduler, progress, journal
+        Execution (:func:`~fembeam.studies.parallel.run_tasks`).
+    mirror
+        For a symmetric member (:func:`symmetric_model`) run sign +1 only and give sign -1 as its
+        mirror image (default); False runs both signs whatever the member.
+
+    Returns
+    -------
+    FragilityResult
+
+    Bad input raises :class:`InputError` before any run."""
     dt = check_model(model, dt)[0]
     check_search(resolution, span, max_runs)
     measure = parse_im(im)
     _check(design, bootstrap, level, t_end_factor)
     if not isinstance(suite, Suite):
         raise InputError(f"fragility needs a Suite (fembeam.studies.suites.load_suite), got {type(suite).__name__}")
+    if not isinstance(mirror, bool):
+        raise InputError(f"mirror must be True or False, got {mirror!r}")
     if voussoirs is not None and voussoirs < 1:
         raise InputError(f"voussoirs must be >= 1, got {voussoirs}")
     if voussoirs is None and elements < 4:
@@ -172,53 +244,71 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
                 curve, voussoirs, elements)
     clock = time.perf_counter()
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
-    if not rk.stands:
-        raise CannotStandError("the member does not stand under its own weight (fembeam analyze)")
+    geo = curve.describe() if hasattr(curve, "describe") else {}
+    if not rk.stands:             # a physical outcome: the answer, without a run
+        settings = {"model": model, "dt": dt, "im": measure.name, "voussoirs": voussoirs,
+                    "elements": elements if voussoirs is None else None, "backend": backend}
+        return FragilityResult(suite.name, measure, [], None, "the member does not stand under its own weight",
+                               None, None, {"+1": None, "-1": None}, geo, settings, {"runs": 0},
+                               outcome="cannot_stand")
     for r in suite.records:
         for sign in SIGNS:
             onset_and_top(r.ground, [rk.A[1], rk.A[-1]], sign, span)      # bad input before any run
+    symmetric = symmetric_model(curve, voussoirs, elements, rk.A)
+    signs = (1,) if symmetric and mirror else SIGNS
     common = {"curve": curve, "model": model, "thresholds": [rk.A[1], rk.A[-1]], "voussoirs": voussoirs,
               "elements": elements, "backend": backend, "dt": dt, "resolution": resolution, "span": span,
               "max_runs": max_runs, "t_end_factor": t_end_factor}
-    tasks = [(fragility_case, {**common, "record": r, "sign": s}) for r in suite.records for s in SIGNS]
-    rows = run_tasks(tasks, workers=workers, scheduler=scheduler, progress=progress,
-                     desc=f"fragility: {len(suite.records)} records x 2 signs ({model})", journal=journal,
-                     lost=_lost_case)
+    tasks = [(fragility_case, {**common, "record": r, "sign": s}) for r in suite.records for s in signs]
+    ran = run_tasks(tasks, workers=workers, scheduler=scheduler, progress=progress,
+                    desc=f"fragility: {len(suite.records)} records x {len(signs)} sign{'s' if len(signs) > 1 else ''} "
+                         f"({model})", journal=journal, lost=_lost_case)
     wall = time.perf_counter() - clock
+    rows = []
+    for r in ran:
+        r["mirrored"] = False
+        rows += [r] if len(signs) == 2 else [r, _mirror(r)]
     for r in rows:
         x = im_of[r["record"]]
-        f = r["first_overturning"]
+        f, lo = r["first_overturning"], r["bracket"][0]
         r.update({k: v for k, v in meta[r["record"]].items() if k != "record"}, im_record=x,
                  status=_status(r), im_at_collapse=None if f is None else f * x)
-        r["censored_at"] = (max((s["factor"] for s in r["scan"]), default=r["max_factor"]) * x
-                            if r["status"] == "censored" else None)
+        r["im_interval"] = [lo * x, None if f is None else f * x]
+        r["censored_at"] = lo * x if f is None else None
     fit, fit_error, boot, margin = _fit(rows, design, bootstrap, seed, level)
     settings = {"model": model, "dt": dt, "im": measure.name, "resolution": resolution, "span": span,
                 "max_runs": max_runs, "t_end": f"end of the record + {t_end_factor:g} sqrt(L/g)",
                 "voussoirs": voussoirs, "elements": elements if voussoirs is None else None, "backend": backend,
-                "signs": list(SIGNS), "bootstrap": bootstrap, "seed": seed, "level": level, "design": design,
+                "signs": list(SIGNS), "symmetric": symmetric, "signs_run": list(signs), "bootstrap": bootstrap,
+                "seed": seed, "level": level, "design": design, "fit": "interval_censored",
                 "executor": executor_label(workers, scheduler, len(tasks))}
-    timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in rows), 3),
-              "runs": sum(r["runs"] for r in rows), "steps": sum(r["steps"] for r in rows)}
-    geo = curve.describe() if hasattr(curve, "describe") else {}
+    timing = {"wall": round(wall, 3), "cases_cpu": round(sum(r["time_s"] for r in ran), 3),
+              "runs": sum(r["runs"] for r in ran), "steps": sum(r["steps"] for r in ran)}
     return FragilityResult(suite.name, measure, rows, fit, fit_error, boot, margin, {"+1": rk.A[1], "-1": rk.A[-1]},
                            geo, settings, timing)
 
 
 def _fit(rows: list[dict], design, n_boot: int, seed: int, level: float):
-    """The lognormal fit, its bootstrap intervals and the design margin (None where undefined)."""
-    collapsed = [r["im_at_collapse"] for r in rows if r["status"] == "collapsed"]
-    censored = [r["censored_at"] for r in rows if r["status"] == "censored"]
+    """The interval-censored lognormal fit of the rows' ``im_interval``, its bootstrap intervals
+    over the groups (a record without a group its own) and the design margin (None where
+    undefined)."""
+    lower = [r["im_interval"][0] for r in rows]
+    upper = [r["im_interval"][1] for r in rows]
     try:
-        f = lognormal.fit(collapsed, censored)
-    except InputError as e:
+        f = lognormal.fit_interval(lower, upper)
+    except (InputError, SolverError) as e:
         return None, str(e), None, None
-    samples = [(r["group"], r["im_at_collapse"] if r["status"] == "collapsed" else r["censored_at"],
-                r["status"] == "censored") for r in rows if r["status"] != "excluded"]
+    alone = sorted({r["record"] for r in rows if not r["group"]})
+    samples = [(f"group {r['group']}" if r["group"] else f"record {r['record']}", lo, up)
+               for r, lo, up in zip(rows, lower, upper)]
     try:
         boot = lognormal.bootstrap(samples, n=n_boot, seed=seed, level=level, design=design)
-    except InputError as e:                 # every resample without a fit: no interval, the fit stands
+    except InputError as e:                 # one group, or every resample without a fit: no interval, the fit stands
         boot = {"error": str(e)}
+    boot["records_without_group"] = len(alone)
+    if alone:
+        boot["grouping"] = (f"{len(alone)} record{'s' if len(alone) > 1 else ''} without a group: each resampled as a "
+                            "group of its own (its two signs together)")
     fit = {"theta": f.theta, "beta": f.beta, "n_collapsed": f.n_collapsed, "n_censored": f.n_censored,
            "method": f.method}
     margin = None
@@ -230,25 +320,28 @@ def _fit(rows: list[dict], design, n_boot: int, seed: int, level: float):
 
 # --------------------------------------------------------------------------- figures
 def plot_fragility(result: FragilityResult, path) -> None:
-    """The collapse intensities (Kaplan-Meier fraction collapsed) and the fitted lognormal curve,
-    the design intensity if given."""
+    """The first collapses found (Kaplan-Meier fraction collapsed, each with its bracket down to
+    the last safe intensity), the censored record-signs, the fitted lognormal curve and the
+    design intensity if given."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     rows = result.rows
     col = [r["im_at_collapse"] for r in rows if r["status"] == "collapsed"]
-    cen = [r["censored_at"] for r in rows if r["status"] == "censored"]
+    cen = [r["censored_at"] for r in rows if r["status"] != "collapsed"]
     fig, ax = plt.subplots(figsize=(7.0, 4.6))
     if col:
         x, F = lognormal.empirical(col, cen)
         ax.plot(x, F, "o", ms=4, color="tab:blue", mfc="none", label=f"record-signs: first collapse ({len(col)})")
+        los = {r["im_at_collapse"]: r["im_interval"][0] for r in rows if r["status"] == "collapsed"}
+        ax.hlines(F, [los[v] for v in x], x, color="tab:blue", lw=0.8, alpha=0.6)
     top = max(col + cen + ([result.design["intensity"]] if result.design else []) + [1e-12])
     if result.fit is not None:
         th, be = result.fit["theta"], result.fit["beta"]
         xs = np.linspace(0.0, 1.15 * max(top, th * math.exp(2 * be)), 400)[1:]
         ax.plot(xs, lognormal.probability(xs, th, be), "k-", lw=1.5,
-                label=f"lognormal (ML): median {th:.4g} {result.im.unit}, beta {be:.3g}")
+                label=f"lognormal (interval-censored ML): median {th:.4g} {result.im.unit}, beta {be:.3g}")
     if cen:
         ax.plot(cen, [1.02] * len(cen), "^", color="tab:green", ms=5, label=f"no collapse up to ({len(cen)})")
     if result.design is not None:
