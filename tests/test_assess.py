@@ -152,7 +152,7 @@ def test_margin_is_the_factor_of_collapse_scale(tmp_path, resolution):
     path = tmp_path / "elcentro_6s.csv"
     path.write_text("time,acceleration\n" + "".join(f"{float(t)!r},{float(a)!r}\n"
                                                     for t, a in zip(rec.t[keep], rec.a[keep])))
-    member = ["--block", "0.3", "1.5", "--record", str(path)]
+    member = ["--block", "0.3", "1.5", "--record", str(path), "--t-end", "8"]
     search = [] if resolution is None else ["--resolution", resolution]
     d = _command("assess", *member, *search, "--json", "--quiet")
     mg = d["motions"][0]["margin"]
