@@ -167,20 +167,45 @@ MARGIN_KEYS = ("factor", "pga_g", "bracket", "converged", "smallest", "resolutio
 
 
 def _margin_entry(res: dict) -> dict:
-    """The margin of one model from a :func:`~fembeam.studies.collapse.collapse_scale` dict: the
-    first collapsing factor found (``factor``, its PGA ``pga_g`` in g), whether it is the smallest
-    at ``resolution`` (``smallest``; ``converged`` the same, the former name) and the claims of
-    :func:`~fembeam.studies.huntfill.hunt_and_fill` that qualify it (keys :data:`MARGIN_KEYS`)."""
+    """The margin of one model from a :func:`~fembeam.studies.collapse.collapse_scale` dict.
+
+    Parameters
+    ----------
+    res : dict
+        The search's result (scale factors; PGA in g).
+
+    Returns
+    -------
+    dict
+        The keys :data:`MARGIN_KEYS`: the first collapsing factor found (``factor``, its PGA
+        ``pga_g`` in g), whether it is the smallest at ``resolution`` (``smallest``; ``converged``
+        the same, its former name) and the claims of
+        :func:`~fembeam.studies.huntfill.hunt_and_fill` that qualify it.
+    """
     out = {"factor": res["first_overturning"], "pga_g": res["pga_at_first_overturning"]}
     out.update({k: res[k] for k in MARGIN_KEYS if k not in out})
     return out
 
 
 def margin_span(A: dict, ground: GroundMotion, span: float = SPAN) -> float | None:
-    """The largest factor of a margin search in onset factors: ``span``, or less where the PGA
-    would exceed the admitted :data:`~fembeam.dynamics.ground.MAX_PGA` (g); None when no factor
-    sets the member moving (the motion is zero, or ``A_L`` (g) infinite the way it loads) or only
-    one above that PGA does."""
+    """The largest factor of a margin search, in onset factors.
+
+    Parameters
+    ----------
+    A : dict
+        ``A_L`` of the member (g), keyed by direction ``1`` and ``-1``.
+    ground : GroundMotion
+        The motion as given (accelerations in g).
+    span : float
+        The largest factor wanted, in onset factors (default :data:`~fembeam.studies.collapse.SPAN`).
+
+    Returns
+    -------
+    float or None
+        ``span``, or less where the PGA would exceed the admitted
+        :data:`~fembeam.dynamics.ground.MAX_PGA` (g); None when no factor sets the member moving
+        (the motion is zero, or ``A_L`` infinite the way it loads) or only one above that PGA does.
+    """
     f0 = spectrum.onset_amplitude(A, ground)
     if not math.isfinite(f0) or ground.pga == 0:
         return None
@@ -191,13 +216,46 @@ def margin_span(A: dict, ground: GroundMotion, span: float = SPAN) -> float | No
 def margin(curve: MidCurve, ground: GroundMotion, A: dict, *, voussoirs: int | None, elements: int,
            friction: float | None, dt: float, t_end: float | None, resolution: float = RESOLUTION,
            max_runs: int = MAX_RUNS, progress: Callable | None = None) -> dict:
-    """The smallest scale factor of ``ground`` that collapses the member by ``auto`` and by
-    ``rock`` and their ratio (``auto / rock``; None unless both are found), each by the search of
-    ``fembeam collapse-scale`` (:func:`fembeam.studies.collapse.collapse_scale`: hunt and fill at
-    relative ``resolution``, at most ``max_runs`` runs, factors up to :data:`SPAN` onset factors;
-    ``dt`` (s) and ``friction`` enter ``auto`` only).  ``A``: ``A_L`` both ways (g), to tell a
-    motion that no factor sets moving (``skipped`` says why).  ``progress(message)`` after each
-    run and at the end of each search."""
+    """The smallest scale factor of ``ground`` that collapses the member, by ``auto`` and by ``rock``.
+
+    Each is the search of ``fembeam collapse-scale``
+    (:func:`fembeam.studies.collapse.collapse_scale`: hunt and fill over the factors of the motion
+    as given, from the onset factor up to :func:`margin_span` onset factors), so that both commands
+    give the same factor for the same member, motion and settings.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member.
+    ground : GroundMotion
+        The motion as given (accelerations in g); factors scale it.
+    A : dict
+        ``A_L`` both ways (g, keys ``1`` and ``-1``), to tell a motion that no factor sets moving.
+    voussoirs, elements : int or None, int
+        The mesh: ``voussoirs`` pieces, or the continuous member on ``elements`` elements.
+    friction : float or None
+        Coulomb coefficient of the joints in ``auto`` (None: they never slide; with one, no factor of
+        ``auto`` is called the smallest: a joint may slide below ``A_L``, where nothing is run).
+    dt : float
+        Time step of ``auto``'s multi-block simulation (s).
+    t_end : float or None
+        End of every run (s; None: the end of the motion plus ``20 sqrt(L/g)``).
+    resolution : float
+        Relative step between factors the search must reach below a collapse to call it the
+        smallest, in [1e-4, 1] (default 0.05).
+    max_runs : int
+        Time histories at most in each search (default 200).
+    progress : callable, optional
+        ``progress(message)`` after each run and at the end of each search.
+
+    Returns
+    -------
+    dict
+        ``auto`` and ``rock``: each the keys :data:`MARGIN_KEYS` (``factor`` and ``bracket`` are
+        scale factors, ``pga_g`` in g, ``resolution`` and ``resolution_reached`` relative);
+        ``ratio`` ``auto / rock`` (None unless both are found); ``skipped``: why nothing was
+        searched, or None.
+    """
     out = {"auto": None, "rock": None, "ratio": None, "skipped": None}
     span = margin_span(A, ground)
     if span is None:
