@@ -113,13 +113,15 @@ MIDCURVES = ["midcurve.csv", "mirror.csv", "many.csv", *SPECIAL]
 CAPS = {"--elements": INTS, "--voussoirs": INTS, "--sections": ["10", "50", "100"], "--t-end": ["0.5", "1", "2"],
         "--periods": ["0.3", "0.3,0.6", "0.2:0.4:0.2"], "--workers": ["1", "2"], "--frames": ["2", "5"],
         "--record": RECORDS, "--reference-elements": ["16", "32"], "--tmin-elements": ["8", "16"],
-        "--midcurve": MIDCURVES, "--suite": SUITES, "--records": SUITES, "--scheduler": ["", " ", "nope"]}
+        "--midcurve": MIDCURVES, "--suite": SUITES, "--records": SUITES, "--scheduler": ["", " ", "nope"],
+        "--resolution": ["0.05", "0.2", "0.5", "1"], "--max-runs": ["1", "4", "10"]}
 # extreme sizes and step counts (drawn now and then instead of CAPS): refused before computing, or quick
 EXTREME = {"--t-end": ["1e4", "1e5", "1e300"], "--dt": ["1e-6", "0.05", "1e-9"], "--dt-out": ["1e-6", "1e-9", "1e4"],
            "--block": ["1e-9", "1e6", "1e-8", "1e7", "1e-6"], "--elements": ["1000000", "200000", "30000", "3"],
            "--voussoirs": ["2", "200000", "81"], "--workers": ["300", "256", "0"], "--frames": ["100001", "1"],
            "--period": ["1e300", "1e-300"], "--duration": ["1e300"], "--periods": ["1e300", "1e-4,1e300"],
-           "--t-over-r": ["1.9999999", "1e-9"], "--embrace": ["359.9", "1e-9"]}
+           "--t-over-r": ["1.9999999", "1e-9"], "--embrace": ["359.9", "1e-9"],
+           "--resolution": ["1e-4", "9.9e-5", "1.0000001"], "--max-runs": ["100000", "100001"]}
 
 
 # small problems put before the drawn options (which override them: argparse keeps the last)
@@ -127,8 +129,8 @@ BASE = {"sweep": ["--embrace", "90", "--t-over-r", "0.2", "--elements", "8", "--
         "report": ["--quick", "--only", "exact"],
         "spectrum": ["--voussoirs", "7", "--periods", "0.3"],
         "collapse-scale": ["--voussoirs", "7", "--t-end", "3"],
-        "assess": ["--voussoirs", "7", "--t-end", "3", "--factors", "1,2,4", "--pulse", "sine", "--amplitude", "0.5",
-                   "--period", "0.3"],
+        "assess": ["--voussoirs", "7", "--t-end", "3", "--resolution", "0.5", "--max-runs", "6", "--pulse", "sine",
+                   "--amplitude", "0.5", "--period", "0.3"],
         "convergence": ["--elements", "8,16"],
         "fragility": ["--block", "0.4", "1.6", "--model", "rock", "--resolution", "0.2", "--bootstrap", "20"]}
 
@@ -193,8 +195,10 @@ def _values(action: argparse.Action, rng: random.Random) -> list[str]:
 
 def draw(parser: argparse.ArgumentParser, rng: random.Random) -> list[str]:
     """Random arguments for one sub-command ``parser``: its required options always, about
-    three others; mutually exclusive options sometimes together (argparse's own error)."""
-    actions = [a for a in parser._actions if a.option_strings and not isinstance(a, argparse._HelpAction)]
+    three others; mutually exclusive options sometimes together (argparse's own error).  Options
+    hidden from the help (replaced ones, kept only to refuse them) are not drawn."""
+    actions = [a for a in parser._actions if a.option_strings and not isinstance(a, argparse._HelpAction)
+               and a.help != argparse.SUPPRESS]      # hidden: a replaced option, refused with one line
     chosen = [a for a in actions if a.required]
     others = [a for a in actions if not a.required]
     chosen += rng.sample(others, k=min(len(others), rng.choice([0, 1, 2, 3, 4, 5])))

@@ -4,9 +4,10 @@
   associative limit analysis stops sliding and rocks at the frictionless A_L; the minimum thickness
   brackets where ``analyze`` says the arch stands; a block's A_L and friction needed are b/h;
 * verdict: equal to :meth:`AutoModel.run`'s, and the configuration drawn is the state at the peak;
-* margin: equal to :func:`collapse_scale`'s for the same model, its bracket checked by runs of its
-  own; a block (one mechanism: ``auto`` is ``rock``) against Housner's rectangular-pulse threshold,
-  in closed form (small angle) and by quadrature of the nonlinear equation (finite angle);
+* margin: the factor of ``fembeam collapse-scale --model auto`` (and ``rock``) on the same member and
+  record, through both command lines; its bracket checked by runs of its own; a block (one
+  mechanism: ``auto`` is ``rock``) against Housner's rectangular-pulse threshold, by quadrature of
+  the nonlinear equation (finite angle), itself against his closed form (small angle);
 * bad input exits 2 with one line, outputs are checked before computing, the report's links resolve.
 """
 from __future__ import annotations
@@ -26,12 +27,11 @@ from fembeam.auto import AutoModel
 from fembeam.cli.main import main
 from fembeam.dynamics.equation import GRAVITY
 from fembeam.dynamics.ground import GroundMotion
-from fembeam.studies.spectrum import collapse_scale
 
 ARCH = ["--voussoirs", "7", "--radius", "5"]            # the paper's arch: embrace 157.5 deg, t/R = 0.15
 PAPER = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
 SINE = ["--pulse", "sine", "--amplitude", "0.5", "--period", "0.5"]
-FACTORS = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0]
+RESOLUTION = 0.1
 
 
 def _strict(text: str) -> dict:
@@ -52,7 +52,7 @@ def _assess(*argv: str) -> tuple[int, str, str]:
 
 @pytest.fixture(scope="module")
 def paper():
-    code, out, err = _assess(*ARCH, *SINE, "--factors", ",".join(map(str, FACTORS)), "--json")
+    code, out, err = _assess(*ARCH, *SINE, "--resolution", str(RESOLUTION), "--json")
     assert code == 0, err
     return _strict(out)
 
@@ -113,21 +113,61 @@ def test_verdict_is_automodel_s(paper):
 
 
 # --------------------------------------------------------------------------- margin
-def test_margin_is_collapse_scale_s(paper):
+def test_margin_bracket_by_runs_of_its_own(paper):
+    """The margins at the resolution asked, each the smallest there, their brackets checked by
+    ``AutoModel`` runs of this test: safe at the lower end, overturns at the upper end."""
     mg = paper["motions"][0]["margin"]
+    assert paper["settings"]["resolution"] == RESOLUTION
     ground = GroundMotion.sine(0.5, 0.5)
     for model in ("auto", "rock"):
-        ref = collapse_scale(PAPER, ground, voussoirs=7, model=model, factors=FACTORS)
-        assert mg[model]["factor"] == ref["first_overturning"] and mg[model]["bracket"] == ref["bracket"]
-        assert mg[model]["converged"] and mg[model]["collapse"] == "overturned"
+        e = mg[model]
+        assert e["resolution"] == RESOLUTION and e["smallest"] and e["converged"] and e["collapse"] == "overturned"
+        lo, hi = e["bracket"]
+        assert hi == e["factor"] and hi / lo <= 1 + RESOLUTION * (1 + 1e-9)
+        assert 0 < e["resolution_reached"] <= RESOLUTION * (1 + 1e-9) and e["onset_factor"] < lo
+        assert e["pga_g"] == pytest.approx(0.5 * e["factor"], rel=1e-15)
     assert mg["ratio"] == pytest.approx(mg["auto"]["factor"] / mg["rock"]["factor"], rel=1e-15)
-    # the auto bracket by runs of its own: safe at its lower end, overturns at its upper end
     lo, hi = mg["auto"]["bracket"]
     am = AutoModel(PAPER, voussoirs=7)
     assert am.run(ground.scaled(lo), history=False).outcome in ("rest", "survived")
     assert am.run(ground.scaled(hi), history=False).outcome == "overturned"
     # the one-mechanism model alone claims more than twice the margin of this arch
     assert mg["ratio"] < 0.5
+
+
+def _command(*argv: str) -> dict:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    assert code == 0, err.getvalue()
+    return _strict(out.getvalue())
+
+
+@pytest.mark.parametrize("resolution", [None, "0.02"])
+def test_margin_is_the_factor_of_collapse_scale(tmp_path, resolution):
+    """``assess --json`` and ``collapse-scale --model auto --json`` (and ``--model rock``) on the same
+    member and record give the same factor and the same claims, bit for bit: one search."""
+    rec = GroundMotion.record("elcentro")
+    keep = rec.t <= 6.0
+    path = tmp_path / "elcentro_6s.csv"
+    path.write_text("time,acceleration\n" + "".join(f"{float(t)!r},{float(a)!r}\n"
+                                                    for t, a in zip(rec.t[keep], rec.a[keep])))
+    member = ["--block", "0.3", "1.5", "--record", str(path), "--t-end", "8"]
+    search = [] if resolution is None else ["--resolution", resolution]
+    d = _command("assess", *member, *search, "--json", "--quiet")
+    mg = d["motions"][0]["margin"]
+    assert d["settings"]["resolution"] == (0.05 if resolution is None else float(resolution))
+    for model in ("auto",) if resolution is None else ("auto", "rock"):
+        cs = _command("collapse-scale", *member, "--model", model, *search, "--json", "--quiet")
+        e = mg[model]
+        assert e["factor"] == cs["first_overturning"] and e["factor"] is not None
+        assert e["pga_g"] == cs["pga_at_first_overturning"]
+        for key in ("bracket", "smallest", "resolution", "resolution_reached", "safe_factors_above", "runs",
+                    "onset_factor", "max_factor", "none_up_to_max", "budget_exhausted"):
+            assert e[key] == cs[key], key
+        assert e["smallest"]
+    if resolution is not None:       # at 2 % the safe set of this block is not an interval
+        assert mg["auto"]["safe_factors_above"]
 
 
 def _housner_exact(b: float, h: float, t1: float) -> float:
@@ -159,10 +199,10 @@ def _housner_exact(b: float, h: float, t1: float) -> float:
 @pytest.mark.parametrize("b, amplitude", [(0.4, 0.3), (0.04, 0.03)])
 def test_block_against_housner(b, amplitude):
     """A block has one mechanism: auto is rock, A_L = b/h, the friction needed b/h, and the margin
-    times the amplitude is Housner's overturning threshold."""
-    h, t1 = 1.6, 0.5
+    times the amplitude is Housner's overturning threshold, within the resolution asked."""
+    h, t1, resolution = 1.6, 0.5, 0.01
     code, out, err = _assess("--block", str(b), str(h), "--pulse", "rect", "--amplitude", str(amplitude),
-                             "--duration", str(t1), "--json")
+                             "--duration", str(t1), "--resolution", str(resolution), "--json")
     assert code == 0, err
     d = _strict(out)
     st, m = d["static"], d["motions"][0]
@@ -175,15 +215,18 @@ def test_block_against_housner(b, amplitude):
     mg = m["margin"]
     assert mg["auto"]["factor"] == pytest.approx(mg["rock"]["factor"], rel=1e-12) and mg["ratio"] == pytest.approx(1)
     exact = _housner_exact(b, h, t1)
-    lo, hi = (amplitude * f for f in mg["auto"]["bracket"])
-    assert lo <= exact * (1 + 1e-9) and exact <= hi * (1 + 1e-9)          # bracket of relative width 1e-3
-    # Housner's closed form (small angle): within 1 % for the slender block; O(alpha^2) off the stocky one
+    for model in ("auto", "rock"):
+        assert mg[model]["smallest"] and mg[model]["resolution"] == resolution
+        lo, hi = (amplitude * f for f in mg[model]["bracket"])
+        assert lo <= exact * (1 + 1e-9) and exact <= hi * (1 + 1e-9) and hi / lo <= 1 + resolution * (1 + 1e-9)
+    # Housner's closed form (small angle): within 0.1 % of the exact threshold for the slender
+    # block; O(alpha^2) off the stocky one
     alpha, R = math.atan(b / h), 0.5 * math.hypot(b, h)
     closed = alpha / (1 - math.exp(-math.sqrt(3 * GRAVITY / (4 * R)) * t1))
     if b / h < 0.05:
-        assert mg["auto"]["pga_g"] == pytest.approx(closed, rel=1e-2)
+        assert exact == pytest.approx(closed, rel=1e-3)
     else:
-        assert 0.01 < mg["auto"]["pga_g"] / closed - 1 < 0.03
+        assert 0.01 < exact / closed - 1 < 0.03
 
 
 # --------------------------------------------------------------------------- outputs
@@ -238,9 +281,14 @@ def test_cannot_stand_is_an_answer():
     ([*ARCH, "--records", "BAD"], "bad.csv"),
     ([*ARCH, *SINE, "--dt", "0"], "dt must be in"),
     ([*ARCH, *SINE, "--friction", "-1"], "friction coefficient"),
-    ([*ARCH, *SINE, "--factors", "3,2"], "strictly increasing"),
-    ([*ARCH, *SINE, "--bisect-tol", "0.5"], "--bisect-tol"),
-    ([*ARCH, *SINE, "--no-margin", "--factors", "1,2"], "--no-margin"),
+    ([*ARCH, *SINE, "--factors", "1,2"], "--factors was replaced by --resolution"),
+    ([*ARCH, *SINE, "--factors"], "--factors was replaced by --resolution"),
+    ([*ARCH, *SINE, "--bisect-tol", "1e-3"], "--bisect-tol was replaced by --resolution"),
+    ([*ARCH, *SINE, "--resolution", "2"], "--resolution must be in [1e-4, 1]"),
+    ([*ARCH, *SINE, "--resolution", "1e-5"], "--resolution must be in [1e-4, 1]"),
+    ([*ARCH, *SINE, "--resolution", "nan"], "--resolution"),
+    ([*ARCH, *SINE, "--max-runs", "0"], "--max-runs"),
+    ([*ARCH, *SINE, "--no-margin", "--resolution", "0.1"], "--no-margin"),
     ([*ARCH, *SINE, "--report", "FILE"], "not a directory"),
     ([*ARCH, "--pulse", "rect", "--amplitude", "0.3"], "--duration"),
     ([*ARCH, "--records", "EMPTY", "--amplitude", "0.3"], "--pulse"),

@@ -118,7 +118,8 @@ def test_a_run_reports_what_happened_in_its_child():
 
 def test_options_are_drawn_from_the_parsers():
     """Every option of every command is drawn, with a value of its kind, without the
-    fuzzer naming it: a new option is covered as soon as it exists."""
+    fuzzer naming it: a new option is covered as soon as it exists; an option hidden from the
+    help (a replaced one, kept only to refuse it) never is."""
     cmds = _commands(build_parser())
     rng = random.Random(0)
     for name, parser in cmds.items():
@@ -126,8 +127,12 @@ def test_options_are_drawn_from_the_parsers():
         for _ in range(400):
             seen |= {w for w in draw(parser, rng) if w.startswith("--")}
         options = {a.option_strings[-1] for a in parser._actions
-                   if a.option_strings and not isinstance(a, argparse._HelpAction)}
+                   if a.option_strings and not isinstance(a, argparse._HelpAction) and a.help != argparse.SUPPRESS}
+        hidden = {a.option_strings[-1] for a in parser._actions if a.option_strings and a.help == argparse.SUPPRESS}
         assert len(seen) >= 0.9 * len(options), (name, options - seen)
+        assert not seen & hidden, (name, seen & hidden)
+        if name == "assess":
+            assert "--resolution" in seen and not {"--factors", "--bisect-tol"} & seen
 
 
 def test_a_bounded_fuzz_run_finds_nothing():

@@ -117,3 +117,56 @@ def test_bad_settings(kw):
     args = dict(resolution=0.05, max_factor=10.0, max_runs=10) | kw
     with pytest.raises(InputError):
         hunt_and_fill(decider([]), ONSET, **args)
+
+
+# --------------------------------------------------------------------------- onset_safe=False
+WINDOW_AND_ABOVE = [(1.0, 1.03), (1.5, math.inf)]      # a 3 % window, then collapse from 1.5 up
+
+
+def test_onset_not_safe_runs_the_onset_and_never_claims_the_smallest():
+    """Joints that may slide below A_L: the onset factor is run (first), the rest of the search is
+    the one of a safe onset, and the collapse found is not called the smallest although the
+    gaps below it reached the resolution."""
+    log = []
+    res = hunt_and_fill(decider(WINDOW_AND_ABOVE, log), ONSET, resolution=0.02, max_factor=20 * ONSET,
+                        onset_safe=False)
+    safe = hunt_and_fill(decider(WINDOW_AND_ABOVE), ONSET, resolution=0.02, max_factor=20 * ONSET)
+    assert log[0] == ONSET and res["scan"][0]["factor"] == ONSET and res["scan"][0]["order"] == 0
+    assert res["scan"][0]["outcome"] == "rest"
+    # the same runs as with a safe onset, plus the onset's
+    assert [r["factor"] for r in res["scan"]] == [ONSET] + [r["factor"] for r in safe["scan"]]
+    first = res["first_overturning"]
+    assert first == safe["first_overturning"] and 1.0 <= first <= 1.03
+    assert not res["smallest"] and not res["converged"] and safe["smallest"]
+    # the claims against the known set, by hand: every run below the first collapse is safe and
+    # the widest ratio between consecutive factors run from the onset up to it is the one reported
+    below = sorted(f for f in log if f <= first)
+    assert all(not 1.0 <= f <= 1.03 for f in below[:-1])
+    widest = max(b / a - 1 for a, b in zip(below, below[1:]))
+    assert res["resolution_reached"] == pytest.approx(widest, rel=1e-12) and widest <= 0.02 * (1 + 1e-9)
+    assert res["bracket"] == [below[-2], first]
+    # safe factors above: every run above the first collapse outside the collapsing set, in order
+    above = sorted(f for f in log if f > first and not (1.0 <= f <= 1.03 or f >= 1.5))
+    assert res["safe_factors_above"] == above and res["safe_above"]
+    assert any(1.03 < f < 1.5 for f in above) and all(1.03 < f < 1.5 for f in above)
+    assert not res["none_up_to_max"] and not res["budget_exhausted"] and res["errors"] == []
+
+
+def test_onset_not_safe_and_collapsing_is_one_run():
+    """A collapse at the onset factor ends the search: one run, no safe factor seen (the bracket's
+    lower end unknown), nothing above it searched."""
+    log = []
+    res = hunt_and_fill(decider([(0.5, 0.75), (1.5, math.inf)], log), ONSET, resolution=0.02,
+                        max_factor=20 * ONSET, onset_safe=False)
+    assert log == [ONSET] and res["runs"] == 1
+    assert res["first_overturning"] == ONSET and res["collapse"] == "overturned"
+    assert not res["smallest"] and res["safe_factors_above"] == [] and not res["safe_above"]
+    assert res["resolution_reached"] == 0.0 and res["bracket"] == [None, ONSET]
+
+
+def test_onset_not_safe_without_collapse_claims_nothing_up_to_the_largest_factor():
+    res = hunt_and_fill(decider([(0.1, 0.2)]), ONSET, resolution=0.05, max_factor=10 * ONSET, onset_safe=False)
+    assert res["first_overturning"] is None and not res["smallest"]
+    assert not res["none_up_to_max"]          # below the onset is not searched
+    assert res["scan"][0]["factor"] == ONSET and res["scan"][-1]["factor"] == 10 * ONSET
+    assert res["resolution_reached"] <= 0.05 * (1 + 1e-9) and res["bracket"] == [10 * ONSET, None]

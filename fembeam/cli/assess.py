@@ -7,6 +7,7 @@ and prints.
 """
 from __future__ import annotations
 
+import argparse
 import json
 import shlex
 import sys
@@ -14,10 +15,12 @@ from pathlib import Path
 
 from ..dynamics.ground import GroundMotion
 from ..errors import InputError
+from ..studies.collapse import MAX_RUNS, RESOLUTION
 from ..studies.suites import record_files
-from .args import arch_title, finite_float, float_list, note_records
+from .args import arch_title, finite_float, note_records
 from .rock import add_ground, add_member, coulomb, ground_from, member_from
 
+REPLACED = ("--factors", "--bisect-tol")      # the former grid search of the margins: refused with one line
 
 
 def register(sub) -> None:
@@ -26,7 +29,8 @@ def register(sub) -> None:
                                    "safety, the friction the limit state needs), the verdict of the auto model "
                                    "(one mechanism while it holds, the multi-block simulation from its first failure) "
                                    "under each ground motion, and the margin: the smallest scale factor of the motion "
-                                   "that overturns the member by auto, beside rock's (docs/assess.md).")
+                                   "that collapses the member by auto, beside rock's, each by the hunt and fill of "
+                                   "collapse-scale at --resolution (docs/assess.md).")
     add_member(p, solver=False)
     w = add_ground(p)
     w.add_argument("--records", metavar="DIR",
@@ -41,11 +45,14 @@ def register(sub) -> None:
     a.add_argument("--t-end", type=finite_float, default=None, metavar="S",
                    help="end of every run (s; default: end of the motion + 20 sqrt(L/g))")
     a.add_argument("--no-margin", action="store_true", help="skip the margin searches")
-    a.add_argument("--factors", type=float_list, default=None, metavar="F[,F..|A:B:STEP]",
-                   help="increasing scale factors scanned by the margin searches (default: collapse-scale's grid "
-                        "from the factor that first moves the member)")
-    a.add_argument("--bisect-tol", type=finite_float, default=None, metavar="TOL",
-                   help="relative width of the margins' final brackets, in (0, 0.1] (default 1e-3)")
+    a.add_argument("--resolution", type=finite_float, default=None, metavar="R",
+                   help=f"relative step the margin searches (hunt and fill, as collapse-scale) must reach below a "
+                        f"collapse before calling it the smallest, in [1e-4, 1] (default {RESOLUTION:g})")
+    a.add_argument("--max-runs", type=int, default=None, metavar="N",
+                   help=f"time histories at most in each margin search (default {MAX_RUNS}); a finer --resolution "
+                        "needs more")
+    for gone in REPLACED:
+        a.add_argument(gone, nargs="?", const="", default=None, help=argparse.SUPPRESS)
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--report", metavar="DIR",
@@ -84,13 +91,20 @@ def _check(args) -> None:
         raise InputError(f"--voussoirs must be >= 1, got {args.voussoirs}")
     if args.elements is not None and args.elements < 4:
         raise InputError(f"--elements must be >= 4, got {args.elements}")
-    if args.bisect_tol is not None and not 0 < args.bisect_tol <= 0.1:
-        raise InputError(f"--bisect-tol must be in (0, 0.1], got {args.bisect_tol:g}")
-    if args.factors is not None:
-        if any(not f > 0 for f in args.factors) or any(b <= a for a, b in zip(args.factors, args.factors[1:])):
-            raise InputError("--factors must be positive and strictly increasing")
-    if args.no_margin and (args.factors is not None or args.bisect_tol is not None):
-        raise InputError("--factors and --bisect-tol set the margin searches: drop them or --no-margin")
+    for gone in REPLACED:
+        if getattr(args, gone.lstrip("-").replace("-", "_")) is not None:
+            raise InputError(f"{gone} was replaced by --resolution (the margins are searched by hunt and fill, as in "
+                             "collapse-scale)")
+    if args.no_margin and (args.resolution is not None or args.max_runs is not None):
+        raise InputError("--resolution and --max-runs set the margin searches: drop them or --no-margin")
+    if args.resolution is None:
+        args.resolution = RESOLUTION
+    if args.max_runs is None:
+        args.max_runs = MAX_RUNS
+    if not 1e-4 <= args.resolution <= 1.0:
+        raise InputError(f"--resolution must be in [1e-4, 1] (relative step between factors), got {args.resolution:g}")
+    if not 1 <= args.max_runs <= 100_000:
+        raise InputError(f"--max-runs must be in [1, 100000], got {args.max_runs}")
     if args.t_end is not None and not args.t_end > 0:
         raise InputError(f"--t-end must be a positive number of seconds, got {args.t_end:g}")
 
@@ -142,8 +156,8 @@ def run(args) -> int:
     say, done = _progress(args.quiet)
     try:
         res = assess(curve, grounds, voussoirs=voussoirs, elements=elements, friction=args.friction, dt=args.dt,
-                     t_end=args.t_end, margin_search=not args.no_margin, factors=args.factors,
-                     bisect_tol=args.bisect_tol, sources=sources, progress=say)
+                     t_end=args.t_end, margin_search=not args.no_margin,
+                     resolution=args.resolution, max_runs=args.max_runs, sources=sources, progress=say)
     finally:
         done()
     d = res.to_dict()

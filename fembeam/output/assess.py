@@ -83,8 +83,38 @@ def static_lines(d: dict) -> list[str]:
     return lines
 
 
-def motion_lines(m: dict, k: int) -> list[str]:
-    """One ground motion of a :meth:`AssessResult.to_dict`."""
+def _factor(e: dict) -> str:
+    """The margin's factor and PGA (g), or that none was found."""
+    return "none found" if e["factor"] is None else f"{e['factor']:.6g} (PGA {e['pga_g']:.4g} g)"
+
+
+def _claim(e: dict, friction: float | None) -> str:
+    """What the margin search of one model claims (:data:`fembeam.studies.assess.MARGIN_KEYS`):
+    the smallest at its resolution, or why not."""
+    runs = f"{e['runs']} run" + ("" if e["runs"] == 1 else "s")
+    reached = f"{100 * e['resolution_reached']:.3g} %"
+    stop = "; ".join(f"search stopped at factor {x['factor']:.6g}: {x.get('error') or x['outcome']}"
+                     for x in e["errors"])
+    if e["budget_exhausted"]:
+        stop = "stopped at the run budget: raise --max-runs"
+    if e["factor"] is None:
+        if e["none_up_to_max"]:
+            return (f"no collapse up to factor {e['max_factor']:.6g} ({e['max_factor'] / e['onset_factor']:.3g} x the "
+                    f"onset factor {e['onset_factor']:.4g}), factors run at most {reached} apart; {runs}")
+        why = stop or ("with friction a joint may slide below A_L, which is not searched" if friction is not None
+                       else f"factors run up to {reached} apart")
+        return f"no collapse found up to factor {e['max_factor']:.6g} ({why}); {runs}"
+    if e["smallest"]:
+        return (f"the smallest at resolution {e['resolution']:g}: every factor run below it stands, consecutive "
+                f"factors from the onset {e['onset_factor']:.4g} up to it at most {reached} apart; {runs}")
+    why = stop or ("with friction a joint may slide below A_L, which is not searched" if friction is not None
+                   else f"factors run below it are up to {reached} apart, a collapse may lie between them")
+    return f"NOT called the smallest at resolution {e['resolution']:g} ({why}); {runs}"
+
+
+def motion_lines(m: dict, k: int, friction: float | None = None) -> list[str]:
+    """One ground motion of a :meth:`AssessResult.to_dict`; ``friction``: the joints' Coulomb
+    coefficient of the ``auto`` model (None: they never slide)."""
     lines = [f"ground motion {k}: {m['name']} (PGA {m['pga_g']:.4g} g, {m['duration_s']:.4g} s)"]
     v = VERDICT_WORDS.get(m["verdict"], m["verdict"])
     if m["verdict"] == "cannot_stand":
@@ -110,11 +140,10 @@ def motion_lines(m: dict, k: int) -> list[str]:
     if mg["skipped"] is not None:
         lines.append(f"  margin: {mg['skipped']}")
         return lines
-    def one(e):
-        if e["factor"] is None:
-            return "none found"
-        return f"{e['factor']:.6g} (PGA {e['pga_g']:.4g} g)" + ("" if e["converged"] else ", NOT converged")
-    lines.append(f"  margin (smallest scale factor that overturns): auto {one(mg['auto'])}, rock {one(mg['rock'])}")
+    lines.append(f"  margin (first scale factor found to collapse it, hunt and fill at resolution "
+                 f"{mg['auto']['resolution']:g}): auto {_factor(mg['auto'])}, rock {_factor(mg['rock'])}")
+    for name in ("auto", "rock"):
+        lines.append(f"    {name}: {_claim(mg[name], friction if name == 'auto' else None)}")
     if mg["ratio"] is not None:
         r = mg["ratio"]
         what = (f"the one-mechanism model alone overstates the margin {1 / r:.3g} times" if r < 1 else
@@ -124,8 +153,8 @@ def motion_lines(m: dict, k: int) -> list[str]:
     for name in ("auto", "rock"):
         e = mg[name]
         if e["factor"] is not None and e["safe_above"]:
-            lines.append(f"    {name}: safe scanned factors above it: "
-                         + ", ".join(f"{x:.4g}" for x in e["safe_factors_above"]) + " (the safe set is not an interval)")
+            lines.append(f"    {name}: safe factors found above it: " + ", ".join(
+                f"{x:.4g}" for x in e["safe_factors_above"]) + " (the safe set is not an interval)")
         if e["collapse"] == "collapsed_by_sliding":
             lines.append(f"    {name}: the collapse at its margin is by sliding")
     return lines
@@ -139,9 +168,12 @@ def page(d: dict, member: str) -> str:
             "  auto model: " + ("joints never slide" if s["friction"] is None else f"Coulomb friction mu = "
                                                                                    f"{s['friction']:g}")
             + f", simulation step {s['dt']:g} s"]
+    if s.get("margin"):
+        head.append(f"  margins: hunt and fill over the scale factors (as collapse-scale), resolution "
+                    f"{s['resolution']:g}, at most {s['max_runs']} runs each, up to {s['span']:g} x the onset factor")
     lines = head + static_lines(d)
     for k, m in enumerate(d["motions"], 1):
-        lines += motion_lines(m, k)
+        lines += motion_lines(m, k, s["friction"])
     return "\n".join(lines)
 
 
@@ -269,10 +301,15 @@ def _markdown(d: dict, member: str, command: str | None) -> str:
     lines = ["# Assessment", "", f"Member: {member}.", ""]
     if command:
         lines += [f"Written by `{command}`.", ""]
+    st = d["settings"]
+    if st.get("margin"):
+        lines += [f"Margins: hunt and fill over the scale factors of each motion (as `fembeam collapse-scale`), "
+                  f"resolution {st['resolution']:g} (relative step between factors), at most {st['max_runs']} runs "
+                  f"per search, up to {st['span']:g} times the onset factor.", ""]
     lines += ["## Statics", "", "```", *static_lines(d)[1:], "```", "",
               "![The member and its thrust line at A_L each way](statics.png)", ""]
     for k, m in enumerate(d["motions"], 1):
-        lines += [f"## Ground motion {k}: {m['name']}", "", "```", *motion_lines(m, k)[1:], "```", "",
+        lines += [f"## Ground motion {k}: {m['name']}", "", "```", *motion_lines(m, k, st["friction"])[1:], "```", "",
                   f"![Time history of the auto run](motion_{k:02d}_history.png)", "",
                   f"![The member at the {m['configuration']['at'] if m['configuration'] else 'start'}]"
                   f"(motion_{k:02d}_configuration.png)", ""]

@@ -8,10 +8,11 @@
 * **verdict** (:class:`fembeam.auto.AutoModel`) under each ground motion: survives, overturns or
   collapses by sliding; the peak rotation (rad, of any piece or body), the first time the
   one-mechanism model failed and why, the time spent in each model.
-* **margin** (:func:`fembeam.studies.spectrum.collapse_scale`): the smallest scale factor of the
-  motion that overturns the member by ``auto``, beside ``rock``'s (what the one-mechanism model
-  alone would claim) and their ratio ``auto / rock`` (below 1: the one-mechanism model overstates
-  the margin).
+* **margin** (:func:`fembeam.studies.collapse.collapse_scale`, the hunt and fill of ``fembeam
+  collapse-scale``): the first scale factor of the motion found to collapse the member by
+  ``auto``, whether it is the smallest at the search's resolution (relative step between
+  factors), beside ``rock``'s (what the one-mechanism model alone would claim) and their ratio
+  ``auto / rock`` (below 1: the one-mechanism model overstates the margin).
 
 Units: accelerations in g (positive along +x; ``A_L(+1)`` is the threshold of an inertia load to
 the right, i.e. of ``a_g < 0``), times in s, rotations in rad, thicknesses in m, energies in J per
@@ -19,7 +20,6 @@ metre of width (the JSON's ``units``).
 """
 from __future__ import annotations
 
-import inspect
 import math
 import time
 from dataclasses import dataclass, field
@@ -32,9 +32,11 @@ from ..dynamics.ground import GroundMotion
 from ..units import kN
 from ..errors import InputError
 from ..geometry import MidCurve
+from ..dynamics.ground import MAX_PGA
 from . import spectrum
+from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, collapse_scale
 
-__all__ = ["assess", "AssessResult", "Snapshot", "VERDICTS"]
+__all__ = ["assess", "margin", "AssessResult", "Snapshot", "VERDICTS", "MARGIN_KEYS"]
 
 VERDICTS = {"rest": "survives", "survived": "survives", "overturned": "overturns",
             "collapsed_by_sliding": "collapsed_by_sliding", "cannot_stand": "cannot_stand"}
@@ -159,44 +161,123 @@ def snapshot(runs: list, segments, t: float) -> Snapshot | None:
 
 
 # --------------------------------------------------------------------------- margin
-def _collapse_scale(curve, ground, **kw) -> dict:
-    """:func:`~fembeam.studies.spectrum.collapse_scale` with the options its signature takes
-    (``factors`` and ``bisect_tol`` only when given)."""
-    params = inspect.signature(spectrum.collapse_scale).parameters
-    for name in ("factors", "bisect_tol"):
-        if kw.get(name) is None:
-            kw.pop(name, None)
-        elif name not in params:
-            raise InputError(f"this fembeam's margin search (collapse_scale) takes no {name}")
-    return spectrum.collapse_scale(curve, ground, **kw)
+MARGIN_KEYS = ("factor", "pga_g", "bracket", "converged", "smallest", "resolution", "resolution_reached", "collapse",
+               "safe_above", "safe_factors_above", "none_up_to_max", "budget_exhausted", "onset_factor", "max_factor",
+               "runs", "errors")
 
 
 def _margin_entry(res: dict) -> dict:
-    """The margin of one model from a collapse_scale dict (keys read defensively)."""
-    f = res.get("first_overturning")
-    safe_above = res.get("safe_factors_above", res.get("safe_amplitudes_above", []))
-    return {"factor": f, "pga_g": res.get("pga_at_first_overturning"), "bracket": res.get("bracket"),
-            "converged": res.get("converged"), "collapse": res.get("collapse"), "safe_above": res.get("safe_above"),
-            "safe_factors_above": safe_above, "runs": res.get("runs"), "errors": res.get("errors", [])}
+    """The margin of one model from a :func:`~fembeam.studies.collapse.collapse_scale` dict.
+
+    Parameters
+    ----------
+    res : dict
+        The search's result (scale factors; PGA in g).
+
+    Returns
+    -------
+    dict
+        The keys :data:`MARGIN_KEYS`: the first collapsing factor found (``factor``, its PGA
+        ``pga_g`` in g), whether it is the smallest at ``resolution`` (``smallest``; ``converged``
+        the same, its former name) and the claims of
+        :func:`~fembeam.studies.huntfill.hunt_and_fill` that qualify it.
+    """
+    out = {"factor": res["first_overturning"], "pga_g": res["pga_at_first_overturning"]}
+    out.update({k: res[k] for k in MARGIN_KEYS if k not in out})
+    return out
+
+
+def margin_span(A: dict, ground: GroundMotion, span: float = SPAN) -> float | None:
+    """The largest factor of a margin search, in onset factors.
+
+    Parameters
+    ----------
+    A : dict
+        ``A_L`` of the member (g), keyed by direction ``1`` and ``-1``.
+    ground : GroundMotion
+        The motion as given (accelerations in g).
+    span : float
+        The largest factor wanted, in onset factors (default :data:`~fembeam.studies.collapse.SPAN`).
+
+    Returns
+    -------
+    float or None
+        ``span``, or less where the PGA would exceed the admitted
+        :data:`~fembeam.dynamics.ground.MAX_PGA` (g); None when no factor sets the member moving
+        (the motion is zero, or ``A_L`` infinite the way it loads) or only one above that PGA does.
+    """
+    f0 = spectrum.onset_amplitude(A, ground)
+    if not math.isfinite(f0) or ground.pga == 0:
+        return None
+    top = min(span, MAX_PGA / (f0 * ground.pga) * (1 - 1e-9))
+    return top if top > 1.0 else None
 
 
 def margin(curve: MidCurve, ground: GroundMotion, A: dict, *, voussoirs: int | None, elements: int,
-           friction: float | None, dt: float, t_end: float | None, factors: Sequence[float] | None,
-           bisect_tol: float | None, progress: Callable | None = None) -> dict:
-    """Smallest overturning scale factor of ``ground`` by ``auto`` and by ``rock`` and their ratio
-    (``auto / rock``; None unless both are found).  ``A``: ``A_L`` both ways (g), to tell a motion
-    that no factor sets moving (``skipped`` says why)."""
+           friction: float | None, dt: float, t_end: float | None, resolution: float = RESOLUTION,
+           max_runs: int = MAX_RUNS, progress: Callable | None = None) -> dict:
+    """The smallest scale factor of ``ground`` that collapses the member, by ``auto`` and by ``rock``.
+
+    Each is the search of ``fembeam collapse-scale``
+    (:func:`fembeam.studies.collapse.collapse_scale`: hunt and fill over the factors of the motion
+    as given, from the onset factor up to :func:`margin_span` onset factors), so that both commands
+    give the same factor for the same member, motion and settings.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member.
+    ground : GroundMotion
+        The motion as given (accelerations in g); factors scale it.
+    A : dict
+        ``A_L`` both ways (g, keys ``1`` and ``-1``), to tell a motion that no factor sets moving.
+    voussoirs, elements : int or None, int
+        The mesh: ``voussoirs`` pieces, or the continuous member on ``elements`` elements.
+    friction : float or None
+        Coulomb coefficient of the joints in ``auto`` (None: they never slide; with one, no factor of
+        ``auto`` is called the smallest: a joint may slide below ``A_L``, where nothing is run).
+    dt : float
+        Time step of ``auto``'s multi-block simulation (s).
+    t_end : float or None
+        End of every run (s; None: the end of the motion plus ``20 sqrt(L/g)``).
+    resolution : float
+        Relative step between factors the search must reach below a collapse to call it the
+        smallest, in [1e-4, 1] (default 0.05).
+    max_runs : int
+        Time histories at most in each search (default 200).
+    progress : callable, optional
+        ``progress(message)`` after each run and at the end of each search.
+
+    Returns
+    -------
+    dict
+        ``auto`` and ``rock``: each the keys :data:`MARGIN_KEYS` (``factor`` and ``bracket`` are
+        scale factors, ``pga_g`` in g, ``resolution`` and ``resolution_reached`` relative);
+        ``ratio`` ``auto / rock`` (None unless both are found); ``skipped``: why nothing was
+        searched, or None.
+    """
     out = {"auto": None, "rock": None, "ratio": None, "skipped": None}
-    if not math.isfinite(spectrum.onset_amplitude(A, ground)):
+    span = margin_span(A, ground)
+    if span is None:
         out["skipped"] = ("no scale factor sets the member moving (the motion is zero, or A_L is infinite in "
-                          "the direction it loads)")
+                          f"the direction it loads, or only a PGA above {MAX_PGA:g} g would)")
         return out
-    common = {"voussoirs": voussoirs, "elements": elements, "t_end": t_end, "factors": factors,
-              "bisect_tol": bisect_tol}
     for model in ("auto", "rock"):
         extra = {"dt": dt, "friction": friction} if model == "auto" else {}
-        cb = (lambda a, o, m=model: progress(f"margin ({m}): factor {a:.4g} {o}")) if progress else None
-        out[model] = _margin_entry(_collapse_scale(curve, ground, model=model, progress=cb, **common, **extra))
+        count = [0]
+
+        def cb(f, o, m=model, count=count):
+            count[0] += 1
+            progress(f"margin ({m}, resolution {resolution:g}): run {count[0]}, factor {f:.4g} {o}")
+        res = collapse_scale(curve, ground, voussoirs=voussoirs, elements=elements, t_end=t_end,
+                             resolution=resolution, span=span, max_runs=max_runs, model=model,
+                             progress=cb if progress else None, **extra)
+        out[model] = e = _margin_entry(res)
+        if progress:
+            progress(f"margin ({model}): " + ("no collapse found" if e["factor"] is None else
+                                              f"factor {e['factor']:.6g}, " + ("the smallest" if e["smallest"] else
+                                                                              "not called the smallest")
+                                              + f" at resolution {resolution:g}") + f" ({e['runs']} runs)")
     fa, fr = out["auto"]["factor"], out["rock"]["factor"]
     out["ratio"] = fa / fr if fa is not None and fr is not None else None
     return out
@@ -205,16 +286,17 @@ def margin(curve: MidCurve, ground: GroundMotion, A: dict, *, voussoirs: int | N
 # --------------------------------------------------------------------------- the page
 def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, voussoirs: int | None = None,
            elements: int = 200, friction: float | None = None, dt: float | None = None, t_end: float | None = None,
-           margin_search: bool = True, factors: Sequence[float] | None = None, bisect_tol: float | None = None,
+           margin_search: bool = True, resolution: float = RESOLUTION, max_runs: int = MAX_RUNS,
            sources: Sequence[str] | None = None, progress: Callable[[str], None] | None = None) -> AssessResult:
     """Static answers, the ``auto`` verdict and the margin of ``curve`` (``voussoirs``, or the
     continuous member with ``elements``) under each ground motion of ``grounds``.  ``friction``:
     Coulomb coefficient of the joints in ``auto`` (None: they never slide); ``dt`` (s): its
     simulation step (default :data:`fembeam.auto.model.DT`); ``t_end`` (s): end of every run
     (default: end of the motion + ``20 sqrt(L/g)``); ``margin_search=False`` skips the margins;
-    ``factors``, ``bisect_tol``: the margin search's grid and tolerance (defaults of
-    :func:`~fembeam.studies.spectrum.collapse_scale`); ``sources``: where each motion came from
-    (reported); ``progress(message)`` at each stage and margin run."""
+    ``resolution`` (relative step between factors, in [1e-4, 1]) and ``max_runs``: those of the
+    margins' hunt and fill (:func:`margin`; the defaults of ``fembeam collapse-scale``);
+    ``sources``: where each motion came from (reported); ``progress(message)`` at each stage and
+    margin run.  Bad input raises :class:`InputError` before any run."""
     from ..auto import AutoModel
     from ..auto.model import DT
 
@@ -224,6 +306,7 @@ def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, v
         raise InputError("assess needs one or more ground motions (GroundMotion)")
     if sources is not None and len(sources) != len(grounds):
         raise InputError("sources: one per ground motion")
+    check_search(resolution, SPAN, max_runs)
     dt = DT if dt is None else dt
     say = progress or (lambda message: None)
     say("statics: limit analysis both ways, minimum thickness")
@@ -231,7 +314,7 @@ def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, v
     static, analyses = static_answers(curve, voussoirs, elements, friction)
     mode = "voussoirs" if voussoirs is not None else "continuous"
     settings = {"friction": friction, "dt": am.dt, "t_end": t_end, "margin": bool(margin_search),
-                "factors": None if factors is None else [float(f) for f in factors], "bisect_tol": bisect_tol,
+                "resolution": float(resolution), "max_runs": int(max_runs), "span": SPAN,
                 "sim_elements": None if voussoirs is not None else am.sim_elements}
     out = AssessResult(curve, mode, voussoirs if voussoirs is not None else elements, settings, static,
                        analyses=analyses, grounds=grounds)
@@ -251,7 +334,7 @@ def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, v
                                                             else "peak rotation"}
         if margin_search and res.outcome != "cannot_stand":
             entry["margin"] = margin(curve, ground, am.A, voussoirs=voussoirs, elements=elements, friction=friction,
-                                     dt=am.dt, t_end=t_end, factors=factors, bisect_tol=bisect_tol, progress=progress)
+                                     dt=am.dt, t_end=t_end, resolution=resolution, max_runs=max_runs, progress=progress)
         else:
             entry["margin"] = {"auto": None, "rock": None, "ratio": None,
                                "skipped": "not searched" if not margin_search else "the member cannot stand"}

@@ -25,6 +25,9 @@ Claims, in the returned dict:
 * ``safe_factors_above`` (``safe_above``: any): safe factors found above it (runs of the hunt, or
   of the fill before a lower collapse was found);
 * ``resolution_reached``: the widest gap below it (or below ``max_factor``) minus 1;
+* ``bracket``: ``[last safe factor below it, it]``; the lower end is the onset factor when
+  nothing below it was run (safe without a run), None with ``onset_safe=False`` when the onset
+  factor itself collapses (no safe factor seen);
 * ``runs`` (the number of runs) and ``scan`` (every run's dict, by factor).
 
 The search stops early, with ``smallest`` False, at ``max_runs`` runs or at a run that is
@@ -117,7 +120,8 @@ def hunt_and_fill(run: Callable[[float], dict], onset: float, *, resolution: flo
     ends = _ends(onset, done, _top(done, max_factor))
     reached = max((b / a - 1.0 for a, b in zip(ends, ends[1:])), default=0.0)
     covered = not undecided and reached <= resolution * (1 + 1e-9)
-    last_safe = max((x for x, r in done.items() if (top is None or x < top) and r["outcome"] in SAFE), default=onset)
+    last_safe = max((x for x, r in done.items() if (top is None or x < top) and r["outcome"] in SAFE),
+                    default=onset if onset_safe else None)
     smallest = bool(top is not None and covered and onset_safe)
     above = sorted(x for x, r in done.items() if top is not None and x > top and r["outcome"] in SAFE)
     return {"first_overturning": top, "smallest": smallest, "converged": smallest,

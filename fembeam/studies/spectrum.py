@@ -25,9 +25,9 @@ it cannot overturn.  This avoids the tens to thousands of impacts of a member ro
 
 :func:`spectrum` repeats the search per pulse period (sine, Ricker) or duration (rect), one task
 per period on local processes or Dask (:mod:`fembeam.studies.parallel`); each task builds its
-own :class:`Rocker`, so results do not depend on the executor.  :func:`collapse_scale` does the
-same search over the scale factors of a record; ``fembeam collapse-scale`` and ``fembeam fragility``
-search them by hunt and fill at a stated resolution instead (:mod:`fembeam.studies.collapse`).
+own :class:`Rocker`, so results do not depend on the executor.  The scale factors of a record
+(``fembeam collapse-scale``, ``fembeam assess``'s margins, ``fembeam fragility``) are searched by
+hunt and fill at a stated resolution instead (:mod:`fembeam.studies.collapse`).
 
 ``model="simulate"`` decides each run with the multi-block simulation instead
 (:class:`MultiBody`: :meth:`fembeam.simulation.Simulator.run` with time step ``dt``, stopped at
@@ -59,7 +59,7 @@ from ..geometry import MidCurve
 from .parallel import Journal, executor_label, run_tasks
 
 __all__ = ["overturning_amplitude", "spectrum", "spectrum_case", "SpectrumResult", "plot_spectrum",
-           "collapse_scale", "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "check_model", "MultiBody",
+           "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "check_model", "MultiBody",
            "PULSES", "SAFE", "COLLAPSE", "MODELS", "DT"]
 
 PULSES = ("rect", "sine", "ricker")
@@ -68,9 +68,8 @@ SAFE = ("no_motion", "rest", "survived", "below_barrier")   # outcomes that are 
 COLLAPSE = ("overturned", "collapsed_by_sliding")           # outcomes that count as collapse (sliding: simulate
                                                             # with friction only)
 DT = 1e-3               # default time step of model="simulate" (s), that of fembeam simulate
-N_GRID = 40             # default grid points (amplitudes or factors)
+N_GRID = 40             # default grid points (amplitudes)
 AMPLITUDE_SPAN = 10.0   # default amplitude grid: onset .. 10 x onset (geometric)
-FACTOR_SPAN = 20.0      # default factor grid: onset factor .. 20 x it (geometric)
 T_END_FACTOR = 20.0     # default free time after a pulse, in sqrt(L/g)
 MAX_BISECT = 60         # bound on the bisection steps
 MAX_CASES = 10_000      # bound on the scanned (period, amplitude) points of one study
@@ -600,73 +599,3 @@ def plot_spectrum(result: SpectrumResult, path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
-
-
-# --------------------------------------------------------------------------- records
-def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None = None, elements: int = 200,
-                   factors: Sequence[float] | None = None, *, t_end: float | None = None, bisect_tol: float = 1e-3,
-                   sign: int = 1, backend: str = "clarabel", n_factors: int = N_GRID, span: float = FACTOR_SPAN,
-                   progress: Callable | None = None, model: str = "rock", dt: float | None = None,
-                   friction: float | None = None) -> dict:
-    """Smallest scale factor of ``ground`` that overturns ``curve`` on a grid (the search of
-    :func:`overturning_amplitude` over factors; ``sign = -1`` mirrors the record).  The scan of
-    ``fembeam assess``'s margins; ``fembeam collapse-scale`` uses the hunt and fill of
-    :func:`fembeam.studies.collapse.collapse_scale` instead, which says at what resolution its answer
-    is the smallest: a window of collapse narrower than a grid step lies between two scanned factors,
-    and the bisection below the first collapsing grid point can land above a collapsing factor it did
-    not run (docs/fragility.md, section 2).  Default
-    grid: ``n_factors`` geometric points from the onset factor (the record first exceeds
-    ``A_L``; ``A_L / PGA`` for a symmetric member) to ``span`` times it.  ``t_end`` (s):
-    default the end of the record + ``20 sqrt(L/g)``.  Returns the search's dict with factors
-    (``first_overturning``, ``bracket``, ``safe_factors_above``, ``scan``), plus
-    ``pga_at_first_overturning`` (g), the record's ``pga`` and ``A_L``; ``outcome``
-    ``"computed"``, or ``"cannot_stand"`` for a member that does not stand (no run, no
-    factor).  ``model``, ``dt``, ``friction``: as in :func:`spectrum` (``"simulate"``: the
-    multi-block simulation, collapse by sliding counted as overturning; ``collapse`` says which
-    outcome the bracket's upper end had)."""
-    dt, friction = check_model(model, dt, friction)
-    if not isinstance(ground, GroundMotion):
-        raise InputError(f"collapse_scale needs a GroundMotion, got {type(ground).__name__}")
-    if ground.pga == 0:
-        raise InputError(f"{ground.name} is zero everywhere: no scale factor moves the member")
-    if factors is not None:
-        _check_grid(factors, "the factors")
-    elif not (2 <= n_factors <= MAX_CASES and math.isfinite(span) and span > 1):
-        raise InputError(f"the default factor grid needs 2..{MAX_CASES} points and a span > 1")
-    if t_end is not None and not (math.isfinite(t_end) and t_end > ground.t[0]):
-        raise InputError(f"t_end must be finite and after the start of the record ({ground.t[0]:g} s), got {t_end}")
-    _check_runs(model, dt, (t_end if t_end is not None else
-                            float(ground.t[-1]) + T_END_FACTOR * math.sqrt(curve.length / GRAVITY)) - float(ground.t[0]),
-                curve, voussoirs, elements)
-    clock = time.perf_counter()
-    rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
-    common = dict(record=ground.name, pga=ground.pga, sign=sign, geometry=curve.describe() if hasattr(curve, "describe")
-                  else {}, voussoirs=voussoirs, elements=elements if voussoirs is None else None, t_end=t_end,
-                  model=model, collapse_outcomes=_collapse_outcomes(model))
-    if model != "rock":
-        common.update(dt=dt, friction=friction)
-    if not rk.stands:             # a physical outcome: the answer
-        return _json_safe({"outcome": "cannot_stand", **common, "A_L": {"+1": None, "-1": None}, "onset_factor": None,
-                           "factors": [], "first_overturning": None, "bracket": [None, None], "safe_above": False,
-                           "safe_factors_above": [], "converged": False, "collapse": None, "scan": [],
-                           "bisection": [], "errors": [], "runs": 0, "pga_at_first_overturning": None,
-                           "time_s": time.perf_counter() - clock, **({"steps": 0} if model != "rock" else {})})
-    f0 = onset_amplitude(rk.A, ground.scaled(sign))
-    if not math.isfinite(f0):
-        raise InputError("no scale factor of this record can set the member moving (A_L infinite)")
-    grid = [float(f) for f in factors] if factors is not None else geometric_grid(f0, span, n_factors)
-    member = rk if model == "rock" else MultiBody(curve, rk.A, voussoirs=voussoirs, elements=elements, dt=dt,
-                                                  friction=friction, model=model)
-    res = overturning_amplitude(member, ground.scaled, grid, t_end=t_end, bisect_tol=bisect_tol, sign=sign,
-                                onset=f0, progress=progress)
-    f = res["first_overturning"]
-    res["safe_factors_above"] = res.pop("safe_amplitudes_above")
-    for key in ("scan", "bisection", "errors"):
-        res[key] = [{("factor" if k == "amplitude" else k): v for k, v in s.items()} for s in res[key]]
-    res.update(outcome="computed", **common, onset_factor=f0, factors=grid,
-               pga_at_first_overturning=None if f is None else f * ground.pga,
-               A_L={"+1": rk.A[1], "-1": rk.A[-1]}, time_s=time.perf_counter() - clock)
-    if model != "rock":
-        res.update(steps=member.steps)
-    res.pop("onset")
-    return _json_safe(res)
