@@ -21,7 +21,10 @@ documented in docs/user_guide.md ("Limits") and in ``--help``:
 * :data:`MAX_DURATION`: the simulated time of one run (s);
 * :data:`MAX_HISTORY_ROWS`, :data:`MAX_HISTORY_POSITIONS`: the sampled history (about 0.5 GB
   at the bound with ``--json --history``); ``simulate`` keeps every body's position per row;
-* :data:`MAX_WORKERS`: local worker processes of a study (never more than its tasks).
+* :data:`MAX_WORKERS`: local worker processes of a study (never more than its tasks);
+* :data:`MAX_COMMAND_RUNS`: the time histories one study command may make at most (its searches
+  times their run budget ``--max-runs``), so that a large suite or budget is refused before
+  computing rather than running for days.
 """
 from __future__ import annotations
 
@@ -32,7 +35,7 @@ from .errors import InputError
 __all__ = ["BLOCK_ASPECT_RANGE", "ROCK_VOUSSOIRS", "ROCK_MAX_ELEMENTS", "SIMULATE_MAX_BODIES", "MAX_BODY_STEPS",
            "MAX_STEPS", "DT_RANGE", "MAX_DURATION", "MAX_HISTORY_ROWS", "MAX_HISTORY_POSITIONS", "MAX_WORKERS",
            "check_block", "check_discretisation", "bodies", "check_steps", "check_duration", "check_history",
-           "check_workers"]
+           "check_workers", "MAX_COMMAND_RUNS", "check_run_count"]
 
 BLOCK_ASPECT_RANGE = (1e-3, 1e3)     # width / height of a rocking block
 ROCK_VOUSSOIRS = (3, 80)             # voussoirs of rock: 4 joints at least, 81 at most (the exhaustive search)
@@ -45,6 +48,7 @@ MAX_DURATION = 1e5                   # s: simulated time of one run (t_end - sta
 MAX_HISTORY_ROWS = 1_000_000         # rows of the sampled history
 MAX_HISTORY_POSITIONS = 20_000_000   # simulate: history rows x bodies
 MAX_WORKERS = 256                    # local worker processes of a study
+MAX_COMMAND_RUNS = 100_000           # time histories of one study command at most (searches x --max-runs)
 
 
 def check_block(width: float, height: float) -> None:
@@ -130,3 +134,13 @@ def check_workers(workers: int | None) -> None:
     """``--workers`` in [1, :data:`MAX_WORKERS`] (None: one per core)."""
     if workers is not None and not 1 <= workers <= MAX_WORKERS:
         raise InputError(f"--workers must be in [1, {MAX_WORKERS}], got {workers}")
+
+
+def check_run_count(searches: int, max_runs: int, what: str) -> None:
+    """InputError unless ``searches`` searches of at most ``max_runs`` time histories each stay
+    within :data:`MAX_COMMAND_RUNS`; ``what`` names the searches ("44 records x 2 signs")."""
+    total = int(searches) * int(max_runs)
+    if total > MAX_COMMAND_RUNS:
+        fit = max(1, MAX_COMMAND_RUNS // max(int(searches), 1))
+        raise InputError(f"{what} x --max-runs {max_runs} = {total} time histories at most: a command makes at most "
+                         f"{MAX_COMMAND_RUNS} (give --max-runs {fit} or fewer, or split the study)")

@@ -204,3 +204,13 @@ def test_an_assess_report_leaves_no_stale_motion_and_no_empty_folder(tmp_path, m
     with atomic_dir(e, ["a.png"]) as (tmp,):
         Path(tmp).write_text("3")
     assert (e / "a.png").read_text() == "3" and oct(e.stat().st_mode & 0o777) != oct(0o700)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["fragility", *BLOCK, "--suite", "SUITE", "--max-runs", "100000", "--both-signs"],
+     "1 records x 2 signs x --max-runs 100000 = 200000"),
+    (["assess", *BLOCK, "--record", "elcentro", "--max-runs", "60000"],
+     "1 ground motions x 2 models x --max-runs 60000 = 120000"),
+])
+def test_a_study_bounds_the_runs_it_will_make_before_computing(tmp_path, capsys, argv, words):
+    _one_line(capsys, [str(_suite(tmp_path)) if a == "SUITE" else a for a in argv], words, "at most 100000")

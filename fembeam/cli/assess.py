@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 from ..dynamics.ground import GroundMotion
+from ..limits import MAX_COMMAND_RUNS
 from ..errors import InputError
 from ..studies.collapse import MAX_RUNS, RESOLUTION
 from ..studies.suites import record_files
@@ -50,7 +51,7 @@ def register(sub) -> None:
                         f"collapse before calling it the smallest, in [1e-4, 1] (default {RESOLUTION:g})")
     a.add_argument("--max-runs", type=int, default=None, metavar="N",
                    help=f"time histories at most in each margin search (default {MAX_RUNS}); a finer --resolution "
-                        "needs more")
+                        f"needs more; ground motions x 2 models x N is at most {MAX_COMMAND_RUNS}")
     for gone in REPLACED:
         a.add_argument(gone, nargs="?", const="", default=None, help=argparse.SUPPRESS)
     o = p.add_argument_group("output")

@@ -11,6 +11,7 @@ import json
 import os
 import sys
 
+from ..limits import MAX_COMMAND_RUNS
 from ..errors import InputError
 from ..output.files import PLOT_SUFFIXES, atomic, atomic_dir, check_dir, check_distinct, check_output
 from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN
@@ -64,7 +65,8 @@ def register(sub) -> None:
     s.add_argument("--factor-span", type=finite_float, default=SPAN, metavar="S",
                    help=f"largest factor, in onset factors (default {SPAN:g})")
     s.add_argument("--max-runs", type=int, default=MAX_RUNS, metavar="N",
-                   help=f"time histories per record and sign at most (default {MAX_RUNS})")
+                   help=f"time histories per record and sign at most (default {MAX_RUNS}); records x signs x N "
+                        f"is at most {MAX_COMMAND_RUNS}")
     s.add_argument("--both-signs", action="store_true",
                    help="run sign -1 even for a symmetric member (default: its rows are the mirror images of +1's)")
     s.add_argument("--t-end-factor", type=finite_float, default=T_END_FACTOR, metavar="F",

@@ -30,6 +30,7 @@ import numpy as np
 from ..analysis import analyze, minimum_thickness
 from ..dynamics.ground import GroundMotion
 from ..units import kN
+from ..limits import check_run_count
 from ..errors import InputError
 from ..geometry import MidCurve
 from ..dynamics.ground import MAX_PGA
@@ -307,6 +308,8 @@ def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, v
     if sources is not None and len(sources) != len(grounds):
         raise InputError("sources: one per ground motion")
     check_search(resolution, SPAN, max_runs)
+    if margin_search:
+        check_run_count(2 * len(grounds), max_runs, f"{len(grounds)} ground motions x 2 models")
     dt = DT if dt is None else dt
     say = progress or (lambda message: None)
     say("statics: limit analysis both ways, minimum thickness")

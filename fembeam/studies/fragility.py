@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..dynamics.rocking import Rocker
+from ..limits import check_run_count
 from ..errors import InputError, SolverError
 from ..fem import uniform_nodes
 from ..geometry import MidCurve
@@ -256,6 +257,8 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
             onset_and_top(r.ground, [rk.A[1], rk.A[-1]], sign, span)      # bad input before any run
     symmetric = symmetric_model(curve, voussoirs, elements, rk.A)
     signs = (1,) if symmetric and mirror else SIGNS
+    check_run_count(len(suite.records) * len(signs), max_runs,
+                    f"{len(suite.records)} records x {len(signs)} sign{'s' if len(signs) > 1 else ''}")
     common = {"curve": curve, "model": model, "thresholds": [rk.A[1], rk.A[-1]], "voussoirs": voussoirs,
               "elements": elements, "backend": backend, "dt": dt, "resolution": resolution, "span": span,
               "max_runs": max_runs, "t_end_factor": t_end_factor}
