@@ -55,36 +55,57 @@ from numba import njit
 
 # ================================================================================================= operators
 BAND = 5                # half-bandwidth of W (three rows per joint, consecutive joints share a body)
+OFF_FACE = 1e300        # as contacts.OFF_FACE: the gap of a joint end whose faces no longer overlap
 
 
 @njit(cache=True, error_model="numpy")
-def geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact):
-    """Gaps and slips ``(J, 2)`` (m), the rows of ``H`` ``(J, 3, 2, 3)`` and the contact corners at
-    positions ``q`` ``(n + 1, 3)``; ``ra``, ``rb`` ``(J, 2, 2)`` the corners relative to the
-    centroids of the two sides at rest, ``nu0``, ``tau0`` ``(J, 2)`` the reference face's normal and
-    tangent at rest."""
+def geometry(q, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact):
+    """Gaps and slips ``(J, 2)`` (m), the rows of ``H`` ``(J, 3, 2, 3)`` and the contact ends at
+    positions ``q`` ``(n + 1, 3)`` (:mod:`.contacts`: each end of a joint is the corner lying on
+    the other body's face, ``b``'s or ``a``'s; none, gap ``OFF_FACE`` and zero rows, where the
+    faces no longer overlap); ``ra``, ``rb`` ``(J, 2, 2)`` the corners relative to the centroids
+    of the two sides at rest, ``nu0``, ``tau0`` ``(J, 2)`` the reference face's normal and tangent
+    at rest, ``outward`` ``(J, 2)`` the outward sense of each end along ``tau0`` (+-1), ``depth``
+    ``(J,)`` the joint's depth (m), ``edge`` ``(J,)`` (m) how far beyond ``a``'s face a corner of
+    ``b`` still counts as over it (``contacts.EDGE_TOL`` times the depth)."""
+    px = np.empty(2)
+    py = np.empty(2)
+    nx = np.empty(2)
+    ny = np.empty(2)
+    tx = np.empty(2)
+    ty = np.empty(2)
+    on = np.empty(2, np.bool_)
     for j in range(A.size):
         a, b = A[j], B[j]
         ca, sa = math.cos(q[a, 2]), math.sin(q[a, 2])
         cb, sb = math.cos(q[b, 2]), math.sin(q[b, 2])
-        nux, nuy = ca * nu0[j, 0] - sa * nu0[j, 1], sa * nu0[j, 0] + ca * nu0[j, 1]
-        tx, ty = ca * tau0[j, 0] - sa * tau0[j, 1], sa * tau0[j, 0] + ca * tau0[j, 1]
-        px0 = q[b, 0] + cb * rb[j, 0, 0] - sb * rb[j, 0, 1]
-        py0 = q[b, 1] + sb * rb[j, 0, 0] + cb * rb[j, 0, 1]
-        px1 = q[b, 0] + cb * rb[j, 1, 0] - sb * rb[j, 1, 1]
-        py1 = q[b, 1] + sb * rb[j, 1, 0] + cb * rb[j, 1, 1]
+        nax, nay = ca * nu0[j, 0] - sa * nu0[j, 1], sa * nu0[j, 0] + ca * nu0[j, 1]
+        tax, tay = ca * tau0[j, 0] - sa * tau0[j, 1], sa * tau0[j, 0] + ca * tau0[j, 1]
+        nbx, nby = cb * nu0[j, 0] - sb * nu0[j, 1], sb * nu0[j, 0] + cb * nu0[j, 1]
+        tbx, tby = cb * tau0[j, 0] - sb * tau0[j, 1], sb * tau0[j, 0] + cb * tau0[j, 1]
         for c in range(2):
-            px, py = (px0, py0) if c == 0 else (px1, py1)
-            dx = px - (q[a, 0] + ca * ra[j, c, 0] - sa * ra[j, c, 1])
-            dy = py - (q[a, 1] + sa * ra[j, c, 0] + ca * ra[j, c, 1])
-            gap[j, c] = dx * nux + dy * nuy
-            slip[j, c] = dx * tx + dy * ty
+            pbx = q[b, 0] + cb * rb[j, c, 0] - sb * rb[j, c, 1]
+            pby = q[b, 1] + sb * rb[j, c, 0] + cb * rb[j, c, 1]
+            pax = q[a, 0] + ca * ra[j, c, 0] - sa * ra[j, c, 1]
+            pay = q[a, 1] + sa * ra[j, c, 0] + ca * ra[j, c, 1]
+            dx, dy = pbx - pax, pby - pay
+            u = outward[j, c] * (dx * tax + dy * tay)
+            if u > edge[j]:                       # b's corner beyond a's face: a's corner on b's face?
+                px[c], py[c], nx[c], ny[c], tx[c], ty[c] = pax, pay, nbx, nby, tbx, tby
+                on[c] = outward[j, c] * (dx * tbx + dy * tby) <= depth[j]
+            else:                                 # b's corner on a's face?
+                px[c], py[c], nx[c], ny[c], tx[c], ty[c] = pbx, pby, nax, nay, tax, tay
+                on[c] = u >= -depth[j]
+            gap[j, c] = dx * nx[c] + dy * ny[c] if on[c] else OFF_FACE
+            slip[j, c] = dx * tx[c] + dy * ty[c]
         k = 1 if gap[j, 1] < gap[j, 0] else 0
         contact[j] = k
         for r in range(3):
-            dx, dy = (nux, nuy) if r < 2 else (tx, ty)
             c = r if r < 2 else k
-            x, y = (px0, py0) if c == 0 else (px1, py1)
+            dx, dy = (nx[c], ny[c]) if r < 2 else (tx[c], ty[c])
+            if not on[c]:
+                dx, dy = 0.0, 0.0
+            x, y = px[c], py[c]
             rows[j, r, 1, 0] = dx
             rows[j, r, 1, 1] = dy
             rows[j, r, 1, 2] = (x - q[b, 0]) * dy - (y - q[b, 1]) * dx
@@ -1027,6 +1048,27 @@ def ground_at(kind, amp, period, ts, av, time):
 
 
 @njit(cache=True, error_model="numpy")
+def collapse(V, V_over, gap, s_ref):
+    """The collapse decided in a configuration (0: none): :data:`SLID_OUT` when a joint has no
+    contact region left (its faces no longer overlap: both ends' gaps ``OFF_FACE``); when the
+    potential energy ``V`` (J/m) is below the overturning level ``V_over``, :data:`SLID_OUT` if
+    the largest slip a joint carries (``|s_ref|``, m) exceeds the largest opening of a joint's end
+    (its gap, m: the two relative displacements of the faces, tangential and normal), else
+    :data:`OVERTURNED`."""
+    slid, opened = 0.0, 0.0
+    for j in range(gap.shape[0]):
+        if gap[j, 0] >= OFF_FACE and gap[j, 1] >= OFF_FACE:
+            return SLID_OUT
+        slid = max(slid, abs(s_ref[j]))
+        for k in range(2):
+            if gap[j, k] < OFF_FACE:
+                opened = max(opened, gap[j, k])
+    if V < V_over:
+        return SLID_OUT if slid > opened else OVERTURNED
+    return 0
+
+
+@njit(cache=True, error_model="numpy")
 def _kinetic(mv, v):
     n = mv.shape[0]
     out = 0.0
@@ -1185,9 +1227,9 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
 
 
 @njit(cache=True, error_model="numpy")
-def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_thick,
+def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, joint_thick,
             gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
-            fs, ist, dt, t_end, t0, dt_out, g, h_min, gap_tol, V_over, slide_out, mu, stop,
+            fs, ist, dt, t_end, t0, dt_out, g, h_min, gap_tol, V_over, mu, stop,
             kind, amp, period, ts, av, impact_pivots, block_pivots,
             hist, pos, imp, max_steps, kkt_tol, coulomb_tol, dump_ab, dump_c, dump_P, dump_closed):
     """Steps from the state given until the end, a stop, ``max_steps`` steps, or the buffers
@@ -1241,17 +1283,12 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
         # the end (a remainder shorter than a landing cut is not stepped), or an outcome already
         # decided in an earlier call that returned for its buffers before it could stop
         done = t >= t_end - h_min or (stop and ist[I_OUTCOME] != 0)
-        if ist[I_OUTCOME] == 0 and V < V_over:
-            ist[I_OUTCOME] = OVERTURNED
-            fs[F_TOVER] = t
-            done = done or stop
-        if ist[I_OUTCOME] == 0 and mu < np.inf:
-            for j in range(J):
-                if abs(s_ref[j]) > slide_out * joint_thick[j]:
-                    ist[I_OUTCOME] = SLID_OUT
-                    fs[F_TOVER] = t
-                    done = done or stop
-                    break
+        if ist[I_OUTCOME] == 0:
+            code = collapse(V, V_over, gap, s_ref)
+            if code != 0:
+                ist[I_OUTCOME] = code
+                fs[F_TOVER] = t
+                done = done or stop
         if t >= fs[F_NEXT] or done:
             if nh == hist.shape[0]:
                 return RUNNING, nh, ni
@@ -1302,7 +1339,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
                 if K_in < 0:
                     K_in = _kinetic(mv, v)
                 if ist[I_STALE]:
-                    geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
+                    geometry(q, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
                     ist[I_STALE] = 0
                 st = _project(rows, sides, minv, v, closed, working_imp, ist[I_HASWI] == 1, box_imp, mu, g * h,
                               impact_pivots, ab, U, P, w, c, Z, dump_ab, dump_c, dump_P, dump_closed, fs, ist, t, 1, kkt_tol, coulomb_tol)
@@ -1357,7 +1394,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
             if closed[j, 0] or closed[j, 1]:
                 any_closed = True
         if any_closed:
-            geometry(qm, A, B, ra, rb, nu0, tau0, gm_gap, gm_slip, gm_rows, gm_contact)
+            geometry(qm, A, B, ra, rb, nu0, tau0, outward, depth, edge, gm_gap, gm_slip, gm_rows, gm_contact)
             if mu < np.inf:
                 apply_h(gm_rows, sides, v, Hv)      # the rates at the start of the step
             st = _project(gm_rows, sides, minv, v_free, closed, working, ist[I_HASW] == 1, box, mu, g * h,
@@ -1378,29 +1415,33 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, joint_
         for i in range(n + 1):
             for d in range(3):
                 q_new[i, d] = qm[i, d] + 0.5 * h * v_new[i, d]
-        geometry(q_new, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
+        geometry(q_new, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
         ist[I_STALE] = 0
-        if mu < np.inf:                   # the slip carried by the joints, the work of friction
-            for j in range(J):
-                if closed[j, 0] or closed[j, 1]:
+        # the slip carried by the joints (whatever mu: an open joint's follows the bodies, so a
+        # landing keeps its offset; a closed joint's moves only by sliding, never with mu = inf)
+        # and the work of friction
+        for j in range(J):
+            if closed[j, 0] or closed[j, 1]:
+                if mu < np.inf:
                     # the slip and the work of P_t over the step: positions move by h/2 (v_k + v_k+1)
                     rate = 0.5 * (Hv[3 * j + 2] + w[3 * j + 2])
                     s_ref[j] += h * rate
                     work = -P[3 * j + 2] * rate              # P_t opposes the sliding rate
                     fs[F_FRICTION] += work
                     fs[F_D] += work
-                else:
-                    s_ref[j] = slip[j, contact[j]]
-                if abs(s_ref[j]) > fs[F_SLIP]:
-                    fs[F_SLIP] = abs(s_ref[j])
-                    fs[F_TSLIP] = t + h
-                    ist[I_JSLIP] = j
+            else:
+                s_ref[j] = slip[j, contact[j]]
+            if mu < np.inf and abs(s_ref[j]) > fs[F_SLIP]:
+                fs[F_SLIP] = abs(s_ref[j])
+                fs[F_TSLIP] = t + h
+                ist[I_JSLIP] = j
         if any_closed:
             nload = 0
             for j in range(J):
                 lj = False
                 for k in range(2):
-                    lk = closed[j, k] and ((P[3 * j + k] > 0 and working[3 * j + k]) or gap[j, k] < 0)
+                    lk = closed[j, k] and gap[j, k] < OFF_FACE and ((P[3 * j + k] > 0 and working[3 * j + k])
+                                                                    or gap[j, k] < 0)
                     on[3 * j + k] = lk
                     lj = lj or lk
                 on[3 * j + 2] = lj

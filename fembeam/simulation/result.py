@@ -22,8 +22,11 @@ class SimulationResult:
     """``outcome`` (:data:`fembeam.dynamics.outcomes.OUTCOMES`): ``"rest"`` (at rest at ``t_end``),
     ``"survived"`` (still moving at ``t_end``), ``"overturned"`` (the centroid of the member fell
     ``OVERTURN_DROP`` of its mean thickness below its height at rest, at ``t_overturn``: past the
-    unstable equilibrium of whatever mechanism it moved on) or ``"collapsed_by_sliding"`` (with
-    friction: a joint slid by more than ``SLIDE_OUT`` of its depth, at ``t_overturn``).
+    unstable equilibrium of whatever mechanism it moved on, the joints opening more than they
+    slid), ``"collapsed_by_sliding"`` (at ``t_overturn`` a joint's faces no longer overlap, or
+    the centroid fell to that level while the largest slip a joint carried exceeded the largest
+    opening of a joint's end, m) or ``"cannot_stand"`` (the pieces do not carry their own
+    weight on joints that do not slide: nothing computed).
     ``peak_rotation`` (rad): the largest ``|phi|`` of any body, as ``fembeam rock``'s.
     ``friction_ratio``: the largest ``|P_t| / N`` of a joint over the steps and impacts (at
     ``t_friction``, joint at arc length ``s_friction``); ``max_slip`` (m) the largest slip carried

@@ -51,7 +51,7 @@ import numpy as np
 
 from ..dynamics.equation import GRAVITY
 from ..dynamics.ground import GroundMotion
-from ..dynamics.outcomes import SLIDE_OUT, overturn_level
+from ..dynamics.outcomes import overturn_level
 from ..errors import InputError, SolverError
 from ..geometry import MidCurve
 from ..limits import DT_RANGE, MAX_STEPS   # admitted time steps (s); (t_end - t_0) / dt above MAX_STEPS: InputError
@@ -247,11 +247,12 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     rb = np.stack([con.r_b.real, con.r_b.imag], axis=-1).copy()
     nu0 = np.stack([con.nu0.real, con.nu0.imag], axis=-1).copy()
     tau0 = np.stack([con.tau0.real, con.tau0.imag], axis=-1).copy()
+    outward, depth, edge = con.outward.copy(), con.depth.copy(), con.edge.copy()
     A, B = con.a.astype(np.int64), con.b.astype(np.int64)
     sides = np.ascontiguousarray(con.sides, dtype=np.int64)
     gap, slip = np.zeros((J, 2)), np.zeros((J, 2))
     rows, contact = np.zeros((J, 3, 2, 3)), np.zeros(J, np.int64)
-    K.geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
+    K.geometry(q, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
     was_closed = gap <= GAP_TOL * thick[:, None]
     working, working_imp = np.zeros(3 * J, bool), np.zeros(3 * J, bool)
     box, box_imp = np.zeros(3 * J, np.int64), np.zeros(3 * J, np.int64)
@@ -276,9 +277,9 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     dump = (np.zeros((6, 3 * J)), np.zeros(3 * J), np.zeros(3 * J), np.zeros((J, 2), bool))
     while True:
         status, nh, ni = K.advance(
-            q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, thick,
+            q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, thick,
             gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
-            fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, SLIDE_OUT, mu,
+            fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, mu,
             bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
             hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump)
         h_rows.append(hist[:nh].copy())
