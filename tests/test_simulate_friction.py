@@ -7,6 +7,7 @@ reference, and the overturning rule's margin.
 * a block slid off its base tips about the base's edge and has collapsed by sliding when its face
   no longer overlaps; an arch whose joints cannot hold it slides down: ``collapsed_by_sliding``;
 * a landing with friction slides by the closed form;
+* Lemke's pivots solve a step the iterative solvers could not, and an impact by the closed form;
 * a large ``mu`` reproduces the no-sliding model;
 * impacts never add kinetic energy and friction only dissipates;
 * the compiled loop follows the NumPy reference step for step;
@@ -108,6 +109,7 @@ def test_an_arch_whose_joints_cannot_hold_it_collapses_by_sliding(mu):
     arch = CircularArch.from_ratio(157.5, 0.15)
     assert analyze(arch, voussoirs=7, friction=mu).outcome == "cannot_stand"
     sim = Simulator(arch, voussoirs=7, friction=mu)
+    assert sim.stands                                # without sliding it stands: no cannot_stand answer
     for gm in (GroundMotion.rectangular(0.0, 0.1), GroundMotion.record("elcentro")):
         r = sim.run(gm, dt=1e-3, t_end=1.0)
         assert r.outcome == "collapsed_by_sliding" and r.peak_rotation < 1e-9, (r.outcome, r.peak_rotation)
@@ -134,6 +136,65 @@ def test_a_landing_with_friction_slides_by_the_closed_form():
         r = sim.run(GroundMotion.rectangular(0.0, 0.1), dt=dt, t_end=0.3, q0=q, v0=v)
         assert r.outcome == "rest" and r.peak_rotation < 1e-12
         assert abs(r.positions[-1][0, 0] - x) <= mu * G * dt ** 2 / 8
+
+
+def _lemke_step(ab, c, closed, mu, vscale):
+    from fembeam.simulation import kernel as K
+    J = closed.shape[0]
+    nonneg = np.zeros(3 * J, bool)
+    nonneg[0::3], nonneg[1::3] = closed[:, 0], closed[:, 1]
+    cj = closed.any(axis=1)
+    P, w = np.zeros(3 * J), np.zeros(3 * J)
+    ok, n, res = K.lemke_friction(ab, c, nonneg, cj, mu, vscale, 0.0, P, w)
+    return ok, res, P, w, nonneg, cj
+
+
+def coulomb_violation(P, w, nonneg, cj, mu, vscale, pscale):
+    """Coulomb's law checked independently of the kernel: the largest violation, relative."""
+    J = cj.size
+    Pn, wn = P.reshape(J, 3)[:, :2][nonneg.reshape(J, 3)[:, :2]], w.reshape(J, 3)[:, :2][nonneg.reshape(J, 3)[:, :2]]
+    out = [max(0.0, -Pn.min(initial=0.0)) / pscale, max(0.0, -wn.min(initial=0.0)) / vscale,
+           float(np.max(np.abs(Pn * wn), initial=0.0)) / (pscale * vscale)]
+    for j in np.flatnonzero(cj):
+        N, Pt, wt = P[3 * j] + P[3 * j + 1], P[3 * j + 2], w[3 * j + 2]
+        out.append(max(0.0, abs(Pt) - mu * N) / pscale)                 # in the cone
+        if abs(wt) > 1e-9 * vscale:                                     # sliding: on the cone, against w_t
+            out.append(abs(Pt + mu * N * np.sign(wt)) / pscale)
+    return max(out)
+
+
+def test_lemke_solves_what_the_iterations_did_not():
+    """A step's frictional problem from a run of the 7-voussoir arch under twice El Centro with
+    mu = 10 (8 joints, 7 closed; ``tests/data/friction_step_mu10.npz``) on which the Tresca
+    fixed point cycled (residual 1.4e-2), Newton stalled (1.9e-2) and Gauss-Seidel stalled after
+    2000 sweeps (7.9e-3): ``simulate --friction 10`` exited 3 where mu = 5 and 20 solved.  Lemke's
+    pivots on its linear complementarity form solve it: Coulomb's law checked here to 1e-12, two
+    joints sliding at |P_t| = mu N."""
+    from pathlib import Path
+    d = np.load(Path(__file__).parent / "data" / "friction_step_mu10.npz")
+    mu, vscale = float(d["mu"]), float(d["vscale"])
+    ok, res, P, w, nonneg, cj = _lemke_step(d["W_banded"], d["c"], d["closed"], mu, vscale)
+    pscale = max(np.max(np.abs(P)), vscale / np.max(d["W_banded"][-1]))
+    assert ok and res < 1e-10
+    assert coulomb_violation(P, w, nonneg, cj, mu, vscale, pscale) < 1e-12
+    N = P[0::3] + P[1::3]
+    sliding = cj & (np.abs(P[2::3]) >= mu * N * (1 - 1e-9)) & (N > 0)
+    assert sliding.sum() == 2
+
+
+def test_lemke_landing_impact_is_the_closed_form():
+    """Lemke's pivots on the landing impact of the 1 x 0.5 m block (v = (0.5, -0.443) m/s, both
+    corners closed, mu = 0.5): the velocity after it is (0.5 - mu 0.443, 0, 0), the closed form."""
+    sim = Simulator(SQUAT, voussoirs=1, friction=0.5)
+    con = sim.contacts
+    geo = con.evaluate(sim.bodies.rest_state())
+    v = np.zeros((2, 3))
+    v[0, :2] = 0.5, -0.443
+    ab, c = con.delassus(geo.rows), con.apply(geo.rows, v)
+    ok, res, P, w, _, _ = _lemke_step(ab, c, np.ones((1, 2), bool), 0.5, float(np.max(np.abs(c))))
+    assert ok and res < 1e-12
+    vp = v + con.minv * con.apply_t(geo.rows, P)
+    assert np.allclose(vp[0], [0.5 - 0.5 * 0.443, 0.0, 0.0], atol=1e-14)
 
 
 def test_large_mu_is_the_no_sliding_model():

@@ -79,7 +79,7 @@ COULOMB_TOL = 1e-5          # residual of Coulomb's law at a step with sliding (
 
 _SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite",
                   4: "with friction was not solved (Tresca fixed point, semi-smooth Newton, non-smooth "
-                     "Gauss-Seidel; smallest Coulomb residual reached)"}
+                     "Gauss-Seidel, Lemke's pivots; smallest Coulomb residual reached)"}
 
 
 def __getattr__(name: str):
@@ -323,7 +323,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                max_slip=None if sim.friction is None else float(fs[K.F_SLIP]), t_slip=opt(fs[K.F_TSLIP]),
                s_slip=None if js < 0 else float(bodies.joint_s[js]), sliding_steps=int(ist[K.I_SLIDING]), redistributed=int(ist[K.I_REDIST]), loose_steps=int(ist[K.I_LOOSE]),
                solved_by={"fixed_point": int(ist[K.I_BY_FP]), "newton": int(ist[K.I_BY_SSN]),
-                          "gauss_seidel": int(ist[K.I_BY_NSGS])},
+                          "gauss_seidel": int(ist[K.I_BY_NSGS]), "lemke": int(ist[K.I_BY_LEMKE])},
                friction_work=float(fs[K.F_FRICTION]), coulomb_residual=float(fs[K.F_COULOMB]),
                time=time.perf_counter() - clock,
                timings={"compile_or_load": t_load, "run": t_run, "total": time.perf_counter() - clock})
