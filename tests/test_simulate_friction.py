@@ -6,7 +6,7 @@ reference, and the overturning rule's margin.
 * the static regime boundary of a block: it slides when ``mu < b/h`` and rocks when ``mu > b/h``;
 * a block slid off its base tips about the base's edge and has collapsed by sliding when its face
   no longer overlaps; an arch whose joints cannot hold it slides down: ``collapsed_by_sliding``;
-* a landing with friction slides by the closed form;
+* ``sliding_risk`` is a demand above mu; a landing with friction slides by the closed form;
 * Lemke's pivots solve a step the iterative solvers could not, and an impact by the closed form;
 * a large ``mu`` reproduces the no-sliding model;
 * impacts never add kinetic energy and friction only dissipates;
@@ -115,6 +115,20 @@ def test_an_arch_whose_joints_cannot_hold_it_collapses_by_sliding(mu):
         assert r.outcome == "collapsed_by_sliding" and r.peak_rotation < 1e-9, (r.outcome, r.peak_rotation)
         assert r.max_slip > 0.03 and r.t_overturn < 0.5
     assert Simulator(arch, voussoirs=7).run(GroundMotion.rectangular(0.0, 0.1), dt=1e-3, t_end=1.0).outcome == "rest"
+
+
+def test_sliding_risk_is_a_demand_above_mu():
+    """``sliding_risk`` is ``max_ratio >= mu``: the 0.3 x 1.5 m block under El Centro rocks and
+    needs |P_t| / N = 0.2192 at most, with mu = 0.25 as with mu = 1000: no risk (it said true: a
+    few steps where a lifting corner's unresolved percussion could not stick counted as sliding);
+    the block sliding under 0.5 g demanded mu: a risk."""
+    gm = GroundMotion.record("elcentro")
+    for mu in (0.25, 1000.0):
+        r = Simulator(StraightMember(height=1.5, width=0.3), voussoirs=1, friction=mu).run(gm, dt=1e-3)
+        fd = r.friction_demand
+        assert fd["max_ratio"] == pytest.approx(0.2192, abs=1e-4) and fd["sliding_risk"] is False
+    r = Simulator(SQUAT, voussoirs=1, friction=0.3).run(GroundMotion.rectangular(0.5, 0.2), dt=1e-3, t_end=0.6)
+    assert r.friction_demand["max_ratio"] >= 0.3 and r.friction_demand["sliding_risk"] is True
 
 
 def test_a_landing_with_friction_slides_by_the_closed_form():

@@ -1379,7 +1379,8 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
             ist[I_SLIDING] += 1
     # friction demand: |P_t| / N at the joints whose normal percussion is at least 1e-2 of the
     # percussion scale of the step's tolerances (the largest, or the rates' scale over W's
-    # diagonal): a lighter joint's ratio is not resolved by them
+    # diagonal): a lighter joint's ratio is not resolved by them.  A joint that slides (its
+    # sliding rate above the tolerance) needed more than mu to stick: its demand is at least mu
     pmax, dmax = 0.0, 0.0
     for i in range(m):
         pmax = max(pmax, abs(P[i]))
@@ -1389,6 +1390,8 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
         N = P[3 * j] + P[3 * j + 1]
         if cj[j] and N > 1e-2 * pscale:
             ratio = abs(P[3 * j + 2]) / N
+            if mu < np.inf and abs(w[3 * j + 2]) > coulomb_tol * vscale:
+                ratio = max(ratio, mu)
             if ratio > fs[F_RATIO]:
                 fs[F_RATIO] = ratio
                 fs[F_TRATIO] = t

@@ -94,11 +94,15 @@ class SimulationResult:
 
     @property
     def friction_demand(self) -> dict:
-        """The JSON block of :func:`fembeam.dynamics.outcomes.friction_demand`; with friction modelled,
-        ``sliding_risk`` says that some joint reached the cone (slid) during the motion."""
+        """The JSON block of :func:`fembeam.dynamics.outcomes.friction_demand`: ``sliding_risk`` is
+        ``max_ratio >= mu``.  With friction modelled, a joint that slid (sliding rate above the
+        solver's tolerance, normal percussion resolved) counts with a ratio of at least ``mu``: it
+        needed more friction than ``mu`` to stick; the steps whose only sliding joints carry an
+        unresolved normal percussion (a corner lifting off at a landing) are counted in
+        ``sliding.sliding_steps`` and are no sliding risk."""
         out = friction_demand(self.friction_ratio, self.t_friction, self.s_friction, self.friction_at, self.friction)
         if self.friction is not None:
-            out["sliding_risk"] = self.sliding_steps > 0
+            out["sliding_risk"] = bool(self.friction_ratio >= self.friction)
         return out
 
     @property
