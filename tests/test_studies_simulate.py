@@ -250,3 +250,31 @@ def test_api_refuses_simulate_options_for_rock():
         spectrum(BLOCK, "rect", [0.5], voussoirs=1, model="simulate", dt=0.0, progress=False)
 
 
+def test_a_singular_system_is_a_recorded_error(monkeypatch, small):
+    """A singular dense system met inside the compiled stepper (numba raises numpy's LinAlgError,
+    forced here on the first run of the study) is a SolverError with the problem attached (the
+    step's time and state); the study records it as an error of that run and goes on: the other
+    period's row is that of an undisturbed study (it aborted the study: the hooks catch
+    SolverError only)."""
+    import numpy as np
+
+    import fembeam.simulation.stepper as stepper
+    from fembeam.errors import SolverError
+    K = stepper.compiled_kernel()
+    real, calls = K.advance, []
+
+    def advance(*args):
+        calls.append(1)
+        if len(calls) == 1:
+            np.linalg.solve(np.zeros((3, 3)), np.ones(3))
+        return real(*args)
+
+    monkeypatch.setattr(K, "advance", advance)
+    with pytest.raises(SolverError, match="singular") as e:
+        Simulator(BLOCK, voussoirs=1).run(GroundMotion.rectangular(0.5, 0.3), dt=DT, t_end=0.5)
+    assert e.value.problem["t"] == 0.0 and e.value.problem["q"].shape == (2, 3)
+    calls.clear()
+    res = spectrum(BLOCK, "rect", [0.3, 0.5], workers=1, model="simulate", dt=DT, **SMALL)
+    first, second = res.rows
+    assert len(first["errors"]) == 1 and "singular" in first["errors"][0]["error"]
+    assert strip([second]) == strip([small.rows[1]])

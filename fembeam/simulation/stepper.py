@@ -128,7 +128,10 @@ class Simulator:
             from .reference import run_reference
             if t_start is not None:
                 raise InputError("the reference engine starts at the start of the ground motion")
-            return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+            try:
+                return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+            except np.linalg.LinAlgError as e:
+                raise SolverError(f"the reference engine met a singular system ({e})") from e
         if engine != "compiled":
             raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
         return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress, t_start)
@@ -276,12 +279,21 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     h_rows, p_rows, impacts = [], [], []
     dump = (np.zeros((6, 3 * J)), np.zeros(3 * J), np.zeros(3 * J), np.zeros((J, 2), bool))
     while True:
-        status, nh, ni = K.advance(
-            q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, thick,
-            gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
-            fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, mu,
-            bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
-            hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump)
+        try:
+            status, nh, ni = K.advance(
+                q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, thick,
+                gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
+                fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, mu,
+                bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
+                hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump)
+        except (np.linalg.LinAlgError, ZeroDivisionError) as e:
+            # a singular dense system inside a solver (numba raises numpy's LinAlgError): the step
+            # from the state it started from (positions; velocities after its impact, if any)
+            err = SolverError(f"the contact problem of the step at t = {fs[K.F_T]:.9g} s met a singular system "
+                              f"({type(e).__name__}: {e})")
+            err.problem = {"t": float(fs[K.F_T]), "q": q.copy(), "v": v.copy(), "mu": mu, "dt": dt,
+                           "slip_carried": s_ref.copy(), "error": f"{type(e).__name__}: {e}"}
+            raise err from e
         h_rows.append(hist[:nh].copy())
         p_rows.extend(pos[:nh].copy())
         impacts.extend(map(tuple, imp[:ni].tolist()))
@@ -289,9 +301,12 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
             err = SolverError(f"the contact problem of the step at t = {fs[K.F_T]:.9g} s "
                               f"{_SOLVER_STATUS.get(int(ist[K.I_STATUS]), 'failed')} "
                               f"(residual {fs[K.F_KKT]:.3g})")
-            if ist[K.I_STATUS] == 4:         # the frictional problem, for a report
-                err.problem = {"W_banded": dump[0], "c": dump[1], "P_stick": dump[2], "closed": dump[3],
-                               "mu": mu, "vscale": float(fs[K.F_VSCALE])}
+            # the problem, for a report: the state the step started from, and the frictional problem
+            err.problem = {"t": float(fs[K.F_T]), "q": q.copy(), "v": v.copy(), "mu": mu, "dt": dt,
+                           "slip_carried": s_ref.copy()}
+            if ist[K.I_STATUS] == 4:
+                err.problem.update({"W_banded": dump[0], "c": dump[1], "P_stick": dump[2], "closed": dump[3],
+                                    "vscale": float(fs[K.F_VSCALE])})
             raise err
         if progress is not None:
             progress(float(fs[K.F_T]))
