@@ -334,3 +334,27 @@ def test_contact_geometry_over_the_face_extent():
             assert np.allclose(rows[0, :2, 1, :2], [[0.0, 1.0]] * 2 if gap == 0 else 0.0, atol=1e-15)
 
 
+def test_a_block_is_one_body_by_default():
+    """``Simulator(StraightMember(...))``: one body, as documented (it built 100 stacked bodies);
+    an arch keeps its default of 100 rigid elements."""
+    sim = Simulator(BLOCK)
+    assert sim.bodies.n == 1 and sim.mode == "voussoirs" and sim.contacts.J == 1
+    assert Simulator(ARCH).bodies.n == 100
+
+
+def test_cannot_stand_is_an_answer():
+    """An arch too thin to carry its weight (t/R = 0.05, 7 voussoirs): ``simulate`` answers
+    ``cannot_stand`` with exit 0, as ``rock`` does on the same member (it was ``overturned``)."""
+    args = ["--t-over-r", "0.05", "--voussoirs", "7", "--pulse", "sine", "--amplitude", "0.1", "--period", "0.5",
+            "--t-end", "1", "--json"]
+    p = run_cli(*args)
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout)
+    assert out["outcome"] == "cannot_stand" and out["steps"] == 0
+    from fembeam.cli import main
+    import contextlib
+    import io
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(["rock", *args]) == 0
+    assert json.loads(buf.getvalue())["outcome"] == "cannot_stand"

@@ -13,7 +13,7 @@ from .bodies import Bodies
 
 __all__ = ["SimulationResult", "OUTCOMES", "HISTORY_COLUMNS"]
 
-OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding")
+OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding", "cannot_stand")
 HISTORY_COLUMNS = ("t", "K", "V", "W_ground", "dissipated", "a_g", "hinges", "separated", "max_rotation")
 
 

@@ -53,7 +53,7 @@ from ..dynamics.equation import GRAVITY
 from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import overturn_level
 from ..errors import InputError, SolverError
-from ..geometry import MidCurve
+from ..geometry import MidCurve, StraightMember
 from ..limits import DT_RANGE, MAX_STEPS   # admitted time steps (s); (t_end - t_0) / dt above MAX_STEPS: InputError
 from .bodies import Bodies
 from .contacts import Contacts
@@ -96,13 +96,17 @@ def __getattr__(name: str):
 class Simulator:
     """Bodies and contacts of ``curve`` cut into ``voussoirs`` (discrete arch) or ``elements``
     (continuous arch: rigid elements) equal pieces, or at the cuts ``nodes`` (arc lengths, m, from 0
-    to L); a block (``StraightMember``) is one body.  ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
-    whatever their tangential force).  Set up once, run under any ground motions (:meth:`run`)."""
+    to L); by default a block (``StraightMember``) is one body and an arch 100 rigid elements.
+    ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
+    whatever their tangential force).  ``g`` (m/s^2).  Set up once, run under any ground motions
+    (:meth:`run`)."""
 
     def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
                  g: float = GRAVITY, friction: float | None = None, nodes=None):
         if voussoirs is not None and elements is not None:
             raise InputError("give voussoirs or elements, not both")
+        if voussoirs is None and elements is None and nodes is None and isinstance(curve, StraightMember):
+            voussoirs = 1                 # a block is one body
         n = voussoirs if voussoirs is not None else (elements if elements is not None else 100)
         self.mode = "voussoirs" if voussoirs is not None else "continuous"
         self.bodies = Bodies.from_curve(curve, n, nodes=nodes)
@@ -111,6 +115,28 @@ class Simulator:
             raise InputError("simulate needs a chain of bodies with a joint at every interior cut")
         self.curve, self.g = curve, float(g)
         self.friction = check_friction(friction)
+        self._stands = None
+
+    @property
+    def stands(self) -> bool:
+        """Whether the bodies carry their own weight on joints that do not slide: the limit
+        analysis of the same cuts (``fembeam analyze``'s LP on this mesh) is not ``cannot_stand``.
+        Computed on first use (one LP), then kept.  A member that stands only with more friction
+        than ``mu`` does stand: under its weight alone it collapses by sliding, which :meth:`run`
+        computes."""
+        if self._stands is None:
+            from ..analysis.limit import limit_analysis
+            from ..fem import discretize
+            self._stands = limit_analysis(discretize(self.curve, self.bodies.nodes), 1, verify=False).status \
+                != "cannot_stand"
+        return self._stands
+
+    def cannot_stand(self, ground: GroundMotion, dt: float = 1e-3) -> SimulationResult:
+        """The answer for a member that does not stand (:attr:`stands` False): outcome
+        ``"cannot_stand"``, no motion computed (no history, no steps)."""
+        res = SimulationResult(self.curve, ground, self.bodies, mode=self.mode, dt=dt, friction=self.friction)
+        res.finish(outcome="cannot_stand", t_end=float(ground.t[0]))
+        return res
 
     def run(self, ground: GroundMotion, *, dt: float = 1e-3, t_end: float | None = None,
             dt_out: float | None = None, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
@@ -140,9 +166,12 @@ class Simulator:
 def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int | None = None,
              dt: float = 1e-3, t_end: float | None = None, g: float = GRAVITY,
              friction: float | None = None) -> SimulationResult:
-    """:meth:`Simulator.run` of a new :class:`Simulator`."""
-    return Simulator(curve, voussoirs=voussoirs, elements=elements, g=g, friction=friction).run(
-        ground, dt=dt, t_end=t_end)
+    """:meth:`Simulator.run` of a new :class:`Simulator`, or its :meth:`~Simulator.cannot_stand`
+    answer for a member that does not stand under its own weight."""
+    sim = Simulator(curve, voussoirs=voussoirs, elements=elements, g=g, friction=friction)
+    if not sim.stands:
+        return sim.cannot_stand(ground, dt)
+    return sim.run(ground, dt=dt, t_end=t_end)
 
 
 def check_friction(mu) -> float | None:
@@ -182,7 +211,6 @@ def compiled_kernel():
     if _KERNEL is None:
         from . import kernel
         _KERNEL = kernel                  # (set first: the warm-up below runs through _run)
-        from ..geometry import StraightMember
         sim = Simulator(StraightMember(height=1.0, width=0.5), voussoirs=1)
         _run(sim, GroundMotion.rectangular(0.0, 0.1), 1e-3, 1e-3, None, None, None, True, None)
     return _KERNEL
