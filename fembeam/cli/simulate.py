@@ -42,7 +42,9 @@ def register(sub) -> None:
                         "2e7 rows x bodies)")
     t.add_argument("--friction", type=coulomb, default=None, metavar="MU",
                    help="Coulomb friction at the joints, MU in [1e-3, 1e3] (default: no sliding); the slip is "
-                        "reported, and a joint that slides by more than half its depth is a collapse by sliding")
+                        "reported, a joint that slid has a friction demand of at least MU (sliding_risk), and "
+                        "the member has collapsed by sliding when a joint's faces no longer overlap or when it "
+                        "falls to the overturning level with its joints slid more than opened")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
