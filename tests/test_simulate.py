@@ -244,3 +244,117 @@ def test_cli_bad_input_one_line(bad, capsys):
         code = e.code
     out, err = capsys.readouterr()
     assert code == 2 and len(err.strip().splitlines()) == 1 and out == "", err
+
+
+# ----------------------------------------------------------------------------- contacts as they are
+SQUAT = StraightMember(height=0.5, width=1.0)
+
+
+@pytest.mark.parametrize("engine", ["compiled", "reference"])
+def test_a_landing_keeps_its_offset(engine):
+    """A 1.0 x 0.5 m block (width x height) lifted 1 cm and thrown sideways at 0.5 m/s, joints that
+    do not slide: it lands flat at x = 0.5 sqrt(2 0.01 / g) = 22.576 mm (t = 45.15 ms) and stays
+    there (the landing is a flat impact: no rocking).  Before, one step after landing it was back
+    at 0 mm in both engines: the slip reference of a joint followed the bodies only with a finite
+    mu, and the position projection pulled the landed slip back to zero."""
+    sim = Simulator(SQUAT, voussoirs=1)
+    q = sim.bodies.rest_state()
+    q[0, 1] += 0.01
+    v = np.zeros((2, 3))
+    v[0, 0] = 0.5
+    res = sim.run(STILL, dt=1e-3, t_end=0.3, q0=q, v0=v, dt_out=1e-3, engine=engine)
+    t_land = math.sqrt(2 * 0.01 / sim.g)
+    x = np.array([p[0, 0] for p in res.positions])
+    after = res.history["t"] > t_land
+    assert after.sum() > 200 and len(res.impacts) >= 1
+    assert np.max(np.abs(x[after] - 0.5 * t_land)) < 1e-9, x[after][:3]
+    assert res.outcome == "rest" and res.peak_rotation < 1e-12
+    assert abs(res.positions[-1][0, 1] - 0.25) < 1e-12           # on its base
+
+
+@pytest.mark.parametrize("engine", ["compiled", "reference"])
+def test_a_block_slid_on_its_base_tips_about_the_base_edge(engine):
+    """The 0.5 x 2 m block standing on its base 0.1 m to the right: the base's face ends at
+    x = 0.25 m, under the block, so tipping to the right is about that edge, with the lever arm
+    0.25 - 0.1 = 0.15 m at the centroid's height 1 m: it starts above 0.15 g (a_g < 0), not
+    above 0.25 g (about the block's own corner at x = 0.35 m, beyond the base: the former
+    model).  Tipping to the left is about the block's corner at -0.15 m, over the base: 0.25 g.
+    Under 0.2 g for 0.3 s the rotation is that of Housner's equation about the edge,
+    I_E psi'' = m g R (A cos(beta - psi) - sin(beta - psi)) (R, beta: the centroid seen from the
+    edge), integrated by solve_ivp to 1e-12: measured 7.5e-7 relative at dt = 1e-3, and the
+    block's point at the edge stays there (1e-12 m)."""
+    from scipy.integrate import solve_ivp
+    sim = Simulator(BLOCK, voussoirs=1)
+    q = sim.bodies.rest_state()
+    q[0, 0] += 0.1
+
+    def run(A):
+        return sim.run(GroundMotion.rectangular(A, 0.3), dt=1e-3, t_end=0.3, q0=q, dt_out=1e-3, engine=engine)
+
+    assert run(-0.15 * 0.99).peak_rotation < 1e-12
+    assert run(-0.15 * 1.01).peak_rotation > 1e-4
+    assert run(0.24).peak_rotation < 1e-12 and run(0.26).peak_rotation > 1e-4
+    res = run(-0.2)
+    x, y, phi = res.positions[-1][0]
+    c, s = math.cos(phi), math.sin(phi)
+    edge = np.array([x + c * 0.15 + s * 1.0, y + s * 0.15 - c * 1.0])      # the block's point (0.15, -1) from G
+    assert np.max(np.abs(edge - [0.25, 0.0])) < 1e-12
+    g, bx, by = sim.g, 0.15, 1.0
+    R, beta = math.hypot(bx, by), math.atan2(bx, by)
+    IE = (0.5 ** 2 + 2.0 ** 2) / 12 + R * R                               # per unit mass
+    ode = solve_ivp(lambda t, z: [z[1], g * R * (0.2 * math.cos(beta - z[0]) - math.sin(beta - z[0])) / IE],
+                    (0.0, 0.3), [0.0, 0.0], rtol=1e-12, atol=1e-14)
+    assert -phi == pytest.approx(ode.y[0, -1], rel=1e-5)
+
+
+def test_contact_geometry_over_the_face_extent():
+    """Hand-computed geometry of the 0.5 x 2 m block slid along its base by s (both the NumPy
+    operators and the compiled ones): each end of the joint is the corner that lies on the other
+    face, so with s = 0.1 m the right end is the base's edge x = 0.25 m, whose row has the moment
+    arm 0.25 - 0.1 = 0.15 m about the centroid (0.35 m beyond the base before); s = -0.1 mirrors
+    it; slid by more than the depth (0.6 m) the faces no longer overlap: no contact, zero rows."""
+    from fembeam.simulation.contacts import OFF_FACE
+    from fembeam.simulation.stepper import compiled_kernel
+    K = compiled_kernel()
+    sim = Simulator(BLOCK, voussoirs=1)
+    con = sim.contacts
+    args = [con.a.astype(np.int64), con.b.astype(np.int64)]
+    args += [np.stack([z.real, z.imag], axis=-1).copy() for z in (con.r_a, con.r_b, con.nu0, con.tau0)]
+    args += [con.outward.copy(), con.depth.copy(), con.edge.copy()]
+    for s, arms, gap in [(0.0, (0.25, -0.25), 0.0), (0.1, (0.15, -0.25), 0.0), (-0.1, (0.25, -0.15), 0.0),
+                         (0.6, (0.0, 0.0), OFF_FACE)]:
+        q = sim.bodies.rest_state()
+        q[0, 0] += s
+        geo = con.evaluate(q)
+        out = (np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 3, 2, 3)), np.zeros(1, np.int64))
+        K.geometry(q, *args, *out)
+        for gp, sl, rows in ((geo.gap, geo.slip, geo.rows), out[:3]):
+            assert np.allclose(gp, gap, atol=1e-15) and np.allclose(sl, s, atol=1e-15)
+            assert np.allclose(rows[0, :2, 1, 2], arms, atol=1e-15)       # the opening rows' moment arms
+            assert np.allclose(rows[0, :2, 1, :2], [[0.0, 1.0]] * 2 if gap == 0 else 0.0, atol=1e-15)
+
+
+def test_a_block_is_one_body_by_default():
+    """``Simulator(StraightMember(...))``: one body, as documented (it built 100 stacked bodies);
+    an arch keeps its default of 100 rigid elements."""
+    sim = Simulator(BLOCK)
+    assert sim.bodies.n == 1 and sim.mode == "voussoirs" and sim.contacts.J == 1
+    assert Simulator(ARCH).bodies.n == 100
+
+
+def test_cannot_stand_is_an_answer():
+    """An arch too thin to carry its weight (t/R = 0.05, 7 voussoirs): ``simulate`` answers
+    ``cannot_stand`` with exit 0, as ``rock`` does on the same member (it was ``overturned``)."""
+    args = ["--t-over-r", "0.05", "--voussoirs", "7", "--pulse", "sine", "--amplitude", "0.1", "--period", "0.5",
+            "--t-end", "1", "--json"]
+    p = run_cli(*args)
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout)
+    assert out["outcome"] == "cannot_stand" and out["steps"] == 0
+    from fembeam.cli import main
+    import contextlib
+    import io
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(["rock", *args]) == 0
+    assert json.loads(buf.getvalue())["outcome"] == "cannot_stand"

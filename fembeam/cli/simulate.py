@@ -42,7 +42,9 @@ def register(sub) -> None:
                         "2e7 rows x bodies)")
     t.add_argument("--friction", type=coulomb, default=None, metavar="MU",
                    help="Coulomb friction at the joints, MU in [1e-3, 1e3] (default: no sliding); the slip is "
-                        "reported, and a joint that slides by more than half its depth is a collapse by sliding")
+                        "reported, a joint that slid has a friction demand of at least MU (sliding_risk), and "
+                        "the member has collapsed by sliding when a joint's faces no longer overlap or when it "
+                        "falls to the overturning level with its joints slid more than opened")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
@@ -66,12 +68,16 @@ def summary(res) -> str:
     lines = [f"fembeam simulate: {head}",
              f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g); dt = {res.dt:g} s, "
              f"simulated to t = {res.t_end:.4g} s ({res.steps} steps, {res.cut_steps} cut at landings)"]
+    if res.outcome == "cannot_stand":
+        lines.append("  outcome: cannot_stand (the pieces do not stand under their own weight: fembeam analyze); "
+                     "no motion computed")
+        return "\n".join(lines)
     if res.outcome == "overturned":
         lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s (centroid a tenth of the thickness "
                      f"below its height at rest)")
     elif res.outcome == "collapsed_by_sliding":
-        lines.append(f"  outcome: COLLAPSED BY SLIDING at t = {res.t_overturn:.6g} s (a joint slid by more than half "
-                     f"its depth)")
+        lines.append(f"  outcome: COLLAPSED BY SLIDING at t = {res.t_overturn:.6g} s (a joint's faces no longer "
+                     f"overlap, or the centroid fell a tenth of the thickness with the joints slid more than opened)")
     elif res.outcome == "rest":
         lines.append(f"  outcome: rest (at rest at t = {res.t_end:.4g} s)")
     else:
@@ -226,6 +232,16 @@ def run(args) -> int:
     check_history(t_end - float(ground.t[0]), args.dt_out, n)
     kw = {"voussoirs": voussoirs} if voussoirs is not None else {"elements": elements}
     sim = Simulator(curve, friction=args.friction, **kw)
+    if not sim.stands:                   # a physical answer, like rock's and analyze's: exit 0
+        res = sim.cannot_stand(ground, args.dt)
+        if args.json:
+            print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
+        else:
+            print(summary(res))
+            if any(outputs.values()):
+                print("  no files written: no motion to write")
+        sys.stdout.flush()
+        return 0
     update, bar = _progress(t_end)
     try:
         res = sim.run(ground, dt=args.dt, t_end=t_end, dt_out=args.dt_out, progress=update)

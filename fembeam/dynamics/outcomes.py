@@ -2,9 +2,10 @@
 (one mechanism at a time) and ``fembeam simulate`` (every piece a rigid body).
 
 * **Outcomes** (:data:`OUTCOMES`): ``rest`` (at rest at the end), ``survived`` (still moving at the
-  end), ``overturned`` (the overturning rule below), ``collapsed_by_sliding`` (a joint slid by more
-  than :data:`SLIDE_OUT` of its depth: the faces no longer hold the piece; only with Coulomb
-  friction), ``cannot_stand`` (the member cannot carry its own weight).
+  end), ``overturned`` (the overturning rule below), ``collapsed_by_sliding`` (``fembeam simulate``:
+  a joint's faces no longer overlap, or the member reached the overturning level with its joints
+  slid more than opened: :func:`fembeam.simulation.kernel.collapse`), ``cannot_stand`` (the member
+  cannot carry its own weight).
 * **Overturning rule** (:func:`overturn_level`): the member has overturned at the first time its
   potential energy ``V`` (J/m, 0 at rest) falls below ``-OVERTURN_DROP m g t``, i.e.
   its centroid is :data:`OVERTURN_DROP` of the mean thickness ``t`` below its height at rest.  Along
@@ -26,12 +27,11 @@ import numpy as np
 from ..errors import SolverError
 from .events import brentq
 
-__all__ = ["OUTCOMES", "OVERTURN_DROP", "SLIDE_OUT", "overturn_level", "mean_thickness", "friction_demand",
+__all__ = ["OUTCOMES", "OVERTURN_DROP", "overturn_level", "mean_thickness", "friction_demand",
            "overturning"]
 
 OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding", "cannot_stand")
 OVERTURN_DROP = 0.1     # overturned: centroid this fraction of the mean thickness below rest
-SLIDE_OUT = 0.5         # collapsed by sliding: a joint's slip above this fraction of its depth
 
 
 def mean_thickness(curve) -> float:

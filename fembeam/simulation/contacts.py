@@ -2,19 +2,37 @@
 
 For joint ``j`` with reference side ``a`` and other side ``b`` (:class:`~.bodies.Bodies`), corner
 ``c`` (0: intrados, 1: extrados: the order of :data:`~fembeam.mechanisms.hinge.EDGES`) of ``b``'s
-face is at ``p = x_b + R(phi_b) (X_c - G0_b)`` and the corresponding corner of ``a``'s face at
-``p_a = x_a + R(phi_a) (X_c - G0_a)``; ``a``'s face has the normal ``nu = R(phi_a) nu0`` (into
-``b``) and tangent ``tau = R(phi_a) tau0``.  Then
+face is at ``p_b = x_b + R(phi_b) (X_c - G0_b)`` and the corresponding corner of ``a``'s face at
+``p_a = x_a + R(phi_a) (X_c - G0_a)`` (they coincide at rest); ``a``'s face has the normal
+``nu_a = R(phi_a) nu0`` (into ``b``) and tangent ``tau_a = R(phi_a) tau0``, ``b``'s face
+``nu_b = R(phi_b) nu0``, ``tau_b = R(phi_b) tau0``.  The two faces are segments of the joint's
+depth ``h`` (m): they touch, if at all, at the two ends of their overlap, so each end ``c`` of the
+joint is represented by the corner that lies on the other face:
 
-* ``gap = (p - p_a) . nu`` (m, >= 0 open), ``slip = (p - p_a) . tau`` (m, the tangential offset);
-* the opening rate ``d gap/dt = (v_b(p) - v_a(p)) . nu``, exactly (the material point of ``a`` at
-  ``p``), and the sliding rate ``(v_b(p) - v_a(p)) . tau``: rows of ``H`` acting on the body
-  velocities ``(vx, vy, omega)`` (centroid velocity, m/s; angular velocity, rad/s, counter-clockwise)
-  with coefficients ``(d_x, d_y, (p - x) x d)`` on ``b`` and their opposite on ``a``.
+* ``b``'s corner over ``a``'s face (``-h <= u <= EDGE_TOL h``, with ``u = +-(p_b - p_a) . tau_a``
+  the offset of ``b``'s corner beyond ``a``'s, outwards: ``+`` at corner 0, ``-`` at corner 1):
+  the contact point ``p_b``, the face ``a``'s: ``gap = (p_b - p_a) . nu_a``,
+  ``slip = (p_b - p_a) . tau_a`` (also at a hinge, where the two corners coincide);
+* ``b``'s corner beyond ``a``'s face (``u > EDGE_TOL h``, ``b`` slid outwards): ``a``'s corner
+  is the end, over ``b``'s face if ``u_b = +-(p_b - p_a) . tau_b <= h`` (its distance from ``b``'s
+  corner along ``b``'s face), the contact point ``p_a``, the face ``b``'s:
+  ``gap = (p_b - p_a) . nu_b``, ``slip = (p_b - p_a) . tau_b`` (so an overhanging corner of ``b``
+  is no pivot: ``a``'s face ends at ``p_a``);
+* ``u < -h`` or ``u_b > h``: the faces no longer overlap at that end (nor, then, at the other):
+  no contact, the gap :data:`OFF_FACE` and zero rows.
 
-Every joint owns three rows of ``H``, always in this order: the opening rates of its intrados and
-extrados corners and one sliding rate, at the corner given by ``contact`` (the one with the smaller
-gap).  Joints are ordered along the member and consecutive joints share one body, so the Delassus
+``gap`` (m, >= 0 open) is the distance of the contact point from the face's line and ``slip``
+(m) the tangential offset of the two corners; both are continuous where ``u`` changes sign
+(there ``p_b - p_a`` is normal to both faces up to the gap times their relative rotation).
+The opening rate ``d gap/dt = (v_b(p) - v_a(p)) . nu`` at the contact point ``p`` along the
+face's normal ``nu``, exactly (the face moves rigidly with its body), and the sliding rate
+``(v_b(p) - v_a(p)) . tau``: rows of ``H`` acting on the body velocities ``(vx, vy, omega)``
+(centroid velocity, m/s; angular velocity, rad/s, counter-clockwise) with coefficients
+``(d_x, d_y, (p - x) x d)`` on ``b`` and their opposite on ``a``.
+
+Every joint owns three rows of ``H``, always in this order: the opening rates of its ends 0
+(intrados) and 1 (extrados) and one sliding rate, at the end given by ``contact`` (the one with
+the smaller gap).  Joints are ordered along the member and consecutive joints share one body, so the Delassus
 operator ``W = H M^-1 H^T`` is banded (half-bandwidth 5): it is assembled straight into LAPACK's
 upper banded storage through index arrays fixed at set-up (the sparsity pattern never changes).
 """
@@ -27,9 +45,12 @@ from scipy.linalg.blas import dsbmv
 
 from .bodies import Bodies
 
-__all__ = ["Contacts", "Geometry"]
+__all__ = ["Contacts", "Geometry", "OFF_FACE", "EDGE_TOL"]
 
 BAND = 5   # half-bandwidth of W (three rows per joint, consecutive joints share a body)
+OFF_FACE = 1e300   # m: the gap of a joint end whose faces no longer overlap (it never closes)
+EDGE_TOL = 1e-7    # relative to the depth: a corner beyond the other face's end by less is still over
+                   # it (the closing tolerance of a gap; at a hinge the two corners coincide to round-off)
 
 
 @dataclass
@@ -70,6 +91,11 @@ class Contacts:
         self.r_a = X - G0c[self.a][:, None]
         self.nu0 = b.nu[:, 0] + 1j * b.nu[:, 1]
         self.tau0 = b.tau[:, 0] + 1j * b.tau[:, 1]
+        # the outward sense of each end along tau0 (+1 at corner 0, -1 at corner 1) and the depth
+        out = np.sign(((X[:, 0] - X[:, 1]) * self.tau0.conj()).real)
+        self.outward = np.stack([out, -out], axis=1)                      # (J, 2)
+        self.depth = np.asarray(b.thickness, float).copy()                # (J,) m
+        self.edge = EDGE_TOL * self.depth                                  # (J,) m
         self.minv = b.inverse_mass()
         self._mi = self.minv[self.sides].reshape(J, 1, 6)                 # per slot, DOF
         # scatter of slot contributions to the bodies: each body is a side of at most two joints
@@ -105,15 +131,27 @@ class Contacts:
         z = q[:, 0] + 1j * q[:, 1]
         e = np.exp(1j * q[:, 2])
         a, b = self.a, self.b
-        za, zb, ea = z[a], z[b], e[a]
-        p = zb[:, None] + e[b][:, None] * self.r_b                       # corners of b (J, 2)
-        d = p - (za[:, None] + ea[:, None] * self.r_a)
-        nu, tau = ea * self.nu0, ea * self.tau0
-        gap = (d * nu.conj()[:, None]).real
-        slip = (d * tau.conj()[:, None]).real
+        za, zb, ea, eb = z[a], z[b], e[a], e[b]
+        pb = zb[:, None] + eb[:, None] * self.r_b                        # corners of b (J, 2)
+        pa = za[:, None] + ea[:, None] * self.r_a                        # corners of a
+        d = pb - pa
+        nu_a, tau_a = (ea * self.nu0)[:, None], (ea * self.tau0)[:, None]
+        nu_b, tau_b = (eb * self.nu0)[:, None], (eb * self.tau0)[:, None]
+        u = self.outward * (d * tau_a.conj()).real                        # b's corner beyond a's, outwards
+        h = self.depth[:, None]
+        over_b = u > self.edge[:, None]                                  # a's corner the end (on b's face?)
+        u_b = self.outward * (d * tau_b.conj()).real                      # a's corner within b's face, inwards
+        touch = np.where(over_b, u_b <= h, u >= -h)                       # the faces overlap at this end
+        p = np.where(over_b, pa, pb)                                     # contact points (J, 2)
+        nu = np.where(over_b, nu_b, nu_a)
+        tau = np.where(over_b, tau_b, tau_a)
+        gap = np.where(touch, (d * nu.conj()).real, OFF_FACE)
+        slip = (d * tau.conj()).real
         contact = (gap[:, 1] < gap[:, 0]).astype(int)
-        dirs = np.stack([nu, nu, tau], axis=1)                              # (J, 3)
-        pts = np.concatenate([p, p[self._jj, contact][:, None]], axis=1)    # (J, 3)
+        jj = self._jj
+        dirs = np.stack([nu[:, 0], nu[:, 1], tau[jj, contact]], axis=1)    # (J, 3)
+        dirs = dirs * np.stack([touch[:, 0], touch[:, 1], touch[jj, contact]], axis=1)   # no contact: zero rows
+        pts = np.concatenate([p, p[jj, contact][:, None]], axis=1)          # (J, 3)
         J = self.J
         rows = np.empty((J, 3, 2, 3))
         rows[:, :, 1, 0], rows[:, :, 1, 1] = dirs.real, dirs.imag

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import overturn_level
-from .contacts import BAND, Contacts
+from .contacts import BAND, OFF_FACE, Contacts
 from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
 from .result import SimulationResult
 from .stepper import GAP_TOL, IMPACT_PIVOTS, MIN_STEP, REST_KINETIC, checked_run
@@ -75,6 +75,9 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
     jj = np.arange(J)
     was_closed = geo.gap <= gap_tol
     stale = False
+    # the slip each joint carries (m): none from rest, a given state's own (q0); an open joint's
+    # follows the bodies, a closed joint's holds (no sliding): the position projection keeps it
+    s_ref = np.zeros(J) if q0 is None else geo.slip[jj, geo.contact].copy()
     while True:
         K = kinetic(v)
         V = potential(q)
@@ -84,9 +87,11 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
         if rot > peak:
             peak, t_peak = rot, t
         done = t >= t_end - h_min                # (a remainder shorter than a landing cut is not stepped)
-        if V < V_over and outcome is None:
-            outcome, t_over = "overturned", t
-            done = done or stop_at_overturn
+        if outcome is None:
+            outcome = collapse(V, V_over, geo.gap, s_ref)
+            if outcome is not None:
+                t_over = t
+                done = done or stop_at_overturn
         if t >= next_out or done:
             rec(t, q, v, K, V, W_ground, D, float(at(t)), geo.gap, thick)
             next_out = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
@@ -154,13 +159,15 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
         q_new = qm + 0.5 * h * v_new
         geo = con.evaluate(q_new)
         stale = False
+        open_ = ~closed.any(axis=1)
+        s_ref[open_] = geo.slip[jj, geo.contact][open_]
         if P is not None:
-            loaded = closed & (((P[:, :2] > 0) & working.reshape(J, 3)[:, :2]) | (geo.gap < 0))
+            loaded = closed & (geo.gap < OFF_FACE) & (((P[:, :2] > 0) & working.reshape(J, 3)[:, :2]) | (geo.gap < 0))
             if loaded.any():
                 on = np.zeros((J, 3), bool)
                 on[:, :2] = loaded
                 on[:, 2] = loaded.any(axis=1)
-                resid = np.concatenate([geo.gap, geo.slip[jj, geo.contact][:, None]], axis=1)
+                resid = np.concatenate([geo.gap, (geo.slip[jj, geo.contact] - s_ref)[:, None]], axis=1)
                 on = on.ravel()
                 lam = _solve_eq(con, ab, on, -np.where(on, resid.ravel(), 0.0))
                 dq = minv * con.apply_t(gm.rows, lam)
@@ -178,6 +185,21 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
                energy_balance_error=balance, dissipated=D, ground_work=W_ground, projection_drift=drift, steps=steps,
                cut_steps=cuts, pivots=pivots, time=time.perf_counter() - clock)
     return res
+
+
+def collapse(V: float, V_over: float, gap: np.ndarray, s_ref: np.ndarray) -> str | None:
+    """The collapse decided in a configuration (None: none), as :func:`.kernel.collapse`:
+    ``"collapsed_by_sliding"`` when a joint's faces no longer overlap (both ends' gaps
+    :data:`~.contacts.OFF_FACE`); when ``V`` (J/m) is below the overturning level ``V_over``,
+    ``"collapsed_by_sliding"`` if the largest slip a joint carries (m) exceeds the largest opening
+    of a joint's end (m), else ``"overturned"``."""
+    off = gap >= OFF_FACE
+    if off.all(axis=1).any():
+        return "collapsed_by_sliding"
+    if V < V_over:
+        opened = float(np.max(np.where(off, 0.0, gap), initial=0.0))
+        return "collapsed_by_sliding" if float(np.max(np.abs(s_ref), initial=0.0)) > opened else "overturned"
+    return None
 
 
 def _project(con: Contacts, rows, v_free, closed, working, nonneg, free, floor, block_pivots=BLOCK_PIVOTS):

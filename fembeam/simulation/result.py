@@ -13,7 +13,7 @@ from .bodies import Bodies
 
 __all__ = ["SimulationResult", "OUTCOMES", "HISTORY_COLUMNS"]
 
-OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding")
+OUTCOMES = ("rest", "survived", "overturned", "collapsed_by_sliding", "cannot_stand")
 HISTORY_COLUMNS = ("t", "K", "V", "W_ground", "dissipated", "a_g", "hinges", "separated", "max_rotation")
 
 
@@ -22,8 +22,11 @@ class SimulationResult:
     """``outcome`` (:data:`fembeam.dynamics.outcomes.OUTCOMES`): ``"rest"`` (at rest at ``t_end``),
     ``"survived"`` (still moving at ``t_end``), ``"overturned"`` (the centroid of the member fell
     ``OVERTURN_DROP`` of its mean thickness below its height at rest, at ``t_overturn``: past the
-    unstable equilibrium of whatever mechanism it moved on) or ``"collapsed_by_sliding"`` (with
-    friction: a joint slid by more than ``SLIDE_OUT`` of its depth, at ``t_overturn``).
+    unstable equilibrium of whatever mechanism it moved on, the joints opening more than they
+    slid), ``"collapsed_by_sliding"`` (at ``t_overturn`` a joint's faces no longer overlap, or
+    the centroid fell to that level while the largest slip a joint carried exceeded the largest
+    opening of a joint's end, m) or ``"cannot_stand"`` (the pieces do not carry their own
+    weight on joints that do not slide: nothing computed).
     ``peak_rotation`` (rad): the largest ``|phi|`` of any body, as ``fembeam rock``'s.
     ``friction_ratio``: the largest ``|P_t| / N`` of a joint over the steps and impacts (at
     ``t_friction``, joint at arc length ``s_friction``); ``max_slip`` (m) the largest slip carried
@@ -91,11 +94,15 @@ class SimulationResult:
 
     @property
     def friction_demand(self) -> dict:
-        """The JSON block of :func:`fembeam.dynamics.outcomes.friction_demand`; with friction modelled,
-        ``sliding_risk`` says that some joint reached the cone (slid) during the motion."""
+        """The JSON block of :func:`fembeam.dynamics.outcomes.friction_demand`: ``sliding_risk`` is
+        ``max_ratio >= mu``.  With friction modelled, a joint that slid (sliding rate above the
+        solver's tolerance, normal percussion resolved) counts with a ratio of at least ``mu``: it
+        needed more friction than ``mu`` to stick; the steps whose only sliding joints carry an
+        unresolved normal percussion (a corner lifting off at a landing) are counted in
+        ``sliding.sliding_steps`` and are no sliding risk."""
         out = friction_demand(self.friction_ratio, self.t_friction, self.s_friction, self.friction_at, self.friction)
         if self.friction is not None:
-            out["sliding_risk"] = self.sliding_steps > 0
+            out["sliding_risk"] = bool(self.friction_ratio >= self.friction)
         return out
 
     @property

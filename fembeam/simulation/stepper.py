@@ -51,9 +51,9 @@ import numpy as np
 
 from ..dynamics.equation import GRAVITY
 from ..dynamics.ground import GroundMotion
-from ..dynamics.outcomes import SLIDE_OUT, overturn_level
+from ..dynamics.outcomes import overturn_level
 from ..errors import InputError, SolverError
-from ..geometry import MidCurve
+from ..geometry import MidCurve, StraightMember
 from ..limits import DT_RANGE, MAX_STEPS   # admitted time steps (s); (t_end - t_0) / dt above MAX_STEPS: InputError
 from .bodies import Bodies
 from .contacts import Contacts
@@ -79,7 +79,7 @@ COULOMB_TOL = 1e-5          # residual of Coulomb's law at a step with sliding (
 
 _SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite",
                   4: "with friction was not solved (Tresca fixed point, semi-smooth Newton, non-smooth "
-                     "Gauss-Seidel; smallest Coulomb residual reached)"}
+                     "Gauss-Seidel, Lemke's pivots; smallest Coulomb residual reached)"}
 
 
 def __getattr__(name: str):
@@ -96,13 +96,17 @@ def __getattr__(name: str):
 class Simulator:
     """Bodies and contacts of ``curve`` cut into ``voussoirs`` (discrete arch) or ``elements``
     (continuous arch: rigid elements) equal pieces, or at the cuts ``nodes`` (arc lengths, m, from 0
-    to L); a block (``StraightMember``) is one body.  ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
-    whatever their tangential force).  Set up once, run under any ground motions (:meth:`run`)."""
+    to L); by default a block (``StraightMember``) is one body and an arch 100 rigid elements.
+    ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
+    whatever their tangential force).  ``g`` (m/s^2).  Set up once, run under any ground motions
+    (:meth:`run`)."""
 
     def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
                  g: float = GRAVITY, friction: float | None = None, nodes=None):
         if voussoirs is not None and elements is not None:
             raise InputError("give voussoirs or elements, not both")
+        if voussoirs is None and elements is None and nodes is None and isinstance(curve, StraightMember):
+            voussoirs = 1                 # a block is one body
         n = voussoirs if voussoirs is not None else (elements if elements is not None else 100)
         self.mode = "voussoirs" if voussoirs is not None else "continuous"
         self.bodies = Bodies.from_curve(curve, n, nodes=nodes)
@@ -111,6 +115,28 @@ class Simulator:
             raise InputError("simulate needs a chain of bodies with a joint at every interior cut")
         self.curve, self.g = curve, float(g)
         self.friction = check_friction(friction)
+        self._stands = None
+
+    @property
+    def stands(self) -> bool:
+        """Whether the bodies carry their own weight on joints that do not slide: the limit
+        analysis of the same cuts (``fembeam analyze``'s LP on this mesh) is not ``cannot_stand``.
+        Computed on first use (one LP), then kept.  A member that stands only with more friction
+        than ``mu`` does stand: under its weight alone it collapses by sliding, which :meth:`run`
+        computes."""
+        if self._stands is None:
+            from ..analysis.limit import limit_analysis
+            from ..fem import discretize
+            self._stands = limit_analysis(discretize(self.curve, self.bodies.nodes), 1, verify=False).status \
+                != "cannot_stand"
+        return self._stands
+
+    def cannot_stand(self, ground: GroundMotion, dt: float = 1e-3) -> SimulationResult:
+        """The answer for a member that does not stand (:attr:`stands` False): outcome
+        ``"cannot_stand"``, no motion computed (no history, no steps)."""
+        res = SimulationResult(self.curve, ground, self.bodies, mode=self.mode, dt=dt, friction=self.friction)
+        res.finish(outcome="cannot_stand", t_end=float(ground.t[0]))
+        return res
 
     def run(self, ground: GroundMotion, *, dt: float = 1e-3, t_end: float | None = None,
             dt_out: float | None = None, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
@@ -128,7 +154,10 @@ class Simulator:
             from .reference import run_reference
             if t_start is not None:
                 raise InputError("the reference engine starts at the start of the ground motion")
-            return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+            try:
+                return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+            except np.linalg.LinAlgError as e:
+                raise SolverError(f"the reference engine met a singular system ({e})") from e
         if engine != "compiled":
             raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
         return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress, t_start)
@@ -137,9 +166,12 @@ class Simulator:
 def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int | None = None,
              dt: float = 1e-3, t_end: float | None = None, g: float = GRAVITY,
              friction: float | None = None) -> SimulationResult:
-    """:meth:`Simulator.run` of a new :class:`Simulator`."""
-    return Simulator(curve, voussoirs=voussoirs, elements=elements, g=g, friction=friction).run(
-        ground, dt=dt, t_end=t_end)
+    """:meth:`Simulator.run` of a new :class:`Simulator`, or its :meth:`~Simulator.cannot_stand`
+    answer for a member that does not stand under its own weight."""
+    sim = Simulator(curve, voussoirs=voussoirs, elements=elements, g=g, friction=friction)
+    if not sim.stands:
+        return sim.cannot_stand(ground, dt)
+    return sim.run(ground, dt=dt, t_end=t_end)
 
 
 def check_friction(mu) -> float | None:
@@ -179,7 +211,6 @@ def compiled_kernel():
     if _KERNEL is None:
         from . import kernel
         _KERNEL = kernel                  # (set first: the warm-up below runs through _run)
-        from ..geometry import StraightMember
         sim = Simulator(StraightMember(height=1.0, width=0.5), voussoirs=1)
         _run(sim, GroundMotion.rectangular(0.0, 0.1), 1e-3, 1e-3, None, None, None, True, None)
     return _KERNEL
@@ -247,11 +278,12 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     rb = np.stack([con.r_b.real, con.r_b.imag], axis=-1).copy()
     nu0 = np.stack([con.nu0.real, con.nu0.imag], axis=-1).copy()
     tau0 = np.stack([con.tau0.real, con.tau0.imag], axis=-1).copy()
+    outward, depth, edge = con.outward.copy(), con.depth.copy(), con.edge.copy()
     A, B = con.a.astype(np.int64), con.b.astype(np.int64)
     sides = np.ascontiguousarray(con.sides, dtype=np.int64)
     gap, slip = np.zeros((J, 2)), np.zeros((J, 2))
     rows, contact = np.zeros((J, 3, 2, 3)), np.zeros(J, np.int64)
-    K.geometry(q, A, B, ra, rb, nu0, tau0, gap, slip, rows, contact)
+    K.geometry(q, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
     was_closed = gap <= GAP_TOL * thick[:, None]
     working, working_imp = np.zeros(3 * J, bool), np.zeros(3 * J, bool)
     box, box_imp = np.zeros(3 * J, np.int64), np.zeros(3 * J, np.int64)
@@ -275,12 +307,21 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     h_rows, p_rows, impacts = [], [], []
     dump = (np.zeros((6, 3 * J)), np.zeros(3 * J), np.zeros(3 * J), np.zeros((J, 2), bool))
     while True:
-        status, nh, ni = K.advance(
-            q, v, A, B, sides, ra, rb, nu0, tau0, minv, m, mv, y0, thick, thick,
-            gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
-            fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, SLIDE_OUT, mu,
-            bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
-            hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump)
+        try:
+            status, nh, ni = K.advance(
+                q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, thick,
+                gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
+                fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, mu,
+                bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
+                hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump)
+        except (np.linalg.LinAlgError, ZeroDivisionError) as e:
+            # a singular dense system inside a solver (numba raises numpy's LinAlgError): the step
+            # from the state it started from (positions; velocities after its impact, if any)
+            err = SolverError(f"the contact problem of the step at t = {fs[K.F_T]:.9g} s met a singular system "
+                              f"({type(e).__name__}: {e})")
+            err.problem = {"t": float(fs[K.F_T]), "q": q.copy(), "v": v.copy(), "mu": mu, "dt": dt,
+                           "slip_carried": s_ref.copy(), "error": f"{type(e).__name__}: {e}"}
+            raise err from e
         h_rows.append(hist[:nh].copy())
         p_rows.extend(pos[:nh].copy())
         impacts.extend(map(tuple, imp[:ni].tolist()))
@@ -288,9 +329,12 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
             err = SolverError(f"the contact problem of the step at t = {fs[K.F_T]:.9g} s "
                               f"{_SOLVER_STATUS.get(int(ist[K.I_STATUS]), 'failed')} "
                               f"(residual {fs[K.F_KKT]:.3g})")
-            if ist[K.I_STATUS] == 4:         # the frictional problem, for a report
-                err.problem = {"W_banded": dump[0], "c": dump[1], "P_stick": dump[2], "closed": dump[3],
-                               "mu": mu, "vscale": float(fs[K.F_VSCALE])}
+            # the problem, for a report: the state the step started from, and the frictional problem
+            err.problem = {"t": float(fs[K.F_T]), "q": q.copy(), "v": v.copy(), "mu": mu, "dt": dt,
+                           "slip_carried": s_ref.copy()}
+            if ist[K.I_STATUS] == 4:
+                err.problem.update({"W_banded": dump[0], "c": dump[1], "P_stick": dump[2], "closed": dump[3],
+                                    "vscale": float(fs[K.F_VSCALE])})
             raise err
         if progress is not None:
             progress(float(fs[K.F_T]))
@@ -322,7 +366,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                max_slip=None if sim.friction is None else float(fs[K.F_SLIP]), t_slip=opt(fs[K.F_TSLIP]),
                s_slip=None if js < 0 else float(bodies.joint_s[js]), sliding_steps=int(ist[K.I_SLIDING]), redistributed=int(ist[K.I_REDIST]), loose_steps=int(ist[K.I_LOOSE]),
                solved_by={"fixed_point": int(ist[K.I_BY_FP]), "newton": int(ist[K.I_BY_SSN]),
-                          "gauss_seidel": int(ist[K.I_BY_NSGS])},
+                          "gauss_seidel": int(ist[K.I_BY_NSGS]), "lemke": int(ist[K.I_BY_LEMKE])},
                friction_work=float(fs[K.F_FRICTION]), coulomb_residual=float(fs[K.F_COULOMB]),
                time=time.perf_counter() - clock,
                timings={"compile_or_load": t_load, "run": t_run, "total": time.perf_counter() - clock})
