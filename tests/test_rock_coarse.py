@@ -100,3 +100,18 @@ def test_onset_load_is_that_of_the_mechanism_followed():
     assert rk.run(GroundMotion.sine(0.999 * rk.A[-1], 0.5), thrust_check=False).onsets == []
     above = rk.run(GroundMotion.sine(1.05 * rk.A[-1], 0.5), thrust_check=False, t_end=0.4)
     assert above.onsets and above.peak_rotation > 1e-6
+
+
+def test_the_rest_shape_is_no_peak():
+    """An episode that ends where it started (``theta = 0``: a load that only touches the onset
+    load) records no peak: the four-bar's closure there gives rotations of round-off size (about
+    1e-15 rad), which made a peak without its ``theta`` and a summary that could not be printed."""
+    from fembeam.dynamics.result import Track
+
+    rk = Rocker(CircularArch(), elements=5, qp=False)
+    eq = EquationOfMotion(rk.start[1])
+    track = Track(np.empty(0))
+    track.peak_at(0.1, 0.0, eq)
+    assert track.peak == 0.0 and track.t_peak is None and track.t_peak_theta is None
+    track.peak_at(0.2, 1e-3 * eq.sign, eq)
+    assert track.peak >= 1e-3 and track.t_peak == 0.2 and track.t_peak_theta == 0.2
