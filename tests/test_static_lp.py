@@ -92,11 +92,11 @@ def test_continuum_is_mesh_independent_bracketed_and_below_every_mesh():
     assert np.ptp(vals) < 1e-11 and vals[0] == pytest.approx(0.3533839, abs=5e-8)   # the paper: 0.3533839
 
 
-@pytest.mark.parametrize("beta, tr", [(157.5, 0.15), (157.5, 0.6), (120.0, 0.25)])
+@pytest.mark.parametrize("beta, tr", [(157.5, 0.15), (157.5, 0.6), (120.0, 0.25), (120.0, 0.4)])
 def test_coarse_meshes_find_the_continuum_hinges(beta, tr):
-    """On 4 to 12 elements (two elements: 17 to 50 % of the length; the thick arch from 5: on
-    4, two hinges of one edge lie within two elements and the LP's clusters merge them) the
-    continuum's hinges are solved exactly, at the sections found on 200 elements (their
+    """On 4 to 12 elements (two elements: 17 to 50 % of the length; on 4, two hinges of one
+    edge of the thick arch lie within two elements, 0.50 of the length apart, and are not
+    merged into one cluster) the continuum's hinges are solved exactly, at the sections found on 200 elements (their
     closest pair 14 to 26 % of the length apart), and their mechanism's own load factor (virtual work, an
     independent route) is ``A_L``; before, 4 to 7 elements kept the mesh's mechanism, whose
     load factor is 5 to 12 % higher."""
@@ -107,7 +107,7 @@ def test_coarse_meshes_find_the_continuum_hinges(beta, tr):
     arch = CircularArch.from_ratio(beta, tr)
     fine = continuum_limit(discretize(arch, uniform_nodes(arch, 200)))
     assert fine.exact_hinges
-    for n in range(5 if tr > 0.5 else 4, 13):
+    for n in range(4, 13):
         disc = discretize(arch, uniform_nodes(arch, n))
         c = continuum_limit(disc)
         assert c.exact_hinges, n
