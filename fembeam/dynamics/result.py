@@ -178,7 +178,11 @@ class Track:
         rotations are taken where ``|theta|`` peaks: exact while each grows with ``|theta|`` along
         the mechanism (the four-bar's rates ``w3``, ``w2`` keep their sign; so on every mechanism
         of the tests), otherwise a lower bound.  So is the smallest ``V`` (``V`` rises to the
-        unstable equilibrium, then falls: over an excursion its smallest value is at an end)."""
+        unstable equilibrium, then falls: over an excursion its smallest value is at an end).
+        At ``theta = 0`` (the rest shape) every piece is at rest: nothing is recorded (the
+        four-bar's closure gives the coupler and rocker rotations of about 1e-15 rad there)."""
+        if theta == 0.0:
+            return
         if abs(theta) > self.peak_theta:
             self.peak_theta, self.t_peak_theta = abs(theta), float(t)
         self.V_min = min(self.V_min, eq.potential(theta))

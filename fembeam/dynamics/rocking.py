@@ -3,7 +3,9 @@
 :func:`rock` follows a member through a ground motion ``a_g(t)`` (g, positive along +x):
 
 * **rest**: the member stays undeformed while ``-a_g <= A_L(+1)`` and ``a_g <= A_L(-1)``
-  (``A_L(d)``: the limit analysis with the inertia load along ``d x``; computed once);
+  (``A_L(d)``: the limit analysis with the inertia load along ``d x``; computed once; where the
+  analysis knows the continuum's ``A_L`` but not its hinges, the load factor of the mechanism it
+  gives, :func:`~.onset.onset_load`, so that the mechanism opens when the load exceeds it);
 * **onset**: when the inertia load first exceeds ``A_L`` in one direction (crossing located
   on the piecewise-linear signal), the member starts from rest on that direction's mechanism;
 * **rocking**: Lagrange's equation of the mechanism at finite rotation
@@ -47,7 +49,7 @@ from .episode import Signal, episode
 from .equation import GRAVITY, EquationOfMotion
 from .events import brentq
 from .ground import GroundMotion
-from .onset import below_time, onset_time
+from .onset import below_time, onset_load, onset_time
 from .outcomes import OUTCOMES, overturn_level, overturning
 from .result import ImpactEvent, RockingResult, Track
 from .transitions import ImpactModel, Transition
@@ -105,6 +107,7 @@ class Rocker:
             self.A[d] = res.A_L if res.outcome in ("rocking", "arrested") else math.inf
             if math.isfinite(self.A[d]):
                 self.start[d] = Mechanism.from_hinges(curve, res.hinges_before)
+                self.A[d] = onset_load(self.start[d], d, self.A[d])
         self.model = ImpactModel(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=qp)
         self.joints = uniform_nodes(curve, voussoirs) if voussoirs is not None else None
         self.mass = float(curve.segment_inertia(0.0, curve.length)[0][0])     # kg/m
