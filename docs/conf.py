@@ -102,6 +102,8 @@ html_theme_options = {
     "secondary_sidebar_items": ["page-toc"],
 }
 html_show_sourcelink = False
+# the pages without sub-pages have no navigation to show on the left
+html_sidebars = {"index": [], "getting_started": []}
 
 
 # ------------------------------------------------------------------ command output
@@ -110,3 +112,23 @@ html_show_sourcelink = False
 os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
 os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
 programoutput_use_ansi = False
+
+
+# Lines of a command's output longer than the site's limit (88 characters, docs/check_site.py)
+# are cut there and end with "…", in the ``command-output`` blocks given ``:class: cut-lines``.
+MAX_LINE = 88
+
+
+def _cut_long_lines(app, doctree):
+    from docutils import nodes
+
+    for block in doctree.findall(nodes.literal_block):
+        if "cut-lines" in block["classes"]:
+            text = "\n".join(line if len(line) <= MAX_LINE else line[:MAX_LINE - 1] + "…"
+                             for line in block.astext().splitlines())
+            block.children = [nodes.Text(text)]
+            block.rawsource = text
+
+
+def setup(app):
+    app.connect("doctree-read", _cut_long_lines, priority=600)   # after sphinxcontrib-programoutput
