@@ -1,7 +1,8 @@
 """What the gallery needs besides sphinx-gallery (imported by docs/conf.py).
 
 * :func:`copy_sources`: the gallery scripts are run from a copy under ``docs/_build``, so the
-  files they write (figures, CSV, ParaView series) land there and never in the checkout;
+  files they write (figures, CSV, ParaView series) land there and never in the checkout; the
+  copy of a script the build does not run says so at the top of its page;
 * :class:`FileScraper`: the figures of a gallery page are the image files the script wrote
   (``.png`` and ``.gif``, as the command line's ``--plot``, ``--gif`` and ``--figure`` write
   them), each shown below the cell that wrote it.
@@ -15,9 +16,19 @@ IMAGE_SUFFIXES = (".png", ".gif")
 SOURCE_SUFFIXES = (".py", ".rst", ".txt", ".csv")
 
 
-def copy_sources(sources: dict[Path, str], into: Path) -> Path:
+NOT_RUN_NOTE = """
+.. note::
+
+   This script was **not run** when this site was built: the page shows its code without its
+   output or figures. Run it from a checkout of the repository with
+   ``python {path}``.
+"""
+
+
+def copy_sources(sources: dict[Path, str], into: Path, not_run: list[str] = ()) -> Path:
     """Copy the scripts and headers of each source folder to ``into / name``, removing
-    whatever else a previous build left there; returns ``into``."""
+    whatever else a previous build left there; returns ``into``. The copy of a script named
+    in ``not_run`` (its stem) gets :data:`NOT_RUN_NOTE` after the title of its docstring."""
     for src, name in sources.items():
         dest = into / name
         if dest.exists():
@@ -26,7 +37,18 @@ def copy_sources(sources: dict[Path, str], into: Path) -> Path:
         for f in sorted(src.iterdir()):
             if f.is_file() and f.suffix in SOURCE_SUFFIXES:
                 shutil.copy2(f, dest / f.name)
+                if f.suffix == ".py" and f.stem in not_run:
+                    _add_note(dest / f.name, f"{src.parent.name}/{src.name}/{f.name}"
+                              if src.parent.name == "docs" else f"{src.name}/{f.name}")
     return into
+
+
+def _add_note(script: Path, path: str) -> None:
+    """Put :data:`NOT_RUN_NOTE` under the title (the underline of ``===``) of the docstring."""
+    lines = script.read_text().split("\n")
+    at = next(i for i, line in enumerate(lines) if line.startswith("===") and i > 1) + 1
+    lines[at:at] = NOT_RUN_NOTE.format(path=path).split("\n")
+    script.write_text("\n".join(lines))
 
 
 class FileScraper:

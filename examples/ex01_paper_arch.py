@@ -41,10 +41,14 @@ def visualize():
     imp = result.impact
     phi = imp.disc.joint_angle_deg
     fig, ax = plt.subplots(figsize=(7, 3))
-    ax.plot(phi, 2 * imp.eccentricity / imp.disc.joint_thickness, label="impulse line 2e/t")
-    ax.plot(phi, 2 * result.limit.eccentricity / result.limit.disc.joint_thickness, "--", label="thrust line 2e/t")
+    lim = result.limit
+    ax.plot(phi, 2 * imp.eccentricity / imp.disc.joint_thickness,
+            label="impulse line 2e/t")
+    ax.plot(phi, 2 * lim.eccentricity / lim.disc.joint_thickness, "--",
+            label="thrust line 2e/t")
     ax.axhline(1, color="k", lw=0.5), ax.axhline(-1, color="k", lw=0.5)
-    ax.set_xlabel("angle from the left springing (deg)"), ax.set_ylabel("eccentricity / (t/2)")
+    ax.set_xlabel("angle from the left springing (deg)")
+    ax.set_ylabel("eccentricity / (t/2)")
     ax.set_title(f"A_L = {A_L:.4f} g, r = {r:.4f}"), ax.legend()
     return fig
 

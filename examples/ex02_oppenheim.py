@@ -17,7 +17,8 @@ results = {beta: analyze(CircularArch.from_ratio(beta, 0.15, radius=10.0), vouss
 table = {beta: (res.A_L, res.r, len(res.hinges_after)) for beta, res in results.items()}
 
 for beta, (A_L, r, n) in table.items():
-    print(f"beta = {beta:5.1f} deg: A_L = {A_L:.4f} g, r_max = {r:.4f}, {n} hinges after the impact")
+    print(f"beta = {beta:5.1f} deg: A_L = {A_L:.4f} g, r_max = {r:.4f}, "
+          f"{n} hinges after the impact")
 
 # %%
 # The hinges sit on joints, at multiples of ``beta / 7`` from the left springing:

@@ -23,9 +23,11 @@ runs = {pga: rocker.run(record.to_pga(pga)) for pga in (0.4, 0.6, 0.8, 1.0)}
 print(f"A_L = {rocker.A[1]:.6f} g; El Centro 1940 (PGA {record.pga:.3f} g) scaled to:")
 for pga, res in runs.items():
     when = f"at t = {res.t_overturn:.3f} s" if res.outcome == "overturned" else ""
-    exit_ = "never" if res.thrust_line_exits_at is None else f"{res.thrust_line_exits_at:.3f} s"
+    exits = res.thrust_line_exits_at
+    exit_ = "never" if exits is None else f"{exits:.3f} s"
     print(f"  PGA {pga:.1f} g: {res.outcome} {when}".rstrip()
-          + f"; {len(res.impacts)} impacts, peak rotation {res.peak_rotation:.5f} rad, thrust line exits {exit_}")
+          + f"; {len(res.impacts)} impacts, peak rotation {res.peak_rotation:.5f} rad, "
+          f"thrust line exits {exit_}")
 
 
 # %%

@@ -40,7 +40,8 @@ def pointed_row(rise: float) -> tuple:
 rows = [pointed_row(h) for h in RISES]
 print(f"pointed arches, span {SPAN:g} m, thickness {T:g} m ({ELEMENTS} elements):")
 for rise, A_L, r, t_min in rows:
-    print(f"  rise {rise:5.2f} m: A_L = {A_L:.4f} g, r = {r:.4f}, t_min = {t_min:.4f} m")
+    print(f"  rise {rise:5.2f} m: A_L = {A_L:.4f} g, r = {r:.4f}, "
+          f"t_min = {t_min:.4f} m")
 
 # %%
 # The equilateral arch just above its minimum thickness (2 % thicker): the thrust line
@@ -50,7 +51,8 @@ if __name__ == "__main__":
     from fembeam.output.plotting import plot_paper_figure
 
     equilateral = PointedArch(span=SPAN, rise=RISES[-1], thickness=1.02 * rows[-1][3])
-    plot_paper_figure(analyze(equilateral, elements=ELEMENTS), "ex06_pointed.png", dpi=100)
+    plot_paper_figure(analyze(equilateral, elements=ELEMENTS), "ex06_pointed.png",
+                      dpi=100)
 
 
 # %%
@@ -61,14 +63,15 @@ if __name__ == "__main__":
 # the crown, under 2 % of the rise, changes every answer: here it raises ``A_L`` and lowers
 # the minimum thickness.
 def surveyed_parabola(sag: float = 0.05, points: int = 40) -> tuple:
-    """The ideal parabola and the surveyed one (crown lowered by ``sag`` m, smoothly)."""
+    """The ideal parabola and the surveyed one (crown lowered smoothly by ``sag`` m)."""
     x = np.linspace(-SPAN / 2, SPAN / 2, points)
     y = 3.0 * (1 - (2 * x / SPAN) ** 2) - sag * np.cos(math.pi * x / SPAN) ** 2
     path = pathlib.Path(tempfile.mkdtemp()) / "surveyed.csv"
     path.write_text("x,y\n" + "".join(f"{a:.6f},{b:.6f}\n" for a, b in zip(x, y)))
     ideal = ParabolicArch(span=SPAN, rise=3.0, thickness=0.6)
     surveyed = SurveyedArch.from_csv(path, thickness=0.6)
-    return [(analyze(a, elements=ELEMENTS), minimum_thickness(a, elements=ELEMENTS).scale * 0.6)
+    return [(analyze(a, elements=ELEMENTS),
+             minimum_thickness(a, elements=ELEMENTS).scale * 0.6)
             for a in (ideal, surveyed)]
 
 

@@ -36,7 +36,8 @@ if __name__ == "__main__":
 # -------------------------------------------------
 # Hinges of a voussoir arch can open only at its joints, so its ``A_L`` is higher and its
 # hinges sit on joints; the errors are against the continuous arch on 1600 elements.
-voussoirs = convergence_study(arch, voussoirs=[7, 15, 31, 63, 127, 255], reference_elements=1600, progress=False)
+voussoirs = convergence_study(arch, voussoirs=[7, 15, 31, 63, 127, 255],
+                              reference_elements=1600, progress=False)
 print(table(voussoirs))
 
 if __name__ == "__main__":

@@ -29,3 +29,14 @@ def test_python_blocks_run(path):
             assert e["K_end"] + e["V_end"] == pytest.approx(e["ground_work"] - e["dissipated"], abs=1e-6 * barrier)
             assert d["peak_rotation"] >= abs(d["peak_theta"]) > 0
             assert d["n_impacts"] == len(d["impacts"]) > 0 and d["friction_demand"]["mu"] == 0.6
+
+
+@pytest.mark.parametrize("path", ["docs/index.md"])
+def test_python_blocks_print_the_text_block_after_them(path, capsys):
+    """The landing page's Python prints the ``text`` block that follows it, as it is shown."""
+    pairs = re.findall(r"```python\n(.*?)```.*?```text\n(.*?)```", (ROOT / path).read_text(),
+                       flags=re.S)
+    assert pairs, f"no python block followed by its output in {path}"
+    for code, shown in pairs:
+        exec(compile(code, path, "exec"), {})   # noqa: S102
+        assert capsys.readouterr().out == shown
