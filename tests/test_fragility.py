@@ -408,3 +408,15 @@ def test_records_without_a_group_are_groups_of_their_own(monkeypatch):
     assert b["groups"] == 3 and b["records_without_group"] == 2 and "2 records without a group" in b["grouping"]
     assert "bootstrap groups: 2 records without a group" in fr_table(res)
     assert res.to_dict()["bootstrap"]["grouping"] == b["grouping"]
+
+
+def test_ignored_journal_lines_are_said(tmp_path, capsys):
+    """A journal line that does not parse is ignored, its case run again, and one note says so."""
+    suite = str(write_pulses(tmp_path / "suite", (0.3,)))
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".fembeam-fragility-journal.jsonl").write_text('{"key": "0123", "result": "not a row"}\nnot json\n')
+    assert main(ARGV + ["--suite", suite, "--out-dir", str(out)]) == 0
+    err = capsys.readouterr().err
+    notes = [ln for ln in err.splitlines() if ln.startswith("fembeam: note:")]
+    assert len(notes) == 1 and "2 lines of the journal" in notes[0] and "ignored" in notes[0], err
