@@ -27,27 +27,33 @@ ARCHES = {"paper's arch, 157.5 deg": CircularArch.from_ratio(157.5, 0.15),
 # %%
 # Capacity on voussoirs and on the continuous arch
 # ------------------------------------------------
-# 24 voussoirs (hinges only at their joints: exact for that arch) and the continuous arch on
-# 200 rigid elements (hinges at the element joints, rolling from joint to joint).
+# 24 voussoirs (hinges only at their joints: exact for that arch) and the continuous
+# arch on 200 rigid elements (hinges at the element joints, rolling from joint to
+# joint).
 results = {}
 for name, arch in ARCHES.items():
     for mesh in ({"voussoirs": 24}, {"elements": 200}):
         r = supports(arch, Movement.of("spread"), **mesh)
         results[name, next(iter(mesh))] = r
-        print(f"{name:24s} {next(iter(mesh.values())):4d} {next(iter(mesh)):9s}: capacity {r.capacity:.4f} m "
-              f"= {100 * r.capacity_over_span:.2f} % of the span, H {r.path[0][1]:.3f} -> {r.path[-1][1]:.3f} kN/m, "
-              f"{len(r.migrations)} migrations")
+        kind, n = next(iter(mesh.items()))
+        print(f"{name}, {n} {kind}: capacity {r.capacity:.4f} m"
+              f" = {100 * r.capacity_over_span:.2f} % of the span")
+        print(f"    H {r.path[0][1]:.3f} -> {r.path[-1][1]:.3f} kN/m,"
+              f" {len(r.migrations)} migrations")
 
 # %%
 # The hinges and their migrations
 # -------------------------------
 for (name, mesh), r in results.items():
-    print(f"{name}, {mesh}: hinges at rest " + ", ".join(f"{h['angle_deg']:.2f} deg {h['side']}" for h in r.hinges))
+    print(f"{name}, {mesh}: hinges at rest")
+    print("    " + ", ".join(f"{h['angle_deg']:.2f} deg {h['side']}" for h in r.hinges))
     for m in r.migrations[:6]:
-        print(f"    at {m['displacement']:.4f} m: hinge to {m['angle_deg']:.2f} deg ({m['side']})")
+        print(f"    at {m['displacement']:.4f} m: hinge to {m['angle_deg']:.2f} deg"
+              f" ({m['side']})")
     e = r.last_edge
     if e is not None:
-        print(f"    collapse: edge reached last at {e['angle_deg']:.2f} deg ({e['side']})")
+        print(f"    collapse: edge reached last at {e['angle_deg']:.2f} deg"
+              f" ({e['side']})")
 
 # %%
 # Thrust against spreading

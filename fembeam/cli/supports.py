@@ -133,14 +133,26 @@ def run(args) -> int:
     return 0
 
 
+def _wrapped(lines: list[str], width: int = 88) -> str:
+    """``lines`` joined, each wrapped at ``width`` characters (continuations indented)."""
+    import textwrap
+    out = []
+    for line in lines:
+        lead = len(line) - len(line.lstrip())
+        out += textwrap.wrap(line, width, subsequent_indent=" " * (lead + 4), break_on_hyphens=False,
+                             break_long_words=False) or [line]
+    return "\n".join(out)
+
+
 def summary(res) -> str:
+    """The text answer, lines of at most 88 characters."""
     mv = res.movement
     lines = [f"fembeam supports: {arch_title(res.geometry)}",
              f"  {res.n} {'voussoirs' if res.mode == 'voussoirs' else 'rigid elements (continuous arch)'}, "
              f"span {res.span:.6g} m; movement: {mv.describe()['displacement_means']}"]
     if res.outcome == "cannot_stand":
         lines.append("  outcome: the arch CANNOT STAND at rest: no line of thrust fits inside it")
-        return "\n".join(lines)
+        return _wrapped(lines)
     d0, H0, Vl0, Vr0 = res.path[0]
     lines.append(f"  at rest: H = {H0:.6g} kN/m, V left {Vl0:.6g} kN/m, V right {Vr0:.6g} kN/m"
                  + (" (the minimum thrust)" if mv.kind == "spread" else ""))
@@ -165,4 +177,4 @@ def summary(res) -> str:
     else:
         lines.append(f"  outcome: STANDS up to {dN:.6g} m ({100 * dN / res.span:.4g} % of the span): "
                      f"H = {HN:.6g} kN/m, V left {VlN:.6g} kN/m, V right {VrN:.6g} kN/m")
-    return "\n".join(lines)
+    return _wrapped(lines)
