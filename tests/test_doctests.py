@@ -37,16 +37,14 @@ MODULES = [
     "fembeam.geometry.catenary",
     "fembeam.geometry.surveyed",
     "fembeam.geometry.block",
+    "fembeam.fem.rigid",
+    "fembeam.fem.mesh",
+    "fembeam.mechanisms.hinge",
+    "fembeam.mechanisms.mechanism",
 ]
 
 # API names still without their numpydoc sections
 PENDING: set[str] = {
-    "fembeam.discretize",
-    "fembeam.Discretization",
-    "fembeam.uniform_nodes",
-    "fembeam.nodes_through",
-    "fembeam.Hinge",
-    "fembeam.Mechanism",
     "fembeam.dynamics.GroundMotion",
     "fembeam.dynamics.rock",
     "fembeam.dynamics.Rocker",
