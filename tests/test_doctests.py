@@ -41,18 +41,12 @@ MODULES = [
     "fembeam.fem.mesh",
     "fembeam.mechanisms.hinge",
     "fembeam.mechanisms.mechanism",
+    "fembeam.dynamics.ground",
+    "fembeam.dynamics.rocking",
 ]
 
 # API names still without their numpydoc sections
 PENDING: set[str] = {
-    "fembeam.dynamics.GroundMotion",
-    "fembeam.dynamics.rock",
-    "fembeam.dynamics.Rocker",
-    "fembeam.dynamics.RockingResult",
-    "fembeam.dynamics.ImpactEvent",
-    "fembeam.dynamics.EquationOfMotion",
-    "fembeam.dynamics.ImpactModel",
-    "fembeam.dynamics.Transition",
     "fembeam.simulation.simulate",
     "fembeam.simulation.Simulator",
     "fembeam.simulation.SimulationResult",
