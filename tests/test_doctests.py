@@ -43,6 +43,7 @@ MODULES = [
     "fembeam.mechanisms.mechanism",
     "fembeam.dynamics.ground",
     "fembeam.dynamics.rocking",
+    "fembeam.auto.model",
 ]
 
 # API names still without their numpydoc sections
@@ -50,11 +51,6 @@ PENDING: set[str] = {
     "fembeam.simulation.simulate",
     "fembeam.simulation.Simulator",
     "fembeam.simulation.SimulationResult",
-    "fembeam.auto.AutoModel",
-    "fembeam.auto.AutoResult",
-    "fembeam.auto.Segment",
-    "fembeam.auto.bodies_state",
-    "fembeam.auto.mechanism_of",
     "fembeam.studies.convergence_study",
     "fembeam.studies.ConvergenceStudy",
     "fembeam.studies.sweep",
