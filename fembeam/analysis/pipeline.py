@@ -70,7 +70,7 @@ class AnalysisResult:
     Attributes
     ----------
     geometry : dict
-        The member's description (:meth:`~fembeam.geometry.base.MidCurve.describe`).
+        The member's description (its ``describe()``: shape and dimensions in m).
     mode : {"continuous", "voussoirs"}
         A continuous arch of rigid elements or a discrete arch of voussoirs.
     n : int
