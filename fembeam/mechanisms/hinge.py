@@ -132,7 +132,8 @@ class Hinge:
     --------
     >>> import fembeam
     >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
-    >>> lim = fembeam.limit_analysis(fembeam.discretize(arch, fembeam.uniform_nodes(arch, 6)))
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 6))
+    >>> lim = fembeam.limit_analysis(disc)
     >>> h = lim.hinges[1]
     >>> print(f"{h.s:.4f} m, {h.angle_deg:.2f} deg", h.side, h.joints)
     0.9163 m, 52.50 deg extrados (2,)

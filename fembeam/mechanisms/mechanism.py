@@ -83,8 +83,8 @@ class Mechanism:
 
     >>> import fembeam
     >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
-    >>> mech = fembeam.Mechanism.from_angles(
-    ...     arch, [0.0, 52.5, 118.125, 157.5], ["intrados", "extrados", "intrados", "extrados"])
+    >>> sides = ["intrados", "extrados", "intrados", "extrados"]
+    >>> mech = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
     >>> print(mech.n_hinges, [f"{s:.4f}" for s in mech.s])
     4 ['0.0000', '0.9163', '2.0617', '2.7489']
     """
