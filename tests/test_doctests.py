@@ -20,8 +20,6 @@ from pathlib import Path
 
 import pytest
 
-numpydoc_docscrape = pytest.importorskip("numpydoc.docscrape")
-
 ROOT = Path(__file__).resolve().parent.parent
 
 # the modules whose docstrings have Examples
@@ -124,6 +122,8 @@ def resolve(name: str):
 
 
 def missing_sections(obj) -> list[str]:
+    """The sections ``obj``'s docstring lacks, as numpydoc (the docs extra) parses it."""
+    numpydoc_docscrape = pytest.importorskip("numpydoc.docscrape")
     if inspect.isclass(obj) and issubclass(obj, BaseException):
         return []       # an exception: its message says it all
     if inspect.isclass(obj):
