@@ -6,8 +6,9 @@
   is at most ``--max-line`` characters long, except on the pages given with ``--pending``
   (pages whose code blocks are still to be wrapped: their long lines are reported only);
 * the landing page (``index.html``) shows a figure (an ``<img>`` in the article);
-* the API pages (``api/generated/*.html``) have a Parameters section and a Returns (functions)
-  or Attributes (classes) section. Without ``--api-strict`` this check only reports the pages
+* the API pages (``api/generated/*.html``) of functions have a Parameters and a Returns (or
+  Yields) section, those of classes a Parameters (a class the user builds) or an Attributes
+  (a result) section (exceptions need neither). Without ``--api-strict`` this check only reports the pages
   that lack them, as a count and a list, and does not fail.
 
 Exit code 1 if a strict check fails, 0 otherwise.
@@ -85,17 +86,21 @@ _SECTION = re.compile(r'<dt class="field-(?:odd|even)">(Parameters|Returns|Yield
 
 
 def api_sections(site: Path) -> tuple[int, list[tuple[str, str]]]:
-    """The number of API pages, and ``(page, what it lacks)`` of those without a Parameters
-    section or without a Returns/Yields (functions) or Attributes (classes) section."""
+    """The number of API pages, and ``(page, what it lacks)`` of those without their sections:
+    Parameters and Returns/Yields (functions), Parameters or Attributes (classes)."""
     pages = sorted((site / "api" / "generated").glob("*.html"))
     lacking = []
     for page in pages:
         text = page.read_text(encoding="utf-8")
         found = set(_SECTION.findall(text))
-        is_class = '<dl class="py class">' in text or '<dl class="py exception">' in text
-        need = ["Parameters", "Attributes"] if is_class else ["Parameters", "Returns"]
-        missing = [s for s in need if s not in found
-                   and not (s == "Returns" and "Yields" in found)]
+        if '<dl class="py exception">' in text:
+            continue        # an exception: its message says it all
+        is_class = '<dl class="py class">' in text
+        if is_class:    # a class the user builds: its parameters; a result: its attributes
+            missing = [] if found & {"Parameters", "Attributes"} else ["Parameters or Attributes"]
+        else:
+            missing = [s for s in ("Parameters", "Returns") if s not in found
+                       and not (s == "Returns" and "Yields" in found)]
         if missing:
             lacking.append((page.name, " and ".join(missing)))
     return len(pages), lacking

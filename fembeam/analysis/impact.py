@@ -42,6 +42,40 @@ COMPATIBLE_TOL = 1e-9  # d0 closing or sliding no joint by more than this (relat
 
 @dataclass
 class ImpactResult:
+    """Outcome of :func:`impact`: the post-impact field and the impulse line.
+
+    Impulses are per metre of width, in N s/m for unit pre-impact velocities (N s/m for
+    a mean horizontal speed of 1 m/s with the mechanism of :func:`~fembeam.analyze`);
+    ``I(s)`` is the impulse on the part left of ``s`` by the part on its right, so
+    compression is ``I_t < 0``.
+
+    Attributes
+    ----------
+    disc : Discretization
+        The mesh.
+    d0 : ndarray
+        Pre-impact element velocities (the DOFs of ``disc``).
+    d : ndarray
+        Post-impact element velocities ``d'``.
+    r : float
+        Restitution coefficient ``K'/K`` of the kinetic energy, ``0 <= r <= 1``.
+    mu : ndarray
+        ``(2, J)`` fibre impulses at the intrados and extrados (N s/m, >= 0 in
+        compression).
+    lam : ndarray
+        ``(J,)`` multipliers of the no-sliding constraints (N s/m).
+    hinges : list of Hinge
+        Open joints of the post-impact field, left to right.
+    backend : str
+        Solver used (``"none"`` when ``d0`` is compatible and no QP was solved).
+    iterations : int
+        Solver iterations.
+    solve_time : float
+        Time of the solve (s).
+    verification : dict
+        The checked figures of the solution (KKT residuals, energy balance).
+    """
+
     disc: Discretization
     d0: np.ndarray
     d: np.ndarray            # post-impact field d'
@@ -56,14 +90,17 @@ class ImpactResult:
 
     @property
     def arrested(self) -> bool:
+        """Whether the arch stops dead (``r`` below :data:`ARREST_TOL`)."""
         return self.r < ARREST_TOL
 
     @property
     def I_t(self) -> np.ndarray:
+        """Tangential (normal-force) impulse at the joints (N s/m, < 0 in compression)."""
         return -(self.mu[0] + self.mu[1])
 
     @property
     def I_n(self) -> np.ndarray:
+        """Shear impulse at the joints (N s/m)."""
         return -self.lam
 
     @property
@@ -73,6 +110,8 @@ class ImpactResult:
 
     @property
     def eccentricity(self) -> np.ndarray:
+        """Impulse-line eccentricity at the joints (m, along ``n``, + towards the
+        intrados); NaN where the joint carries no impulse."""
         It = self.I_t
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(np.abs(It) > 1e-12 * np.max(np.abs(It), initial=0.0), self.moment / It, np.nan)
@@ -80,22 +119,57 @@ class ImpactResult:
 
 def impact(disc: Discretization, d0: np.ndarray, backend: str = "auto", tol: float = 1e-10,
            verify: bool = True) -> ImpactResult:
-    """Post-impact field, restitution coefficient and internal impulses for the
-    pre-impact field ``d0`` (element DOFs).  The solution's figures (:func:`_verify`)
-    are checked (``verify``): one above its threshold raises :class:`SolverError`.
+    """Post-impact field, restitution coefficient and internal impulses.
 
-    ``0 <= r <= 1`` always (Cauchy-Schwarz; rounding above 1 is cut off).  A pre-impact
-    field that is itself compatible (no joint closes or slides, within
+    The post-impact field is the projection, in the kinetic metric, of the pre-impact
+    field ``d0`` onto the cone of compatible fields (Moreau's inelastic impact law);
+    the multipliers are the internal impulses at the joints. ``0 <= r <= 1`` always. A
+    ``d0`` that is itself compatible (no joint closes or slides, within
     :data:`COMPATIBLE_TOL` of its largest opening rate, e.g. ``+u`` of the limit
-    analysis, which opens its hinges) is its own projection onto the compatible cone:
-    nothing is struck, ``d' = d0``, no impulses and ``r = 1`` exactly, without a QP
-    solve (``backend`` is then reported as ``"none"``).
+    analysis) is its own projection: ``d' = d0``, no impulses, ``r = 1`` exactly and no
+    QP solved (``backend`` reported as ``"none"``).
 
-    ``backend``: ``"clarabel"`` (interior point on the primal QP), ``"osqp"`` (ADMM with
-    polishing), ``"active-set"`` (the dual's banded interior point and active set,
-    :mod:`~fembeam.analysis.active_set`: O(N) per iteration, falls back to Clarabel when it
-    has no certified answer) or ``"auto"`` (Clarabel up to ``AUTO_ELEMENTS`` elements, the
-    active set above).  The backend used is reported in :attr:`ImpactResult.backend`."""
+    Parameters
+    ----------
+    disc : Discretization
+        The mesh (:func:`~fembeam.fem.rigid.discretize`).
+    d0 : array_like
+        Pre-impact element velocities (m/s and rad/s, the DOFs of ``disc``), e.g.
+        ``-u`` of :func:`~fembeam.analysis.limit.limit_analysis`: the mechanism
+        reversed, as the arch lands on the symmetric hinges.
+    backend : {"auto", "clarabel", "osqp", "active-set"}, optional
+        ``"clarabel"`` (interior point on the primal QP), ``"osqp"`` (ADMM with
+        polishing), ``"active-set"`` (banded interior point and active set on the dual,
+        O(N) per iteration, falling back to Clarabel without a certified answer) or
+        ``"auto"`` (Clarabel up to ``AUTO_ELEMENTS`` elements, the active set above).
+    tol : float, optional
+        Solver tolerance (relative).
+    verify : bool, optional
+        Check the solution's figures against their thresholds.
+
+    Returns
+    -------
+    ImpactResult
+        ``r``, the post-impact field ``d``, the impulses and the hinges after the
+        impact.
+
+    Raises
+    ------
+    InputError
+        ``disc`` is no Discretization, or ``d0`` not ``disc``'s number of finite DOFs.
+    SolverError
+        The solve failed or a figure exceeded its threshold (``verify``).
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 12))
+    >>> lim = fembeam.limit_analysis(disc)
+    >>> imp = fembeam.impact(disc, -lim.u)
+    >>> print(f"r = {imp.r:.4f}", "arrested" if imp.arrested else "rocks on")
+    r = 0.6137 rocks on
+    """
     if not isinstance(disc, Discretization):
         raise InputError(f"impact needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
     d0 = np.asarray(d0, float)

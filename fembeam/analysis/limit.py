@@ -60,7 +60,47 @@ FRICTION_TOL = 1e-6  # friction_excess above which a result with friction fails 
 
 @dataclass
 class LimitResult:
-    """Outcome of the limit analysis (see the module docstring for ``status``)."""
+    """Outcome of :func:`limit_analysis`, with its certificate.
+
+    Forces are per unit g, in kg per metre of width (:func:`fembeam.units.kN` gives
+    kN/m); fibre forces and shears act at the joints, left to right.
+
+    Attributes
+    ----------
+    status : {"ok", "cannot_stand", "no_mechanism"}
+        ``"ok"``: admissible forces at ``A_L`` and a compatible mechanism with the same
+        load factor; ``"cannot_stand"``: no admissible state under gravity alone (the
+        mechanism ``u`` is one on which gravity does positive work);
+        ``"no_mechanism"``: no horizontal acceleration turns the member into a
+        mechanism.
+    disc : Discretization
+        The mesh analysed.
+    direction : {1, -1}
+        Direction of the inertia load (+1: along ``+x``).
+    A_L : float
+        Incipient rocking acceleration (g); NaN unless ``status == "ok"``.
+    u : ndarray or None
+        The mechanism's element velocities, normalised by its horizontal momentum.
+    N : ndarray or None
+        ``(2, J)`` fibre forces at the intrados and extrados (kg/m per g, >= 0 in
+        compression).
+    S : ndarray or None
+        ``(J,)`` shear forces (kg/m per g).
+    hinges : list of Hinge
+        The mechanism's hinges, left to right.
+    friction : float or None
+        Coulomb coefficient of the joints (None: no sliding).
+    slides : list of dict
+        Sliding joints of the mechanism (with ``friction`` only).
+    margin : float
+        ``max_x min_j N(x, 0) / (m g)``: > 0 when the member stands under gravity.
+    verification : dict
+        The checked figures of the certificate (duality gap, residuals).
+    solve_time : float
+        Time of the LP solves (s).
+    lp_rounds : int
+        Rounds of constraint generation.
+    """
 
     status: str
     disc: Discretization
@@ -92,13 +132,57 @@ class LimitResult:
 
 def limit_analysis(disc: Discretization, direction: int = 1, strict: bool = False,
                    verify: bool = True, friction: float | None = None, live=None) -> LimitResult:
-    """Static LP on the joints of ``disc`` for a horizontal acceleration along
-    ``direction`` (+1: +x); its certificate is checked (``verify``) and a failed check
-    raises :class:`SolverError`.  With ``strict`` a member that cannot stand raises
-    :class:`CannotStandError` instead of returning ``status == "cannot_stand"``.
-    ``friction``: Coulomb coefficient ``mu >= 0`` of every joint (None: no sliding).
-    ``live``: point loads (:class:`~fembeam.analysis.loads.PointLoads`): ``A_L`` is then their
-    load factor (the multiple at collapse, dead loads at their values; ``direction`` +1)."""
+    """Incipient rocking acceleration ``A_L`` and its mechanism, on the joints of a mesh.
+
+    Static (lower-bound) linear programme: the largest horizontal acceleration
+    ``direction * lambda g`` under which both fibre forces of every joint stay
+    compressive (the thrust line inside the section, no sliding); its duals give the
+    mechanism, whose kinematic load factor must equal the static one.
+
+    Parameters
+    ----------
+    disc : Discretization
+        The mesh (:func:`~fembeam.fem.rigid.discretize`).
+    direction : {1, -1}, optional
+        Direction of the inertia load: ``+1`` along ``+x`` (a ground acceleration
+        towards ``-x``).
+    strict : bool, optional
+        Raise :class:`~fembeam.errors.CannotStandError` instead of returning
+        ``status == "cannot_stand"``.
+    verify : bool, optional
+        Check the certificate (duality gap, residuals).
+    friction : float, optional
+        Coulomb coefficient ``mu >= 0`` of every joint (None, the default: no sliding);
+        with associative (dilatant) sliding, so ``A_L`` is an upper bound for joints
+        that slide without dilatancy.
+    live : PointLoads, optional
+        Live point loads (kN/m): ``A_L`` is then their load factor (the multiple at
+        collapse, the dead loads at their values; ``direction`` +1).
+
+    Returns
+    -------
+    LimitResult
+        ``status``, ``A_L`` (g), the mechanism ``u`` and its hinges, the joint forces.
+
+    Raises
+    ------
+    InputError
+        ``disc`` is no :class:`~fembeam.fem.rigid.Discretization`, or ``direction`` or
+        ``friction`` out of range.
+    CannotStandError
+        With ``strict``, when the member cannot stand under its own weight.
+    SolverError
+        A solve failed or the certificate failed its check (``verify``).
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 12))
+    >>> lim = fembeam.limit_analysis(disc)
+    >>> print(lim.status, f"A_L = {lim.A_L:.4f} g", len(lim.hinges), "hinges")
+    ok A_L = 0.3593 g 4 hinges
+    """
     if not isinstance(disc, Discretization):
         raise InputError(f"limit_analysis needs a Discretization (fembeam.discretize), got {type(disc).__name__}")
     direction = check_direction(direction)

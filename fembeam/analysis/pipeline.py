@@ -62,7 +62,62 @@ __all__ = ["AnalysisResult", "analyze", "DEFAULT_ELEMENTS", "MAX_ELEMENTS"]
 
 @dataclass
 class AnalysisResult:
-    """Everything ``fembeam analyze`` reports; :meth:`to_dict` is its JSON."""
+    """Everything :func:`analyze` (and ``fembeam analyze``) reports.
+
+    :meth:`to_dict` is its JSON. Forces, masses and energies are per metre of barrel
+    width.
+
+    Attributes
+    ----------
+    geometry : dict
+        The member's description (its ``describe()``: shape and dimensions in m).
+    mode : {"continuous", "voussoirs"}
+        A continuous arch of rigid elements or a discrete arch of voussoirs.
+    n : int
+        Pieces of the uniform mesh: elements or voussoirs (also :attr:`elements`).
+    direction : {1, -1}
+        Direction of the inertia load (+1: along ``+x``, a ground acceleration towards
+        ``-x``).
+    backend : str
+        Solver of the impact QP asked for.
+    outcome : {"rocking", "arrested", "sliding", "cannot_stand", "no_mechanism"}
+        What happens (:func:`analyze`).
+    limit : LimitResult or None
+        The limit analysis on the final mesh.
+    impact : ImpactResult or None
+        The impact of the mechanism (outcomes ``"rocking"`` and ``"arrested"``).
+    A_L_mesh : float
+        Load factor (g) of the limit analysis on the uniform mesh, hinges at its joints.
+    A_L : float
+        Incipient rocking acceleration (g); NaN without a mechanism.
+    A_L_lower : float
+        Continuous arch: the load factor (g) of an admissible thrust line, a lower bound
+        of ``A_L``.
+    thickness : MinimumThickness or None
+        The minimum thickness, when the arch cannot stand.
+    continuum : ContinuumLimit or None
+        The limit analysis of the continuum (continuous arch).
+    verification : dict
+        Every checked figure (residuals, duality gaps), by group.
+    timings : dict
+        Wall time of each step (s).
+    friction : float or None
+        Coulomb coefficient of the joints (None: no sliding).
+    friction_lower : tuple or None
+        With ``friction``: ``(status, A_L)`` of the frictionless analysis on the same
+        mesh, the safe lower bound.
+    loads : PointLoads or None
+        The live point loads (kN/m).
+    load : LoadFactor or None
+        Their load factor (:attr:`load_factor`).
+    thrust : ThrustRange or None
+        ``H_min, H_max`` (kN/m) under the dead loads.
+    mass : float
+        Mass of the arch, fill and point masses (kg/m).
+    r : float
+        Restitution coefficient ``K'/K`` of the impact (0 when arrested, NaN without
+        impact).
+    """
 
     geometry: dict
     mode: str                       # "continuous" or "voussoirs"
@@ -99,10 +154,12 @@ class AnalysisResult:
 
     @property
     def t_min_over_R(self) -> float | None:
+        """Minimum t/R of a circular arch that cannot stand (None otherwise)."""
         return None if self.thickness is None else self.thickness.t_over_R
 
     @property
     def r(self) -> float:
+        """Restitution coefficient ``K'/K`` (0 when arrested, NaN without an impact)."""
         if self.outcome == "rocking":
             return self.impact.r
         return 0.0 if self.outcome == "arrested" else float("nan")
@@ -153,6 +210,8 @@ class AnalysisResult:
 
     @property
     def hinges_after(self):
+        """Hinges of the post-impact mechanism (adjacent joints merged on a continuous
+        arch); none without an impact."""
         if self.impact is None:
             return []
         h = self.impact.hinges
@@ -247,15 +306,97 @@ def analyze(curve: MidCurve, elements: int | None = None, voussoirs: int | None 
             verify: bool = True, tmin_tol: float = 1e-6, friction: float | None = None, *,
             density: float | None = None, fill_density: float | None = None, fill_depth: float | None = None,
             loads=(), masses=(), thrust: bool = True) -> AnalysisResult:
-    """Limit analysis and impact of ``curve`` (see the module docstring); ``friction``:
-    Coulomb coefficient ``mu >= 0`` of the joints in the limit analysis (None: no sliding).
+    """Limit analysis and impact of a member, every result checked.
 
-    The arch as built (:mod:`fembeam.geometry.asbuilt`): ``density`` (kg/m^3, replaces the
-    member's), ``fill_density`` (kg/m^3) and ``fill_depth`` (m, road above the crown's
-    extrados), ``masses`` ``[(x, M)]`` (m from the left springing, kg/m); ``loads``
-    ``[(x, P)]`` (m, kN/m): live point loads whose load factor is reported
-    (:mod:`~fembeam.analysis.load_factor`).  ``thrust``: also the thrust range under the dead
-    loads (:mod:`~fembeam.analysis.thrust_range`)."""
+    On a uniform mesh of rigid elements (continuous arch) or voussoirs (discrete arch):
+    the limit analysis gives the incipient rocking acceleration ``A_L`` and its
+    mechanism; on a continuous arch the hinges are then located between the joints
+    (limit analysis of the continuum) and the mesh refined through them; the impact
+    of the mechanism's velocity field ``d0 = -u`` gives the restitution coefficient
+    ``r`` and the impulse line.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member, e.g. a :class:`~fembeam.geometry.circular.CircularArch` (lengths in
+        m, density in kg/m^3).
+    elements : int, optional
+        Rigid elements of the uniform mesh of a continuous arch (default
+        :data:`~fembeam.analysis.sizes.DEFAULT_ELEMENTS`). Not with ``voussoirs``.
+    voussoirs : int, optional
+        Voussoirs of a discrete arch (hinges at its joints only). Not with
+        ``elements``.
+    direction : {1, -1}, optional
+        Direction of the horizontal inertia load ``direction * A_L g``: ``+1`` along
+        ``+x`` (a ground acceleration towards ``-x``), ``-1`` the mirror.
+    backend : {"auto", "clarabel", "osqp", "active-set"}, optional
+        Solver of the impact QP (:func:`~fembeam.analysis.impact.impact`).
+    refine_hinges : bool, optional
+        Continuous arch: locate the hinges between the joints and refine the mesh
+        through them (default True); False keeps the uniform mesh.
+    verify : bool, optional
+        Check every certificate (duality gaps, residuals) against
+        :data:`~fembeam.analysis.verification.THRESHOLDS`.
+    tmin_tol : float, optional
+        Relative tolerance of the minimum thickness reported when the arch cannot
+        stand, in [1e-12, 0.1].
+    friction : float, optional
+        Coulomb coefficient ``mu >= 0`` of the joints in the limit analysis (None, the
+        default: the joints do not slide). Then ``A_L`` is an upper bound for joints
+        that slide without dilatancy; the lower one is in
+        :attr:`AnalysisResult.friction_bounds`.
+    density : float, optional
+        Density of the masonry in kg/m^3, replacing the member's.
+    fill_density : float, optional
+        Density of the fill above the arch in kg/m^3 (with ``fill_depth``).
+    fill_depth : float, optional
+        Depth of the fill (road) above the crown's extrados in m.
+    loads : sequence of (float, float), optional
+        Live point loads ``(x, P)``: ``x`` in m from the left springing, ``P`` in kN/m
+        (downwards); their load factor is reported (:attr:`AnalysisResult.load_factor`).
+        Not with ``friction``.
+    masses : sequence of (float, float), optional
+        Point masses ``(x, M)``: ``x`` in m from the left springing, ``M`` in kg/m.
+    thrust : bool, optional
+        Also the range of horizontal thrust ``H_min, H_max`` (kN/m) under the dead
+        loads (default True).
+
+    Returns
+    -------
+    AnalysisResult
+        ``outcome`` is ``"rocking"`` (``r > 0``), ``"arrested"`` (``r = 0``),
+        ``"sliding"`` (with ``friction``: the mechanism slides, no impact follows),
+        ``"cannot_stand"`` (no thrust line fits under gravity: the minimum thickness
+        is reported) or ``"no_mechanism"``; physical outcomes are reported, not raised.
+
+    Raises
+    ------
+    InputError
+        An input out of its range, ``elements`` with ``voussoirs``, or ``loads`` with
+        ``friction``.
+    SolverError
+        A solve failed or a certificate failed its check (``verify``).
+
+    See Also
+    --------
+    limit_analysis, impact, minimum_thickness
+
+    Examples
+    --------
+    The paper's arch (embrace 157.5 deg, t/R = 0.15) of 12 voussoirs:
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = fembeam.analyze(arch, voussoirs=12)
+    >>> print(res.outcome, f"A_L = {res.A_L:.4f} g, r = {res.r:.4f}")
+    rocking A_L = 0.3593 g, r = 0.6137
+    >>> for h in res.hinges_before:
+    ...     print(f"{h.angle_deg:6.1f} deg  {h.side}")
+       0.0 deg  intrados
+      52.5 deg  extrados
+     118.1 deg  intrados
+     157.5 deg  extrados
+    """
     if not isinstance(curve, MidCurve):
         raise InputError(f"analyze needs a member (e.g. fembeam.CircularArch), got {type(curve).__name__}")
     curve = build(curve, density, fill_density, fill_depth, masses)

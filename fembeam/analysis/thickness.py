@@ -45,9 +45,24 @@ MAX_DOUBLINGS_SCALE = 2.0 ** 40   # a member that does not stand 10^12 times thi
 
 @dataclass(frozen=True)
 class MinimumThickness:
-    """``scale``: smallest thickness factor that stands (``0`` if every factor down to the
-    shape's thinnest admitted section stands, ``inf`` if none up to its limit does); ``lower``: a factor that
-    does not stand (``scale - lower <= tol scale``); ``solves``: margin LPs used."""
+    """Outcome of :func:`minimum_thickness`.
+
+    Attributes
+    ----------
+    curve : MidCurve
+        The member whose thickness is scaled.
+    scale : float
+        Smallest thickness factor that stands (``0`` if every factor down to the shape's
+        thinnest admitted section stands, ``inf`` if none up to its limit does).
+    lower : float
+        A factor that does not stand (``scale - lower <= tol scale``).
+    solves : int
+        Margin LPs used.
+    continuum : bool
+        Every section checked (continuous member) or the joints only.
+    friction : float or None
+        Coulomb coefficient of the joints (None: no sliding).
+    """
 
     curve: MidCurve
     scale: float
@@ -135,10 +150,46 @@ def shrink_bracket(g, lo: float, glo: float, hi: float, ghi: float, tol: float,
 
 def minimum_thickness(curve: MidCurve, elements: int | None = None, voussoirs: int | None = None,
                       tol: float = 1e-6, friction: float | None = None) -> MinimumThickness:
-    """Smallest thickness factor at which ``curve`` stands under its own weight: the
-    continuous member meshed by ``elements`` (default 200) rigid elements, every section
-    checked, or the discrete arch of ``voussoirs``; ``tol`` relative, in [1e-12, 0.1];
-    ``friction``: Coulomb coefficient ``mu >= 0`` of the joints (None: no sliding)."""
+    """Smallest thickness factor at which a member stands under its own weight.
+
+    The member's thickness is scaled (every section alike) and the smallest factor with
+    an admissible thrust line under gravity is found by bisection on the standing
+    margin.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m).
+    elements : int, optional
+        Rigid elements of a continuous member (default 200), every section checked.
+        Not with ``voussoirs``.
+    voussoirs : int, optional
+        Voussoirs of a discrete arch (its joints checked only).
+    tol : float, optional
+        Relative tolerance of the factor, in [1e-12, 0.1].
+    friction : float, optional
+        Coulomb coefficient ``mu >= 0`` of the joints (None, the default: no sliding).
+
+    Returns
+    -------
+    MinimumThickness
+        ``scale`` (the factor; ``0`` if the member stands down to its thinnest admitted
+        section, ``inf`` if it never stands), ``lower`` (a factor that does not stand)
+        and, for a circular arch, ``t_over_R``.
+
+    Raises
+    ------
+    InputError
+        ``elements`` with ``voussoirs``, or a count or ``tol`` out of range.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> mt = fembeam.minimum_thickness(arch)
+    >>> print(mt.outcome, f"scale = {mt.scale:.4f}, t_min/R = {mt.t_over_R:.4f}")
+    ok scale = 0.4310, t_min/R = 0.0647
+    """
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
     if voussoirs is not None:

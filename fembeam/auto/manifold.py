@@ -65,8 +65,25 @@ def _pieces(mech: Mechanism, bodies: Bodies) -> np.ndarray:
 
 
 def bodies_state(eq: EquationOfMotion, theta: float, rate: float, bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
-    """Positions and velocities ``(n + 1, 3)`` of ``bodies`` (last row: the ground) on the mechanism
-    of ``eq`` at ``theta`` (rad) moving at ``rate`` (rad/s)."""
+    """The multi-block state of a mechanism's motion.
+
+    Parameters
+    ----------
+    eq : EquationOfMotion
+        The mechanism's equation of motion.
+    theta : float
+        Rotation of its first moving piece (rad).
+    rate : float
+        Its angular velocity (rad/s).
+    bodies : Bodies
+        The simulation's bodies.
+
+    Returns
+    -------
+    q, v : ndarray
+        Positions ``(x, y, angle)`` (m, m, rad) and velocities (m/s, m/s, rad/s) of the
+        bodies, ``(n + 1, 3)`` (last row: the ground).
+    """
     mech = eq.mechanism
     piece = _pieces(mech, bodies)
     moving = np.flatnonzero(mech.moving)
@@ -110,13 +127,34 @@ def bodies_state(eq: EquationOfMotion, theta: float, rate: float, bodies: Bodies
 
 def mechanism_of(bodies: Bodies, contacts: Contacts, q: np.ndarray, v: np.ndarray, *, g: float,
                  position_tol: float = 1e-5, velocity_tol: float = 1e-2):
-    """The mechanism the multi-block state ``q``, ``v`` ``(n + 1, 3)`` moves on:
-    ``(mechanism, theta, rate, dropped)`` with ``dropped`` the kinetic energy (J/m)
-    the projection on the mechanism's field leaves out; None when the state is not on a
-    mechanism of the member: hinges not as many as the member's mechanisms have, a joint separated
-    or slid (by ``position_tol`` of its thickness), the positions rebuilt from ``theta`` off by more
-    than ``position_tol`` of the thickness, or the velocities off the mechanism's field by more
-    than ``velocity_tol`` in the kinetic-energy norm (relative)."""
+    """The mechanism a multi-block state moves on, if any.
+
+    Parameters
+    ----------
+    bodies : Bodies
+        The simulation's bodies.
+    contacts : Contacts
+        Their contacts.
+    q, v : ndarray
+        Positions (m, m, rad) and velocities (m/s, m/s, rad/s), ``(n + 1, 3)``.
+    g : float
+        Acceleration of gravity (m/s^2).
+    position_tol : float, optional
+        Tolerance on the positions, relative to the thickness.
+    velocity_tol : float, optional
+        Tolerance on the velocities, relative, in the kinetic-energy norm.
+
+    Returns
+    -------
+    tuple or None
+        ``(mechanism, theta, rate, dropped)``: the mechanism, its rotation (rad) and
+        rate (rad/s), and ``dropped`` the kinetic energy (J/m) the projection on the
+        mechanism's field leaves out. None when the state is not on a mechanism of the
+        member: hinges not as many as the member's mechanisms have, a joint separated
+        or slid (by ``position_tol`` of its thickness), the positions rebuilt from
+        ``theta`` off by more than ``position_tol`` of the thickness, or the velocities
+        off the mechanism's field by more than ``velocity_tol``.
+    """
     curve = bodies.curve
     geo = contacts.evaluate(q)
     t = bodies.thickness

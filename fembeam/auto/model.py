@@ -68,9 +68,23 @@ REASONS = {
 
 @dataclass
 class Segment:
-    """One model over ``[t_start, t_end]`` (s): ``model`` ``"rock"`` or ``"simulate"``; ``end``:
-    why it ended (a key of :data:`REASONS`); ``peak_rotation`` (rad) over it; ``impacts``;
-    ``dropped``: kinetic energy (J/m) dropped by the hand-back that started it."""
+    """One segment of an :class:`AutoResult`: one model over an interval of time.
+
+    Attributes
+    ----------
+    model : {"rock", "simulate"}
+        The one-mechanism model or the multi-block simulation.
+    t_start, t_end : float
+        Its interval (s).
+    end : str
+        Why it ended (a key of :data:`REASONS`).
+    peak_rotation : float
+        Largest rotation of any piece or body over it (rad), at ``t_peak`` (s).
+    impacts : int
+        Impacts in it.
+    dropped : float
+        Kinetic energy (J/m) dropped by the hand-back that started it.
+    """
 
     model: str
     t_start: float
@@ -89,11 +103,45 @@ class Segment:
 
 @dataclass
 class AutoResult:
-    """The verdict of :meth:`AutoModel.run`: ``outcome`` (:data:`fembeam.dynamics.OUTCOMES`),
-    ``t_overturn``, the largest rotation of any piece or body ``peak_rotation`` (rad) and its time,
-    the ``segments``, the first time the one-mechanism model failed (``first_failure``: ``(t,
-    reason)`` or None) and the ``history`` (``t``, ``model`` (0 rock, 1 simulate), ``K``, ``V``
-    (J/m), ``a_g`` (g), ``max_rotation`` (rad))."""
+    """The verdict of :meth:`AutoModel.run`.
+
+    Attributes
+    ----------
+    curve : MidCurve
+        The member.
+    ground : GroundMotion
+        The ground motion.
+    A_L : dict
+        Onset thresholds ``{+1: A, -1: A}`` (g).
+    mode : {"continuous", "voussoirs"}
+        The one-mechanism model's member.
+    n : int
+        Its voussoirs or elements.
+    friction : float or None
+        Coulomb coefficient of the joints (None: they never slide).
+    dt : float
+        Step of the simulation (s).
+    outcome : str
+        ``"rest"``, ``"rocking"`` or ``"overturned"``
+        (:data:`fembeam.dynamics.OUTCOMES`).
+    t_end : float
+        End of the run (s).
+    t_overturn : float or None
+        Time of overturning (s), with ``overturn_reason``.
+    peak_rotation : float
+        Largest rotation of any piece or body (rad), at ``t_peak`` (s).
+    segments : list of Segment
+        The segments, in time order.
+    first_failure : tuple or None
+        ``(t, reason)``: the first time (s) the one-mechanism model was not admissible.
+    impacts : list of tuple
+        ``(t, model)`` of every impact.
+    friction_ratio : tuple
+        ``(largest |S|/N or |P_t|/P_n, t, s, at)`` over the run.
+    history : dict
+        Columns ``t`` (s), ``model`` (0 rock, 1 simulate), ``K``, ``V`` (J/m), ``a_g``
+        (g), ``max_rotation`` (rad).
+    """
 
     curve: MidCurve
     ground: GroundMotion
@@ -119,6 +167,7 @@ class AutoResult:
 
     @property
     def handovers(self) -> int:
+        """Hand-overs between the models (segments less one)."""
         return max(len(self.segments) - 1, 0)
 
     def to_dict(self, history: bool = False) -> dict:
@@ -162,11 +211,62 @@ class AutoResult:
 
 
 class AutoModel:
-    """``curve`` as ``fembeam rock`` (``voussoirs``, or a continuous member with ``elements`` for the
-    limit analysis) and ``fembeam simulate`` (the same voussoirs; a continuous member cut into
-    ``sim_elements`` equal bodies plus a cut at each hinge of the mechanism handed over), with the
-    Coulomb coefficient ``friction`` (None: joints never slide) and the simulation's step ``dt`` (s).
-    Set up once, run under any number of ground motions."""
+    """The one-mechanism model while it holds, the multi-block simulation when it does not.
+
+    The member rocks on one mechanism (:class:`~fembeam.dynamics.Rocker`) while the
+    mechanism is admissible (the dynamic thrust line inside every section; with
+    ``friction``, the friction demand within it); at the first violation its state is
+    handed over to the multi-block simulation (:class:`~fembeam.simulation.Simulator`),
+    and handed back when the member comes to rest or moves on a mechanism again. Set up
+    once, run under any number of ground motions.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs, in both models.
+    elements : int, optional
+        Otherwise the continuous member, with this many rigid elements for the limit
+        analysis (default 200).
+    sim_elements : int, optional
+        The continuous member in the simulation: this many equal bodies (2 to 2000) plus
+        a cut at each hinge of the mechanism handed over.
+    friction : float, optional
+        Coulomb coefficient of the joints (None, the default: they never slide).
+    dt : float, optional
+        Step of the simulation (s).
+    backend : str, optional
+        Solver of the impact QP.
+    qp : bool, optional
+        Also report the general impact QP's ``r_qp`` at each impact.
+    g : float, optional
+        Acceleration of gravity (m/s^2).
+
+    Raises
+    ------
+    InputError
+        An input out of range.
+
+    Notes
+    -----
+    The simulation's kernel is compiled by numba on its first use in a process (about
+    two minutes of CPU without numba's cache, ``NUMBA_CACHE_DIR``).
+
+    Examples
+    --------
+    A pulse below the onset threshold leaves the arch at rest, in the one-mechanism
+    model throughout:
+
+    >>> import fembeam
+    >>> from fembeam.auto import AutoModel
+    >>> from fembeam.dynamics import GroundMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> model = AutoModel(arch, voussoirs=12)
+    >>> res = model.run(GroundMotion.sine(0.3, 0.5))
+    >>> print(f"A_L = {model.A[1]:.4f} g:", res.outcome, [s.model for s in res.segments])
+    A_L = 0.3593 g: rest ['rock']
+    """
 
     def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int = 200,
                  sim_elements: int = SIM_ELEMENTS, friction: float | None = None, dt: float = DT,
@@ -226,9 +326,32 @@ class AutoModel:
 
     def run(self, ground: GroundMotion, *, t_end: float | None = None, dt_out: float | None = None,
             progress=None, history: bool = True) -> AutoResult:
-        """The verdict under ``ground`` to ``t_end`` (s; default the end of the ground motion plus
-        ``20 sqrt(L/g)``), history sampled every ``dt_out`` (s; default 1/4000 of the time; none
-        with ``history=False``); ``progress(t)`` after each episode and window."""
+        """The verdict under a ground motion.
+
+        Parameters
+        ----------
+        ground : GroundMotion
+            The ground acceleration ``a_g(t)`` (g, positive along ``+x``).
+        t_end : float, optional
+            End of the run (s), default the end of the ground motion plus
+            ``20 sqrt(L/g)`` (``L``: the member's length).
+        dt_out : float, optional
+            Sampling step of the history (s), default 1/4000 of the time.
+        progress : callable, optional
+            ``progress(t)`` is called after each episode and window (``t`` in s).
+        history : bool, optional
+            False: no history.
+
+        Returns
+        -------
+        AutoResult
+            The outcome, the segments of each model and the history.
+
+        Raises
+        ------
+        InputError
+            ``t_end`` or ``dt_out`` out of range.
+        """
         return _run(self, ground, t_end, dt_out, progress, history)
 
 

@@ -51,8 +51,26 @@ class _Piece:
 
 
 class EquationOfMotion:
-    """Coefficients of the equation of motion of ``mechanism`` (hinges and sides; its
-    rate is ignored).  ``sign``: the sense of ``theta`` that opens every hinge."""
+    """Lagrange's equation of motion of a mechanism at finite rotation.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The mechanism (hinges and sides; its rate is ignored).
+    g : float, optional
+        Acceleration of gravity (m/s^2).
+
+    Attributes
+    ----------
+    sign : {1, -1}
+        The sense of ``theta`` (rad, the rotation of the first moving piece) that opens
+        every hinge.
+
+    Raises
+    ------
+    SolverError
+        No sense of motion opens all the hinges.
+    """
 
     def __init__(self, mechanism: Mechanism, g: float = GRAVITY):
         self.mechanism = mechanism.with_alpha(1.0)

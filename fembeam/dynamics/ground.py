@@ -98,13 +98,46 @@ class Pulse:
 
 @dataclass(frozen=True)
 class GroundMotion:
-    """Samples ``t`` (s, strictly increasing) and ``a`` (g); ``name`` for reports.
+    """A ground acceleration ``a_g(t)``, linear between samples.
 
-    ``smooth``: the signal is smooth between its first and last samples (a pulse sampled
-    finely, or a rectangular pulse whose only jumps are at its ends), so an integrator may
-    step across samples; otherwise (records) every sample is a kink and steps stay within
-    one sample interval.  ``exact``: the formula of a pulse, evaluated by the integrator
-    instead of the samples (which then serve the onset scan and the plots)."""
+    Parameters
+    ----------
+    t : array_like
+        Times (s), strictly increasing.
+    a : array_like
+        Ground accelerations (g), positive along ``+x`` (the inertia load on the member
+        is ``-a_g``).
+    name : str, optional
+        Name for the reports.
+    smooth : bool, optional
+        The signal is smooth between its first and last samples (a pulse sampled
+        finely, or a rectangular pulse whose only jumps are at its ends), so an
+        integrator may step across samples; otherwise (records) every sample is a kink
+        and steps stay within one sample interval.
+    exact : Pulse, optional
+        The formula of a pulse, evaluated by the integrator instead of the samples
+        (which then serve the onset scan and the plots).
+
+    Raises
+    ------
+    InputError
+        Fewer than two samples, times not increasing, or a peak above ``MAX_PGA`` (g).
+
+    See Also
+    --------
+    GroundMotion.sine, GroundMotion.ricker, GroundMotion.rectangular,
+    GroundMotion.record
+
+    Examples
+    --------
+    >>> from fembeam.dynamics import GroundMotion
+    >>> pulse = GroundMotion.sine(0.4, 0.5)
+    >>> print(f"{pulse.duration:.2f} s, PGA {pulse.pga:.2f} g, a = {pulse(0.125):.4f} g")
+    0.50 s, PGA 0.40 g, a = 0.4000 g
+    >>> triangle = GroundMotion([0.0, 0.1, 0.2], [0.0, 0.3, 0.0], name="triangle")
+    >>> print(f"{triangle(0.05):.4f} g")
+    0.1500 g
+    """
 
     t: np.ndarray
     a: np.ndarray

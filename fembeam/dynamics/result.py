@@ -18,9 +18,27 @@ __all__ = ["ImpactEvent", "RockingResult", "Track"]
 
 @dataclass(frozen=True)
 class ImpactEvent:
-    """An impact at time ``t`` (s): incoming rate ``rate_in`` (rad/s) on mechanism ``before``
-    (index into :attr:`RockingResult.mechanisms`), outgoing ``rate_out`` on ``after`` (None:
-    arrested), ``r = K'/K`` of the impact model and ``r_qp`` of the general QP."""
+    """An impact of a rocking motion (:attr:`RockingResult.impacts`).
+
+    Attributes
+    ----------
+    t : float
+        Time of the impact (s).
+    before : int
+        Mechanism before it (index into :attr:`RockingResult.mechanisms`).
+    after : int or None
+        Mechanism after it (None: arrested).
+    rate_in : float
+        Incoming rate of ``before``'s free parameter (rad/s).
+    rate_out : float
+        Outgoing rate on ``after`` (rad/s).
+    r : float
+        ``K'/K`` of the impact model.
+    r_qp : float or None
+        ``K'/K`` of the general impact QP (None unless asked for).
+    at_rest : bool
+        The episode ended at rest (arrested, or an accumulation of impacts).
+    """
 
     t: float
     before: int
@@ -34,9 +52,51 @@ class ImpactEvent:
 
 @dataclass
 class RockingResult:
-    """Outcome and history of :func:`rock`.  ``history`` columns: ``t`` (s), ``mechanism``
-    (index, -1 at rest), ``theta`` (rad), ``rate`` (rad/s), ``K``, ``V`` (J/m),
-    ``a_g`` (g)."""
+    """Outcome and history of :func:`rock` (and :meth:`Rocker.run`).
+
+    Energies are per metre of barrel width (J/m); rotations in rad, positive
+    counter-clockwise.
+
+    Attributes
+    ----------
+    curve : MidCurve
+        The member.
+    ground : GroundMotion
+        The ground motion.
+    outcome : {"rest", "rocking", "overturned"}
+        At rest at the end, still rocking at ``t_end``, or overturned.
+    t_end : float
+        End of the run (s).
+    A_L : dict
+        ``{+1: A_L, -1: A_L}`` (g; ``inf``: no mechanism).
+    mechanisms : list of Mechanism
+        The mechanisms met (``history["mechanism"]`` indexes them).
+    impacts : list of ImpactEvent
+        The impacts, in time order.
+    onsets : list of (float, int)
+        ``(t, mechanism index)`` of each start from rest.
+    peak_rotation : float
+        Largest ``|rotation|`` of any piece (rad; mirror invariant), at ``t_peak`` (s).
+    peak_theta : float
+        Largest ``|theta|`` (rad, the rotation of the first moving piece), at
+        ``t_peak_theta`` (s).
+    t_overturn : float or None
+        Time of overturning (s), with ``overturn_reason`` (``"below_rest"`` or
+        ``"linkage_locked"``).
+    thrust_line_exits_at : float or None
+        First time the thrust line leaves a section (s).
+    energy_balance_error : float
+        Relative error of ``K + V = E_start + W_ground - impact losses``.
+    K_end, V_end : float
+        Kinetic and potential energy at the end (J/m).
+    ground_work, dissipated : float
+        Work of the ground on the member, and energy lost in the impacts (J/m).
+    history : dict
+        Columns ``t`` (s), ``mechanism`` (index, -1 at rest), ``theta`` (rad),
+        ``rate`` (rad/s), ``K``, ``V`` (J/m), ``a_g`` (g).
+    state_end : tuple or None
+        ``(mechanism, theta, rate)`` at the end (None at rest).
+    """
 
     curve: MidCurve
     ground: GroundMotion

@@ -77,13 +77,63 @@ def _check_inputs(curve, ground, t_end):
 
 
 class Rocker:
-    """A member's dynamics, set up once and run under any number of ground motions: the
-    limit analyses in both directions (onset thresholds ``A`` and mechanisms), the impact
-    model (transitions cached) and the equations of motion of the mechanisms met so far.
+    """A member's rocking dynamics, set up once and run under any number of ground motions.
 
-    ``voussoirs``: discrete arch (hinges at joints only); otherwise the continuous member with
-    ``elements`` rigid elements for the limit analysis and the general impact QP.  ``qp``:
-    report the general QP's ``r_qp`` at each impact.
+    The set-up holds the limit analyses in both directions (onset thresholds ``A`` and
+    mechanisms), the impact model (transitions cached) and the equations of motion of
+    the mechanisms met so far; :meth:`run` follows the member through a ground motion
+    (rest, onset, rocking, impacts, overturning).
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs (hinges at the joints only).
+    elements : int, optional
+        Otherwise the continuous member, with this many rigid elements for the limit
+        analysis and the general impact QP (default 200).
+    backend : str, optional
+        Solver of the impact QP (:func:`~fembeam.analysis.impact.impact`).
+    qp : bool, optional
+        Also report the general impact QP's ``r_qp`` at each impact (default True).
+    g : float, optional
+        Acceleration of gravity (m/s^2), default :data:`~fembeam.units.GRAVITY`.
+
+    Attributes
+    ----------
+    A : dict
+        Onset thresholds ``{+1: A, -1: A}`` (g) of the inertia load along ``+x`` and
+        ``-x`` (``inf``: no mechanism; NaN when the member cannot stand).
+    stands : bool
+        Whether the member stands under its own weight.
+    mass : float
+        Mass of the member (kg/m).
+    mechanisms : list of Mechanism
+        The mechanisms met so far (their index is the history's ``mechanism``).
+
+    Raises
+    ------
+    InputError
+        ``curve`` is no member, or a count out of range.
+
+    See Also
+    --------
+    rock : one run.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> rk = Rocker(arch, voussoirs=12)
+    >>> print(f"A_L = {rk.A[1]:.4f} g")
+    A_L = 0.3593 g
+    >>> for amplitude in (0.4, 0.8):
+    ...     res = rk.run(GroundMotion.sine(amplitude, 0.5))
+    ...     print(f"{amplitude} g:", res.outcome)
+    0.4 g: rest
+    0.8 g: overturned
     """
 
     def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int = 200,
@@ -153,27 +203,64 @@ class Rocker:
             friction: float | None = None, t_start: float | None = None,
             state: tuple | None = None, rest_limit: dict | None = None,
             stop_at_violation: bool = False) -> RockingResult:
-        """Time history under ``ground``.  ``t_end`` (s): default the end of the ground
-        motion plus ``20 sqrt(L/g)`` (L: the member's length); ``dt_out`` (s): history
-        sampling step (default ``(t_end - t_0) / 4000``); ``thrust_check``: find the first
-        time the thrust line leaves the section and the friction demand (:func:`thrust_scan`,
-        :func:`impact_friction`); ``progress(t)`` is called after each episode.
-        ``history=False``: only the rows at events and at the end.  ``settle``: at the end of
-        the ground motion, stop if the free motion is known to come to rest without
-        overturning (:meth:`settles`): outcome ``"rest"``, ``settled_at`` and ``t_end`` that time.
-        ``friction``: a Coulomb coefficient (> 0) for ``friction_demand``'s ``sliding_risk``
-        (it does not change the motion: the joints never slide in this model) and for
-        ``slides_at``, ``impact_slides_at`` (the first times the demand exceeds it).
-        ``t_start`` (s): start there (default: the start of the ground motion), at rest or in
-        ``state`` = ``(mechanism, theta, rate)`` (a :class:`~fembeam.mechanisms.Mechanism` of this
-        member, rad, rad/s); the result's ``state_end`` is that triple at the end (None at rest).
-        ``rest_limit``: ``{+1: A, -1: A}`` (g), the inertia loads the member carries at rest (e.g. by
-        friction, below ``A_L``): ``rest_slides_at`` is the first time the ground exceeds one at rest
-        (the motion itself is not changed).  ``stop_at_violation``: end the run at the first time the
-        mechanism is not admissible (the thrust line leaves a section; with ``friction``, a section's
-        or an impact's demand exceeds it; with ``rest_limit``, at rest above it): ``violation`` is
-        ``(t, reason)`` (``"thrust_line"``, ``"friction_motion"``, ``"friction_impact"``,
-        ``"friction_rest"``) and ``state_end`` the state there (an impact's: just before it)."""
+        """Time history of the member under a ground motion.
+
+        Parameters
+        ----------
+        ground : GroundMotion
+            The ground acceleration ``a_g(t)`` (g, positive along ``+x``; the inertia
+            load is ``-a_g``).
+        t_end : float, optional
+            End of the run (s); default the end of the ground motion plus
+            ``20 sqrt(L/g)`` (``L``: the member's length).
+        dt_out : float, optional
+            Sampling step of the history (s), default ``(t_end - t_0) / 4000``.
+        thrust_check : bool, optional
+            Find the first time the thrust line leaves a section, and the friction
+            demand (:func:`thrust_scan`, :func:`impact_friction`).
+        progress : callable, optional
+            ``progress(t)`` is called after each episode (``t`` in s).
+        history : bool, optional
+            False: only the rows at events and at the end.
+        settle : bool, optional
+            At the end of the ground motion, stop if the free motion is known to come
+            to rest without overturning (:meth:`settles`): outcome ``"rest"``,
+            ``settled_at`` and ``t_end`` that time.
+        friction : float, optional
+            A Coulomb coefficient (> 0) for the friction demand's ``sliding_risk``,
+            ``slides_at`` and ``impact_slides_at`` (the motion is not changed: the
+            joints never slide in this model).
+        t_start : float, optional
+            Start there (s), default the start of the ground motion.
+        state : tuple, optional
+            ``(mechanism, theta, rate)`` at ``t_start`` (a
+            :class:`~fembeam.mechanisms.Mechanism` of this member, rad, rad/s); default
+            at rest.
+        rest_limit : dict, optional
+            ``{+1: A, -1: A}`` (g), the inertia loads the member carries at rest (e.g.
+            by friction, below ``A_L``): ``rest_slides_at`` is the first time the ground
+            exceeds one at rest (the motion is not changed).
+        stop_at_violation : bool, optional
+            End the run at the first time the mechanism is not admissible (the thrust
+            line leaves a section; with ``friction``, a section's or an impact's demand
+            exceeds it; with ``rest_limit``, at rest above it): ``violation`` is then
+            ``(t, reason)`` (``"thrust_line"``, ``"friction_motion"``,
+            ``"friction_impact"``, ``"friction_rest"``) and ``state_end`` the state
+            there (an impact's: just before it).
+
+        Returns
+        -------
+        RockingResult
+            ``outcome`` (``"rest"``, ``"rocking"`` or ``"overturned"``), the impacts,
+            the peak rotation and the history; ``state_end`` is ``(mechanism, theta,
+            rate)`` at the end (None at rest).
+
+        Raises
+        ------
+        InputError
+            A ground motion or time out of range, ``friction`` without
+            ``thrust_check``, or ``stop_at_violation`` without it.
+        """
         return _run(self, ground, t_end, dt_out, thrust_check, progress, history, settle, friction, t_start, state,
                     rest_limit, stop_at_violation)
 
@@ -217,7 +304,56 @@ def rock(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None,
          t_end: float | None = None, dt_out: float | None = None, backend: str = "clarabel",
          qp: bool = True, thrust_check: bool = True, g: float = GRAVITY, progress=None,
          friction: float | None = None) -> RockingResult:
-    """Time history of ``curve`` under ``ground`` (see the module docstring, :class:`Rocker`)."""
+    """Time history of a member under a ground motion: rest, onset, rocking, impacts,
+    overturning.
+
+    The member stays at rest while the inertia load ``-a_g`` stays within the onset
+    thresholds ``A_L(+1)`` and ``A_L(-1)``; past one it rocks on that direction's
+    mechanism (Lagrange's equation at finite rotation, DOP853 at rtol 1e-10); each
+    return to ``theta = 0`` is an impact, whose mechanism after it and rate come from
+    the impact model; it overturns when its potential energy falls below
+    ``-0.1 m g t`` (the centroid a tenth of the mean thickness below its height at
+    rest) or its four-bar linkage locks. ``K + V = E_start + W_ground - impact
+    losses`` is checked along the motion (``energy_balance_error``).
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    ground : GroundMotion
+        The ground acceleration ``a_g(t)`` (g, positive along ``+x``).
+    voussoirs, elements, backend, qp, g
+        As for :class:`Rocker`.
+    t_end, dt_out, thrust_check, progress, friction
+        As for :meth:`Rocker.run`.
+
+    Returns
+    -------
+    RockingResult
+        The outcome (``"rest"``, ``"rocking"`` or ``"overturned"``), impacts, peaks,
+        energies (J/m) and the history.
+
+    Raises
+    ------
+    InputError
+        An input out of range.
+
+    See Also
+    --------
+    Rocker : set up once, run under many ground motions.
+
+    Examples
+    --------
+    A sine pulse of amplitude 0.4 g and period 0.5 s rocks the paper's arch of 12
+    voussoirs, which comes back to rest:
+
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = fembeam.dynamics.rock(arch, GroundMotion.sine(0.4, 0.5), voussoirs=12)
+    >>> print(res.outcome, f"peak rotation {res.peak_rotation:.4f} rad")
+    rest peak rotation 0.0025 rad
+    """
     return Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=qp, g=g).run(
         ground, t_end=t_end, dt_out=dt_out, thrust_check=thrust_check, progress=progress, friction=friction)
 

@@ -29,9 +29,24 @@ HINGE_GRID = 100_000  # continuous member: hinge positions after an impact on L 
 
 @dataclass(frozen=True)
 class Transition:
-    """Impact of ``before`` closing at unit rate: ``after`` (None: the member is arrested),
-    its ``r`` and ``alpha_ratio`` (post-impact rate of ``after`` per unit incoming rate,
-    with the sign that opens ``after``); ``r_qp`` and ``hinges_qp``: the general QP."""
+    """The impact of a mechanism closing at unit rate (:class:`ImpactModel`).
+
+    Attributes
+    ----------
+    before : Mechanism
+        The mechanism before the impact.
+    after : Mechanism or None
+        The mechanism after it (None: the member is arrested).
+    r : float
+        ``K'/K`` of the impact.
+    alpha_ratio : float
+        Post-impact rate of ``after`` per unit incoming rate, with the sign that opens
+        ``after``.
+    r_qp : float or None
+        ``K'/K`` of the general impact QP (None unless asked for).
+    hinges_qp : list of Hinge
+        The hinges of the general QP's post-impact field.
+    """
 
     before: Mechanism
     after: Mechanism | None
@@ -42,10 +57,23 @@ class Transition:
 
 
 class ImpactModel:
-    """Impact transitions of ``curve`` discretised as in ``fembeam analyze``:
-    ``voussoirs`` rigid voussoirs (hinges only at their joints), or a continuous member
-    (hinges anywhere; ``elements`` rigid elements for the general QP).  ``qp``: also
-    solve the general impact QP (``r_qp``)."""
+    """The impact transitions of a member: calling it with a mechanism gives its
+    :class:`Transition` (solved once per mechanism, then cached).
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member.
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs (hinges only at their joints).
+    elements : int, optional
+        Otherwise the continuous member (hinges anywhere), with this many rigid elements
+        for the general QP (default 200).
+    backend : str, optional
+        Solver of the general impact QP.
+    qp : bool, optional
+        Also solve the general impact QP (``r_qp``).
+    """
 
     def __init__(self, curve: MidCurve, voussoirs: int | None = None, elements: int = 200,
                  backend: str = "clarabel", qp: bool = True):

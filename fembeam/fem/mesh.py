@@ -40,8 +40,27 @@ def check_nodes(curve: MidCurve, nodes_s) -> np.ndarray:
 
 
 def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
-    """Arc-length coordinates of ``n_elements + 1`` equally spaced nodes.
+    """Arc lengths of ``n_elements + 1`` equally spaced nodes of a member.
 
+    Parameters
+    ----------
+    curve : MidCurve
+        The member.
+    n_elements : int
+        Number of elements, >= 1.
+
+    Returns
+    -------
+    ndarray
+        Arc lengths of the nodes (m), from 0 to ``curve.length``.
+
+    Raises
+    ------
+    InputError
+        ``n_elements`` not a positive integer.
+
+    Notes
+    -----
     A curve with fixed nodes (:attr:`MidCurve.fixed_nodes`: its kinks, the crown joint of a
     pointed arch) gets a node at each: each piece between them is meshed uniformly, the
     elements shared out in proportion to the lengths (largest remainders, ties to the
@@ -49,7 +68,15 @@ def uniform_nodes(curve: MidCurve, n_elements: int) -> np.ndarray:
     pieces).  Nodes that fall inside one of the curve's :attr:`MidCurve.solid_spans` (the
     crown wedges of a pointed arch, where a joint would cross the crown joint) are left
     out: their two elements are one, and the mesh has that many elements fewer.
-    Without either: ``numpy.linspace(0, length, n_elements + 1)``."""
+    Without either: ``numpy.linspace(0, length, n_elements + 1)``.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=180.0)
+    >>> print(fembeam.uniform_nodes(arch, 4).round(4))
+    [0.     0.7854 1.5708 2.3562 3.1416]
+    """
     _check_curve(curve)
     if isinstance(n_elements, bool) or not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
         raise InputError(f"the number of elements must be a positive integer, got {n_elements!r}")
@@ -78,12 +105,40 @@ def _share(n: int, lengths: np.ndarray) -> np.ndarray:
 
 
 def nodes_through(nodes_s: np.ndarray, points_s, keep=()) -> np.ndarray:
-    """Copy of ``nodes_s`` with a node on each of ``points_s``: the nearest node is moved
-    there when it is an interior node not yet used (the element count stays), else a node
-    is inserted.  Points within 1e-10 of the length of a node are already there.  Nodes at
-    the arc lengths ``keep`` (e.g. the curve's :attr:`~fembeam.geometry.MidCurve.fixed_nodes`)
-    are never moved; a point next to one of them but not on it (a kink's one-sided cut, one
-    ulp off) gets a node of its own."""
+    """Copy of a mesh with a node on each of the given points.
+
+    The nearest node is moved onto a point when it is an interior node not yet used (the
+    element count stays), else a node is inserted. Points within 1e-10 of the length of
+    a node are already there.
+
+    Parameters
+    ----------
+    nodes_s : array_like
+        Arc lengths of the nodes (m), strictly increasing.
+    points_s : float or array_like
+        Arc lengths (m) that must be nodes, e.g. the hinges of a mechanism.
+    keep : array_like, optional
+        Arc lengths of nodes never moved (e.g. the curve's
+        :attr:`~fembeam.geometry.MidCurve.fixed_nodes`); a point next to one of them but
+        not on it (a kink's one-sided cut, one ulp off) gets a node of its own.
+
+    Returns
+    -------
+    ndarray
+        The new nodes (m), strictly increasing.
+
+    Raises
+    ------
+    InputError
+        Nodes not strictly increasing, or a point outside the mesh.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import fembeam
+    >>> print(fembeam.nodes_through(np.linspace(0.0, 2.0, 5), [0.6]))
+    [0.  0.6 1.  1.5 2. ]
+    """
     out = np.array(nodes_s, float)
     if out.ndim != 1 or out.size < 2 or not np.all(np.isfinite(out)) or np.any(np.diff(out) <= 0):
         raise InputError("mesh nodes must be finite arc lengths, strictly increasing (at least 2 nodes)")

@@ -42,13 +42,45 @@ NDOF = 3  # (w, v, omega) per element
 
 @dataclass(frozen=True)
 class Discretization:
-    """Assembled operators of a rigid-element mesh of ``curve``.
+    """Assembled operators of a rigid-element mesh of a member (:func:`discretize`).
 
-    ``d`` (length ``3 n``) stores ``(w, v, omega)`` at each of the ``n`` DOF points
-    (here the element midpoints, whose frames are in ``frames``: arc length ``s``,
-    position ``P``, tangent ``t`` and normal ``n``).  ``B_open`` has ``2 J`` rows: the
-    intrados opening rates at the ``J`` constraint sections ``joint_s`` (the joints),
-    then the extrados ones; ``B_slide`` has ``J`` rows. ``M`` is the kinetic-energy matrix.
+    A velocity field ``d`` (length ``3 n``) stores ``(w, v, omega)`` at each of the
+    ``n`` DOF points (the element midpoints): velocities along the tangent and the
+    normal (m/s) and the angular velocity (rad/s, counter-clockwise).
+
+    Attributes
+    ----------
+    curve : MidCurve
+        The member.
+    mesh : skfem.MeshLine1
+        The mesh, nodes at the arc lengths :attr:`nodes_s` (m).
+    M : scipy.sparse.csr_matrix
+        Kinetic-energy (mass) matrix, ``K = 1/2 d^T M d`` (J/m for ``d`` in m/s and
+        rad/s; masses per metre of width).
+    B_open : scipy.sparse.csr_matrix
+        ``2 J`` rows: the opening rates (m/s) of the intrados fibre at the ``J`` joints,
+        then of the extrados fibre; a joint opens where its rate is > 0.
+    B_slide : scipy.sparse.csr_matrix
+        ``J`` rows: the sliding rates (m/s) at the joints.
+    joint_s : ndarray
+        Arc lengths of the joints (m), left to right.
+    frames : dict
+        Arc length ``s``, position ``P``, tangent ``t`` and normal ``n`` of the DOF
+        points.
+    element : {"rigid", "p1"}
+        Kind of element.
+    intorder : int
+        Gauss order of the mass form.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 6))
+    >>> print(disc.n_elements, "elements,", disc.n_joints, "joints, M", disc.M.shape)
+    6 elements, 7 joints, M (18, 18)
+    >>> print(disc.joint_angle_deg)
+    [  0.    26.25  52.5   78.75 105.   131.25 157.5 ]
     """
 
     curve: MidCurve
@@ -277,8 +309,35 @@ def _joint_nodes(curve: MidCurve, n_elements: int) -> tuple[list[int], np.ndarra
 
 def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None,
                like: Discretization | None = None) -> Discretization:
-    """Assemble ``M``, ``B_open`` and ``B_slide`` on the mesh with nodes ``nodes_s``.
+    """Rigid-element mesh of a member: the mass matrix and the joints' constraint rows.
 
+    Parameters
+    ----------
+    curve : MidCurve
+        The member.
+    nodes_s : array_like
+        Arc lengths of the nodes (m), strictly increasing from 0 to ``curve.length``
+        (e.g. :func:`~fembeam.fem.mesh.uniform_nodes`); every node is a joint.
+    intorder : int, optional
+        Gauss order of the mass form (default: from the turning of the elements, see
+        Notes).
+    like : Discretization, optional
+        A discretisation of the same curve on a mesh sharing most elements: only the
+        new elements and their joints are assembled (meshes of 1500 elements or more).
+
+    Returns
+    -------
+    Discretization
+        ``M``, ``B_open``, ``B_slide`` and the joints.
+
+    Raises
+    ------
+    InputError
+        Nodes not strictly increasing, not spanning the member, or inside one of its
+        :attr:`~fembeam.geometry.MidCurve.solid_spans`.
+
+    Notes
+    -----
     ``intorder`` is the Gauss order of the mass form; by default chosen from the largest
     turning ``kappa h`` of an element: 5 up to 0.005 rad, 7 up to 0.03 rad, 12 up to 2 rad
     (round-off accuracy for a single element spanning 120 degrees of a circle), 24 up to
@@ -294,6 +353,15 @@ def discretize(curve: MidCurve, nodes_s: np.ndarray, intorder: int | None = None
     elements not in it and the joints next to them are assembled, the rest is copied
     (meshes of 1500 elements or more; smaller ones are assembled in full, which is quicker).
     The operators are those of the full assembly (to round-off).
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 12))
+    >>> print(disc.n_elements, "elements:", disc.M.shape, "mass matrix,",
+    ...       disc.B_open.shape, "opening rows")
+    12 elements: (36, 36) mass matrix, (26, 36) opening rows
     """
     nodes_s = check_nodes(curve, nodes_s)
     if intorder is None:

@@ -40,8 +40,23 @@ DEFAULT_DENSITY = 2000.0
 
 
 class MidCurve:
-    """Base class: subclasses set ``length``, ``density``, ``ends`` and implement
-    ``position``, ``tangent``, ``curvature``, ``thickness_at`` (vectorised in ``s``)."""
+    """Base class of the members: a mid-curve with a thickness law.
+
+    Subclasses set ``length``, ``density`` and ``ends`` and implement
+    :meth:`position`, :meth:`tangent`, :meth:`curvature` and :meth:`thickness_at`,
+    vectorised in the arc length ``s`` (m, from the left springing). The tangent runs
+    from the left end to the right one; the normal ``n`` points towards the centre of
+    curvature, so the intrados is at ``y = +t/2``.
+
+    Attributes
+    ----------
+    length : float
+        Length of the mid-curve (m).
+    density : float
+        Density of the masonry (kg/m^3; masses are per metre of barrel width).
+    ends : tuple of str
+        What each end is: ``"joint"`` (on a rigid support) or ``"free"``.
+    """
 
     length: float
     density: float

@@ -15,12 +15,36 @@ MIN_WIDTH_OVER_HEIGHT = 5e-4    # thinnest block a minimum-thickness search chec
 
 @dataclass(frozen=True)
 class StraightMember(MidCurve):
-    """Vertical straight member of height ``height`` and width ``width`` standing on a
-    rigid base (bottom end a joint, top end free): Housner's rocking block.
+    """Vertical straight member standing on a rigid base: Housner's rocking block.
 
-    The mid-curve runs upwards from the base, so ``t = (0, 1)``, ``n = (1, 0)``:
-    the "intrados" fibre is on the right face, the "extrados" on the left face.  ``density``
-    in kg/m^3 per metre of width out of the plane (default masonry, 2000).
+    The bottom end is a joint, the top end free. The mid-curve runs upwards from the
+    base, so ``t = (0, 1)``, ``n = (1, 0)``: the "intrados" fibre is on the right face,
+    the "extrados" on the left face.
+
+    Parameters
+    ----------
+    height : float, optional
+        Height (m).
+    width : float, optional
+        Width of the base, in the plane (m).
+    density : float, optional
+        Density (kg/m^3; masses are per metre of width out of the plane), default
+        :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (2000).
+
+    Raises
+    ------
+    InputError
+        A value out of its range.
+
+    Examples
+    --------
+    A block 2 m high and 0.4 m wide starts to rock at ``A_L = width / height``:
+
+    >>> import fembeam
+    >>> block = fembeam.StraightMember(height=2.0, width=0.4)
+    >>> lim = fembeam.limit_analysis(fembeam.discretize(block, [0.0, 2.0]))
+    >>> print(lim.status, f"A_L = {lim.A_L:.4f} g")
+    ok A_L = 0.2000 g
     """
 
     height: float = 1.0

@@ -29,10 +29,40 @@ def catenary_parameter(span: float, rise: float) -> float:
 
 @dataclass(frozen=True)
 class CatenaryArch(GraphArch):
-    """Catenary ``y = H - c (cosh(x/c) - 1)``, ``x`` in ``[-L/2, L/2]`` (``L = span``,
-    ``H = rise``, m), ``c`` from :func:`catenary_parameter`; parametrised by ``x``
-    (arc length numerically; closed form ``2 c sinh(L/(2c))``).  Thickness and density
-    as :class:`~fembeam.geometry.arch.SymmetricArch`."""
+    """Catenary arch: ``y = H - c (cosh(x/c) - 1)``, ``x`` in ``[-L/2, L/2]``.
+
+    ``L = span``, ``H = rise`` (m), ``c`` (m) from :func:`catenary_parameter`;
+    parametrised by ``x`` (arc length numerically; closed form ``2 c sinh(L/(2c))``).
+
+    Parameters
+    ----------
+    span : float
+        Distance between the springings (m), in
+        :data:`~fembeam.geometry.base.LENGTH_RANGE`.
+    rise : float
+        Height of the crown's mid-curve above the springings (m).
+    thickness : float, optional
+        Constant thickness (m). Or, instead:
+    thickness_springing, thickness_crown : float, optional
+        Thickness at the springings and at the crown (m), linear in the arc length in
+        between.
+    density : float, optional
+        Density of the masonry (kg/m^3; masses are per metre of barrel width), default
+        :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (2000).
+
+    Raises
+    ------
+    InputError
+        A value out of its range, or a thickness law given twice or not at all.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CatenaryArch(span=4.0, rise=2.0, thickness=0.3)
+    >>> res = fembeam.analyze(arch, voussoirs=10)
+    >>> print(f"L = {arch.length:.4f} m", res.outcome, f"A_L = {res.A_L:.4f} g")
+    L = 5.9833 m rocking A_L = 0.3272 g
+    """
 
     shape = "catenary"
 

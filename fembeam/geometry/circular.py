@@ -18,15 +18,48 @@ MIN_T_OVER_R = 1e-3
 
 @dataclass(frozen=True)
 class CircularArch(MidCurve):
-    """Circular arch symmetric about the vertical axis, centre at the origin.
+    """Circular arch of constant thickness, symmetric about the vertical axis.
+
+    The centre of the mid-curve is at the origin; the arc length ``s`` runs from the
+    left springing, and angles are reported in degrees from it (0 to ``embrace_deg``).
 
     Parameters
     ----------
-    radius : mid-curve radius R (m), in :data:`~fembeam.geometry.base.LENGTH_RANGE`.
-    thickness : t (m), 1e-3 R <= t < 2R.
-    embrace_deg : total embrace angle beta (deg), 0 < beta < 360 (180 = semicircle).
-    density : rho (kg/m^3, per metre of barrel width), in :data:`~fembeam.geometry.base.DENSITY_RANGE`;
-        default :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (masonry, 2000; typical 1800-2400).
+    radius : float, optional
+        Radius ``R`` of the mid-curve (m), in
+        :data:`~fembeam.geometry.base.LENGTH_RANGE`.
+    thickness : float, optional
+        Thickness ``t`` (m), ``1e-3 R <= t < 2 R``.
+    embrace_deg : float, optional
+        Total embrace angle ``beta`` (deg), ``0 < beta < 360`` (180: a semicircle).
+    density : float, optional
+        Density ``rho`` of the masonry (kg/m^3; masses are per metre of barrel width),
+        in :data:`~fembeam.geometry.base.DENSITY_RANGE`; default
+        :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (2000; typical 1800-2400).
+
+    Raises
+    ------
+    InputError
+        A value out of its range.
+
+    See Also
+    --------
+    fembeam.analyze
+
+    Examples
+    --------
+    A semicircular arch of radius 2 m and thickness 0.3 m:
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=2.0, thickness=0.3, embrace_deg=180.0)
+    >>> mass = arch.segment_inertia(0.0, arch.length)[0][0]
+    >>> print(f"L = {arch.length:.4f} m, t/R = {arch.t_over_r:.2f}, {mass:.1f} kg/m")
+    L = 6.2832 m, t/R = 0.15, 3769.9 kg/m
+
+    The same shape from its ratio ``t/R``:
+
+    >>> fembeam.CircularArch.from_ratio(180.0, 0.15, radius=2.0) == arch
+    True
     """
 
     radius: float = 1.0
@@ -49,6 +82,8 @@ class CircularArch(MidCurve):
 
     @classmethod
     def from_ratio(cls, embrace_deg: float, t_over_r: float, radius: float = 1.0, density: float = DEFAULT_DENSITY):
+        """The arch of embrace ``embrace_deg`` (deg) and ratio ``t_over_r`` (``t/R``), of
+        radius ``radius`` (m) and density ``density`` (kg/m^3)."""
         t_over_r = _finite_positive("t/R", t_over_r, "in (0, 2)")
         radius = length_value("radius", radius)
         return cls(radius=radius, thickness=t_over_r * radius, embrace_deg=embrace_deg, density=density)

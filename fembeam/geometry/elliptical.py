@@ -14,12 +14,41 @@ __all__ = ["EllipticalArch"]
 
 @dataclass(frozen=True)
 class EllipticalArch(ParametricCurve, SymmetricArch):
-    """Half-ellipse ``(x / a)^2 + (y / b)^2 = 1``, ``y >= 0``, with ``a = span/2`` and
-    ``b = rise`` (m), parametrised by the eccentric angle ``u`` in ``[0, pi]``:
-    ``r(u) = (-a cos u, b sin u)`` (vertical tangents at the springings).  The arc length
-    is the incomplete elliptic integral of the second kind, computed numerically
-    (:mod:`~fembeam.geometry.parametric`).  Thickness and density as
-    :class:`~fembeam.geometry.arch.SymmetricArch`."""
+    """Elliptical arch: the half-ellipse ``(x / a)^2 + (y / b)^2 = 1``, ``y >= 0``.
+
+    ``a = span/2`` and ``b = rise`` (m), parametrised by the eccentric angle ``u`` in
+    ``[0, pi]``: ``r(u) = (-a cos u, b sin u)`` (vertical tangents at the springings).
+    The arc length is the incomplete elliptic integral of the second kind, computed
+    numerically (:mod:`~fembeam.geometry.parametric`).
+
+    Parameters
+    ----------
+    span : float
+        Distance between the springings (m), in
+        :data:`~fembeam.geometry.base.LENGTH_RANGE`.
+    rise : float
+        Height of the crown's mid-curve above the springings (m).
+    thickness : float, optional
+        Constant thickness (m). Or, instead:
+    thickness_springing, thickness_crown : float, optional
+        Thickness at the springings and at the crown (m), linear in the arc length in
+        between.
+    density : float, optional
+        Density of the masonry (kg/m^3; masses are per metre of barrel width), default
+        :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (2000).
+
+    Raises
+    ------
+    InputError
+        A value out of its range, or a thickness law given twice or not at all.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.EllipticalArch(span=4.0, rise=1.5, thickness=0.3)
+    >>> print(f"L = {arch.length:.4f} m")
+    L = 5.5259 m
+    """
 
     shape = "elliptical"
 

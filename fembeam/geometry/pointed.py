@@ -16,7 +16,32 @@ WEDGE_ORDER = 12   # Gauss points at least on a piece of a crown wedge
 
 @dataclass(frozen=True)
 class PointedArch(SymmetricArch):
-    """Two circular arcs of radius ``Rp = H^2/L + L/4`` (m) centred at ``(e, 0)`` (left
+    """Pointed arch: two circular arcs meeting at the crown joint.
+
+    Parameters
+    ----------
+    span : float
+        Distance between the springings (m), in
+        :data:`~fembeam.geometry.base.LENGTH_RANGE`.
+    rise : float
+        Height of the crown ``(0, H)`` above the springings (m), ``H >= span/2``.
+    thickness : float, optional
+        Constant thickness (m). Or, instead:
+    thickness_springing, thickness_crown : float, optional
+        Thickness at the springings and at the crown (m), linear in the arc length in
+        between.
+    density : float, optional
+        Density of the masonry (kg/m^3; masses are per metre of barrel width), default
+        :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (2000).
+
+    Raises
+    ------
+    InputError
+        A value out of its range, or a thickness law given twice or not at all.
+
+    Notes
+    -----
+    The arcs, of radius ``Rp = H^2/L + L/4`` (m), are centred at ``(e, 0)`` (left
     arc) and ``(-e, 0)`` (right arc), ``e = H^2/L - L/4``, springing with vertical
     tangents at ``(-+L/2, 0)`` and meeting at the crown ``(0, H)`` (``L = span``,
     ``H = rise >= L/2``).  ``H = L/2`` is the semicircle (``e = 0``, no crown joint);
@@ -54,8 +79,14 @@ class PointedArch(SymmetricArch):
     Reporting coordinate: the turning of the tangent, ``s/Rp`` in degrees on the left arc
     (``180 - phi_i`` at ``s_i``, ``phi_i`` the polar angle of ``I`` about the left
     centre), 90 at the crown joint, symmetric on the right; inside the wedges it is the
-    fan's (no section is reported there).  Thickness and density as
-    :class:`~fembeam.geometry.arch.SymmetricArch`.
+    fan's (no section is reported there).
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.PointedArch(span=4.0, rise=3.0, thickness=0.4)
+    >>> print(f"L = {arch.length:.4f} m")
+    L = 7.6440 m
     """
 
     shape = "pointed"

@@ -127,10 +127,47 @@ def _segments_cross(P: np.ndarray) -> bool:
 
 @dataclass(frozen=True)
 class SurveyedArch(ParametricCurve, ShapedArch):
-    """Arch through the points ``(x, y)`` (m, springing to springing), thickness from
-    ``t`` (m, one per point) or from ``thickness`` / ``thickness_springing`` and
-    ``thickness_crown`` (see the module docstring); ``density`` in kg/m^3 per metre of barrel width (default 2000).
-    Arrays are stored as tuples (the member is hashable and comparable)."""
+    """Surveyed arch: a smooth spline through measured points of its mid-curve.
+
+    ``x``, ``y`` (and ``t``) are interpolated as functions of the cumulative chord length
+    of the points (quintic spline from ``QUINTIC_FROM`` points on, cubic below); the
+    springings are the first and last points, at whatever height they are; points given
+    from right to left are reversed. Arrays are stored as tuples (the member is hashable
+    and comparable).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Points of the mid-curve (m), springing to springing: 4 to 5000 of them, finite,
+        consecutive points distinct, the polyline without self-intersection.
+    t : array_like, optional
+        Thickness at each point (m), interpolated by the same spline. Or, instead:
+    thickness : float, optional
+        Constant thickness (m). Or:
+    thickness_springing, thickness_crown : float, optional
+        Thickness at the springings and at the crown (m, the highest point of the
+        mid-curve), linear in the arc length in between.
+    density : float, optional
+        Density of the masonry (kg/m^3; masses are per metre of barrel width), default
+        :data:`~fembeam.geometry.base.DEFAULT_DENSITY` (2000).
+
+    Raises
+    ------
+    InputError
+        Points or thickness out of range, a spline with loops or reversals, or a
+        thickness given twice or not at all.
+
+    Examples
+    --------
+    Nine points of a parabola of span 4 m and rise 1 m:
+
+    >>> import numpy as np
+    >>> import fembeam
+    >>> x = np.linspace(-2.0, 2.0, 9)
+    >>> arch = fembeam.SurveyedArch(x=x, y=1.0 - (x / 2.0) ** 2, thickness=0.3)
+    >>> print(f"L = {arch.length:.4f} m")
+    L = 4.5911 m
+    """
 
     x: tuple = ()
     y: tuple = ()

@@ -112,9 +112,32 @@ def opening_signs(sides: Iterable[str]) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Hinge:
-    """A hinge at arc length ``s`` (m), reported at ``angle_deg`` (from the left
-    springing), pivoting on ``side``; ``rotation`` is the relative angular velocity
-    (rad/s, right minus left element) across it; ``joints`` the joint indices."""
+    """A hinge of a mechanism: an open joint pivoting on one edge.
+
+    Attributes
+    ----------
+    s : float
+        Arc length of the hinge (m, from the left springing).
+    angle_deg : float
+        Its reporting angle (deg, from the left springing; on a circular arch the angle
+        subtended from the left springing).
+    side : {"intrados", "extrados"}
+        The edge it pivots on.
+    rotation : float
+        Relative angular velocity across it (rad/s, right minus left element).
+    joints : tuple of int
+        Indices of the joints of the mesh it stands for.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 6))
+    >>> lim = fembeam.limit_analysis(disc)
+    >>> h = lim.hinges[1]
+    >>> print(f"{h.s:.4f} m, {h.angle_deg:.2f} deg", h.side, h.joints)
+    0.9163 m, 52.50 deg extrados (2,)
+    """
 
     s: float
     angle_deg: float

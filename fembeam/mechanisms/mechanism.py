@@ -53,12 +53,40 @@ def _angle(a: np.ndarray, b: np.ndarray) -> float:
 
 @dataclass(frozen=True)
 class Mechanism:
-    """Rigid pieces of ``curve`` between hinges at ``s`` (m) pivoting on ``sides``,
-    moving with free-parameter rate ``alpha`` (rad/s, ``Omega`` of the first moving piece).
+    """A one-degree-of-freedom mechanism: rigid pieces of a member between hinges.
 
     Four hinges when both ends of ``curve`` are joints, one hinge when one end is free.
     A hinge past an end of the member by at most :data:`END_TOL` of its length (round-off:
     the end's arc length computed along the other direction) is put at that end.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member.
+    s : sequence of float
+        Arc lengths of the hinges (m, from the left springing), increasing.
+    sides : sequence of {"intrados", "extrados"}
+        The edge each hinge pivots on.
+    alpha : float, optional
+        Rate of the free parameter (rad/s): the angular velocity ``Omega`` of the first
+        moving piece (counter-clockwise > 0).
+
+    Raises
+    ------
+    InputError
+        The wrong number of hinges, an unknown side, or hinges off the member or out of
+        order.
+
+    Examples
+    --------
+    The paper's four-hinge mechanism, hinges at angles from the left springing:
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> sides = ["intrados", "extrados", "intrados", "extrados"]
+    >>> mech = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
+    >>> print(mech.n_hinges, [f"{s:.4f}" for s in mech.s])
+    4 ['0.0000', '0.9163', '2.0617', '2.7489']
     """
 
     curve: MidCurve

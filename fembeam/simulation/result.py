@@ -19,7 +19,10 @@ HISTORY_COLUMNS = ("t", "K", "V", "W_ground", "dissipated", "a_g", "hinges", "se
 
 @dataclass
 class SimulationResult:
-    """``outcome`` (:data:`fembeam.dynamics.outcomes.OUTCOMES`): ``"rest"`` (at rest at ``t_end``),
+    """Outcome and history of :meth:`Simulator.run`.
+
+    Energies are per metre of barrel width (J/m). ``outcome``
+    (:data:`fembeam.dynamics.outcomes.OUTCOMES`): ``"rest"`` (at rest at ``t_end``),
     ``"survived"`` (still moving at ``t_end``), ``"overturned"`` (the centroid of the member fell
     ``OVERTURN_DROP`` of its mean thickness below its height at rest, at ``t_overturn``: past the
     unstable equilibrium of whatever mechanism it moved on, the joints opening more than they
@@ -34,7 +37,38 @@ class SimulationResult:
     (:data:`HISTORY_COLUMNS`): ``t`` (s), ``K``, ``V``, ``W_ground``, ``dissipated``
     (J/m), ``a_g`` (g), ``hinges`` (joints with exactly one corner open), ``separated`` (joints with
     both corners open), ``max_rotation`` (rad); ``positions`` the ``(n, 3)`` states ``x, y, phi`` at
-    the same times."""
+    the same times.
+
+    Attributes
+    ----------
+    outcome : {"rest", "survived", "overturned", "collapsed_by_sliding", "cannot_stand"}
+        What happened, as above.
+    t_end : float
+        End of the run (s).
+    t_overturn : float or None
+        Time of overturning or collapse by sliding (s).
+    peak_rotation : float
+        Largest ``|phi|`` of any body (rad), at ``t_peak`` (s).
+    max_hinges : int
+        Most joints open at once.
+    energy_balance_error : float
+        Relative error of the energy balance.
+    dissipated, ground_work, friction_work : float
+        Energy lost in impacts, work of the ground, work of friction (J/m).
+    friction_ratio : float
+        Largest ``|P_t| / N`` of a joint, at ``t_friction`` (s) and ``s_friction`` (m).
+    max_slip : float or None
+        Largest slip of a joint (m, friction only).
+    history : dict
+        The columns above, sampled every ``dt_out``.
+    positions : list of ndarray
+        ``(n, 3)`` states ``x, y, phi`` (m, m, rad) at the history's times.
+    impacts : list of tuple
+        ``(t, K before, K after)`` (s, J/m, J/m) of each impact.
+    q_end, v_end : ndarray or None
+        ``(n + 1, 3)`` positions and velocities at ``t_end`` (last row the ground's
+        zeros): a later run may start from them.
+    """
 
     curve: MidCurve
     ground: GroundMotion

@@ -94,12 +94,63 @@ def __getattr__(name: str):
 
 
 class Simulator:
-    """Bodies and contacts of ``curve`` cut into ``voussoirs`` (discrete arch) or ``elements``
-    (continuous arch: rigid elements) equal pieces, or at the cuts ``nodes`` (arc lengths, m, from 0
-    to L); by default a block (``StraightMember``) is one body and an arch 100 rigid elements.
-    ``friction``: Coulomb's coefficient ``mu`` at every joint (None: no sliding, the joints stick
-    whatever their tangential force).  ``g`` (m/s^2).  Set up once, run under any ground motions
-    (:meth:`run`)."""
+    """The multi-block simulation of a member: rigid bodies in unilateral contact.
+
+    The member is cut into rigid bodies, each in contact with its neighbours (and the
+    supports) at its joints, which open, close (inelastic impacts) and, with
+    ``friction``, slide. Set up once, run under any number of ground motions
+    (:meth:`run`).
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    voussoirs : int, optional
+        Discrete arch: this many equal voussoirs. Not with ``elements``.
+    elements : int, optional
+        Continuous arch: this many equal rigid elements (default 100; a
+        :class:`~fembeam.geometry.block.StraightMember` is one body by default).
+    g : float, optional
+        Acceleration of gravity (m/s^2).
+    friction : float, optional
+        Coulomb coefficient ``mu`` of every joint, in ``MU_RANGE`` (None, the default:
+        no sliding, the joints stick whatever their tangential force).
+    nodes : array_like, optional
+        The cuts instead: arc lengths (m) from 0 to the member's length.
+
+    Attributes
+    ----------
+    bodies : Bodies
+        The bodies.
+    contacts : Contacts
+        Their joints.
+    stands : bool
+        Whether the bodies carry their own weight on joints that do not slide.
+
+    Raises
+    ------
+    InputError
+        ``voussoirs`` with ``elements``, a count or ``friction`` out of range.
+
+    See Also
+    --------
+    simulate : one run.
+    fembeam.dynamics.Rocker : the one-mechanism model.
+
+    Examples
+    --------
+    The first 0.3 s of a block 2 m high and 0.4 m wide (``A_L = 0.2 g``) under a
+    0.4 g sine pulse of 0.5 s, by the NumPy reference engine (the compiled one is
+    numba's, compiled on its first use in a process):
+
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.simulation import Simulator
+    >>> sim = Simulator(fembeam.StraightMember(height=2.0, width=0.4))
+    >>> res = sim.run(GroundMotion.sine(0.4, 0.5), dt=2e-3, t_end=0.3, engine="reference")
+    >>> print(res.outcome, f"peak rotation {res.peak_rotation:.3f} rad")
+    survived peak rotation 0.024 rad
+    """
 
     def __init__(self, curve: MidCurve, *, voussoirs: int | None = None, elements: int | None = None,
                  g: float = GRAVITY, friction: float | None = None, nodes=None):
@@ -142,12 +193,49 @@ class Simulator:
             dt_out: float | None = None, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
             stop_at_overturn: bool = True, progress=None, engine: str = "compiled",
             t_start: float | None = None) -> SimulationResult:
-        """Time history under ``ground`` from rest (or ``q0``, ``v0``: ``(n + 1, 3)`` arrays, the last
-        row the ground's zeros) at ``t_start`` (s; default the start of the ground motion) with steps
-        ``dt`` (s) to ``t_end`` (default: end of the ground motion
-        plus ``20 sqrt(L/g)``, as ``fembeam rock``); history sampled every ``dt_out`` (s; default
-        ``max(dt, duration / 4000)``).  ``engine``: ``"compiled"`` (:mod:`.kernel`) or ``"reference"``
-        (:mod:`.reference`, NumPy, no friction)."""
+        """Time history of the bodies under a ground motion.
+
+        Parameters
+        ----------
+        ground : GroundMotion
+            The ground acceleration ``a_g(t)`` (g, positive along ``+x``).
+        dt : float, optional
+            Time step (s), in ``DT_RANGE``.
+        t_end : float, optional
+            End of the run (s), default the end of the ground motion plus
+            ``20 sqrt(L/g)`` (``L``: the member's length), as :func:`~fembeam.dynamics.rock`.
+        dt_out : float, optional
+            Sampling step of the history (s), default ``max(dt, duration / 4000)``.
+        q0, v0 : ndarray, optional
+            Start from these positions ``(x, y, angle)`` (m, m, rad) and velocities
+            (m/s, m/s, rad/s), ``(n + 1, 3)`` arrays, the last row the ground's zeros
+            (e.g. a previous result's ``q_end``, ``v_end``); default at rest.
+        stop_at_overturn : bool, optional
+            End the run when the member overturns (default True).
+        progress : callable, optional
+            ``progress(t)`` is called along the run (``t`` in s).
+        engine : {"compiled", "reference"}, optional
+            The numba kernel, or the NumPy reference (slower; no friction).
+        t_start : float, optional
+            Start there (s), default the start of the ground motion.
+
+        Returns
+        -------
+        SimulationResult
+            The outcome (``"rest"``, ``"survived"``, ``"overturned"``,
+            ``"collapsed_by_sliding"``), the peak rotation (rad), the energies (J/m),
+            the history (``t``, ``K``, ``V``, ``W_ground``, ``dissipated``, ``a_g``,
+            ``hinges``, ``separated``, ``max_rotation``), the positions of the bodies
+            at the history's times, and ``q_end``, ``v_end`` to continue from.
+
+        Raises
+        ------
+        InputError
+            ``dt``, ``t_end`` or the initial state out of range, or ``friction`` with
+            the reference engine.
+        SolverError
+            The reference engine met a singular system.
+        """
         if engine == "reference":
             if self.friction is not None:
                 raise InputError("the reference engine has no friction")
@@ -166,8 +254,29 @@ class Simulator:
 def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int | None = None,
              dt: float = 1e-3, t_end: float | None = None, g: float = GRAVITY,
              friction: float | None = None) -> SimulationResult:
-    """:meth:`Simulator.run` of a new :class:`Simulator`, or its :meth:`~Simulator.cannot_stand`
-    answer for a member that does not stand under its own weight."""
+    """Multi-block simulation of a member under a ground motion, in one call.
+
+    :meth:`Simulator.run` of a new :class:`Simulator`, or its
+    :meth:`~Simulator.cannot_stand` answer for a member that does not stand under its
+    own weight.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    ground : GroundMotion
+        The ground acceleration ``a_g(t)`` (g, positive along ``+x``).
+    voussoirs, elements, g, friction
+        As for :class:`Simulator`.
+    dt, t_end
+        As for :meth:`Simulator.run` (s).
+
+    Returns
+    -------
+    SimulationResult
+        As :meth:`Simulator.run`; outcome ``"cannot_stand"`` (nothing computed) for a
+        member that does not stand.
+    """
     sim = Simulator(curve, voussoirs=voussoirs, elements=elements, g=g, friction=friction)
     if not sim.stands:
         return sim.cannot_stand(ground, dt)

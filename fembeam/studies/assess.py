@@ -65,10 +65,31 @@ class Snapshot:
 
 @dataclass
 class AssessResult:
-    """What :func:`assess` found: ``static`` and one entry per ground motion in ``motions`` (JSON
-    of :meth:`to_dict`); ``analyses`` (the :class:`~fembeam.analysis.AnalysisResult` of each load
-    direction), ``runs`` (the :class:`~fembeam.auto.AutoResult` of each motion) and ``snapshots``
-    (the member at the peak or at overturning of each motion, or None) are kept for the figures."""
+    """What :func:`assess` found (:meth:`to_dict` is its JSON).
+
+    Attributes
+    ----------
+    curve : MidCurve
+        The member.
+    mode : {"continuous", "voussoirs"}
+        Its mesh.
+    elements : int
+        Its voussoirs or elements.
+    settings : dict
+        The settings of the runs.
+    static : dict
+        ``A_L`` both ways (g), hinges, friction needed, thrust range (kN/m).
+    motions : list of dict
+        One per ground motion: verdict, outcome, peak rotation (rad), margin.
+    analyses : dict
+        The :class:`~fembeam.analysis.AnalysisResult` of each load direction.
+    grounds : list of GroundMotion
+        The motions.
+    runs : list of AutoResult
+        The run of each motion.
+    snapshots : list
+        The member at the peak or at overturning of each motion, or None.
+    """
 
     curve: MidCurve
     mode: str
@@ -289,15 +310,58 @@ def assess(curve: MidCurve, grounds: GroundMotion | Sequence[GroundMotion], *, v
            elements: int = 200, friction: float | None = None, dt: float | None = None, t_end: float | None = None,
            margin_search: bool = True, resolution: float = RESOLUTION, max_runs: int = MAX_RUNS,
            sources: Sequence[str] | None = None, progress: Callable[[str], None] | None = None) -> AssessResult:
-    """Static answers, the ``auto`` verdict and the margin of ``curve`` (``voussoirs``, or the
-    continuous member with ``elements``) under each ground motion of ``grounds``.  ``friction``:
-    Coulomb coefficient of the joints in ``auto`` (None: they never slide); ``dt`` (s): its
-    simulation step (default :data:`fembeam.auto.model.DT`); ``t_end`` (s): end of every run
-    (default: end of the motion + ``20 sqrt(L/g)``); ``margin_search=False`` skips the margins;
-    ``resolution`` (relative step between factors, in [1e-4, 1]) and ``max_runs``: those of the
-    margins' hunt and fill (:func:`margin`; the defaults of ``fembeam collapse-scale``);
-    ``sources``: where each motion came from (reported); ``progress(message)`` at each stage and
-    margin run.  Bad input raises :class:`InputError` before any run."""
+    """Static answers, the ``auto`` verdict and the margin of a member under ground motions.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    grounds : GroundMotion or sequence of GroundMotion
+        The motions (g, positive along ``+x``).
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs; otherwise the continuous member on
+        ``elements`` rigid elements (default 200).
+    elements : int, optional
+        See ``voussoirs``.
+    friction : float, optional
+        Coulomb coefficient of the joints in ``auto`` (None: they never slide).
+    dt : float, optional
+        Simulation step (s), default :data:`fembeam.auto.model.DT`.
+    t_end : float, optional
+        End of every run (s), default the end of the motion plus ``20 sqrt(L/g)``.
+    margin_search : bool, optional
+        False skips the margins (the smallest collapsing factor of each motion).
+    resolution : float, optional
+        Relative step between factors of the margins' search, in [1e-4, 1].
+    max_runs : int, optional
+        Most runs of each margin's search.
+    sources : sequence of str, optional
+        Where each motion came from (reported).
+    progress : callable, optional
+        ``progress(message)`` at each stage and margin run.
+
+    Returns
+    -------
+    AssessResult
+        ``static`` (``A_L`` both ways in g, hinges, friction needed, thrust range in
+        kN/m) and one entry per motion in ``motions`` (verdict, outcome, peak rotation
+        in rad, margin).
+
+    Raises
+    ------
+    InputError
+        Bad input, before any run.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.assess import assess
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = assess(arch, GroundMotion.sine(0.3, 0.5), voussoirs=12, margin_search=False)
+    >>> print(f"A_L = {res.static['A_L']['+1']:.4f} g;", res.motions[0]["verdict"])
+    A_L = 0.3593 g; survives
+    """
     from ..auto import AutoModel
     from ..auto.model import DT
 

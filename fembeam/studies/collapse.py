@@ -98,10 +98,69 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
                    t_end: float | None = None, resolution: float = RESOLUTION, span: float = SPAN,
                    max_runs: int = MAX_RUNS, sign: int = 1, backend: str = "clarabel", progress: Callable | None = None,
                    model: str = "rock", dt: float | None = None, friction: float | None = None) -> dict:
-    """The scale factor of ``ground`` at which ``curve`` first collapses (:func:`record_collapse`),
-    its PGA (g), the member's ``A_L`` both ways and the settings; JSON-safe.  Bad input raises
-    :class:`InputError` before any run; ``outcome`` ``"computed"``, or ``"cannot_stand"`` for a member
-    that does not stand (no run, no factor)."""
+    """The smallest scale factor of a ground motion at which a member collapses.
+
+    A hunt-and-fill search (:func:`record_collapse`) over the factors of the motion, from
+    the onset factor (where the inertia load first reaches ``A_L``) up to ``span``
+    onset factors.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    ground : GroundMotion
+        The motion as given (g, positive along ``+x``); factors scale it.
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs; otherwise the continuous member on
+        ``elements`` rigid elements (default 200).
+    elements : int, optional
+        See ``voussoirs``.
+    t_end : float, optional
+        End of every run (s), default the end of the motion plus ``20 sqrt(L/g)``.
+    resolution : float, optional
+        Relative step between factors at which the search stops, in [1e-4, 1].
+    span : float, optional
+        Largest factor searched, in onset factors.
+    max_runs : int, optional
+        Most runs of the search.
+    sign : {1, -1}, optional
+        The motion as given or mirrored.
+    backend : str, optional
+        Solver of the impact QP.
+    progress : callable, optional
+        ``progress(factor, outcome)`` after each run.
+    model : {"rock", "auto", "simulate"}, optional
+        The model of each run.
+    dt : float, optional
+        Step of the simulation (s; ``auto`` and ``simulate``).
+    friction : float, optional
+        Coulomb coefficient of the joints (``auto`` and ``simulate``; None: no sliding).
+
+    Returns
+    -------
+    dict
+        JSON-safe: ``outcome`` (``"computed"``, or ``"cannot_stand"``: no run, no
+        factor), ``first_overturning`` (the factor, or None), its ``bracket``,
+        ``pga_at_first_overturning`` (g), the member's ``A_L`` both ways (g), each run
+        (``scan``: factor, outcome, peak rotation in rad) and the settings.
+
+    Raises
+    ------
+    InputError
+        Bad input, before any run.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.collapse import collapse_scale
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> out = collapse_scale(arch, GroundMotion.sine(0.2, 0.5), voussoirs=12,
+    ...                      resolution=0.1, t_end=2.0)
+    >>> print(f"factor {out['first_overturning']:.2f},",
+    ...       f"PGA {out['pga_at_first_overturning']:.2f} g")
+    factor 2.59, PGA 0.52 g
+    """
     dt, friction = check_model(model, dt, friction)
     if not isinstance(ground, GroundMotion):
         raise InputError(f"collapse_scale needs a GroundMotion, got {type(ground).__name__}")

