@@ -166,8 +166,9 @@ def summary(res) -> str:
                      "no motion computed")
         return "\n".join(lines)
     if res.outcome == "overturned":
-        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s (centroid a tenth of the thickness "
-                     f"below its height at rest)")
+        why = ("the energy released beyond the supports' work that of a fall of a tenth of the thickness"
+               if res.support_motion is not None else "centroid a tenth of the thickness below its height at rest")
+        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s ({why})")
     elif res.outcome == "collapsed_by_sliding":
         lines.append(f"  outcome: COLLAPSED BY SLIDING at t = {res.t_overturn:.6g} s (a joint's faces no longer "
                      f"overlap, or the centroid fell a tenth of the thickness with the joints slid more than opened)")
