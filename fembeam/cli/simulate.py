@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..dynamics.ground import GroundMotion
 from ..errors import InputError
 from ..limits import bodies, check_history, check_steps
 from ..output.files import atomic, atomic_group, write_table
@@ -30,7 +31,21 @@ def register(sub) -> None:
                                    "projected onto the compatible cone in the kinetic metric (the impact QP of "
                                    "fembeam impact), so hinges open and close anywhere.")
     add_member(p)
-    add_ground(p)
+    w = add_ground(p)
+    w.add_argument("--support-motion", type=_support_kind, default=None, metavar="spread|settle|DX,DY",
+                   help="instead of a ground motion: the supports move (as fembeam supports' movements): spread "
+                        "(apart horizontally, each by half the span increase D), settle (the right one down by D) or "
+                        "DX,DY (the right one along that direction by D); D = --support-rate x t, held after "
+                        "--support-up-to")
+    sm = p.add_argument_group("support motion (with --support-motion)")
+    sm.add_argument("--support-rate", type=float, default=None, metavar="M_PER_S",
+                    help="rate of the support displacement D (m/s, > 0; slow enough for a quasi-static path: the "
+                         "kinetic energy stays much below the work of the supports)")
+    sm.add_argument("--support-up-to", type=float, default=None, metavar="D",
+                    help="the displacement (m, > 0) at which the supports stop and are held (default: they move on "
+                         "until the end: --t-end, by default the time to reach half the span plus 20 sqrt(L/g))")
+    sm.add_argument("--support-left", action="store_true",
+                    help="with settle or DX,DY: the left support moves instead of the right one")
     t = p.add_argument_group("time")
     t.add_argument("--dt", type=float, default=1e-3, metavar="S",
                    help="time step (s; default 1e-3, in [1e-6, 0.05]; at most 1e7 steps and 2e7 steps x bodies)")
@@ -48,13 +63,89 @@ def register(sub) -> None:
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--history", action="store_true", help="with --json: add the sampled history")
-    o.add_argument("--csv", metavar="PATH.csv", help="history: t (s), K, V, W_ground, dissipated (J/m), a_g (g), hinges, ...")
+    o.add_argument("--csv", metavar="PATH.csv", help="history: t (s), K, V, W_ground, dissipated (J/m), a_g (g), hinges, "
+                                                      "...; with --support-motion also support_displacement (m), "
+                                                      "H_left, V_left, H_right, V_right (kN/m)")
     o.add_argument("--plot", metavar="PATH.png", help="figure of a_g, rotations, open hinges and energies")
     o.add_argument("--vtk", metavar="PATH.pvd", help="ParaView time series of the bodies' polygons")
     o.add_argument("--gif", metavar="PATH.gif", help="animation of the moving bodies")
     o.add_argument("--frames", type=int, default=None, metavar="N",
                    help="--vtk and --gif: at most N frames of the history (default 200 and 120)")
     p.set_defaults(func=run)
+
+
+def _support_kind(text: str):
+    """``spread``, ``settle`` or ``(dx, dy)`` of ``DX,DY``."""
+    import argparse
+
+    from .supports import _vector
+    if text in ("spread", "settle"):
+        return text
+    if "," not in text:
+        raise argparse.ArgumentTypeError(f"expected spread, settle or DX,DY, got {text!r}")
+    return _vector(text)
+
+
+def support_motion_from(args):
+    """The :class:`~fembeam.simulation.support_motion.SupportMotion` of the options (None without
+    ``--support-motion``); InputError on bad input."""
+    from ..simulation.support_motion import SupportMotion
+    given = [o for o, v in (("--support-rate", args.support_rate is not None),
+                            ("--support-up-to", args.support_up_to is not None),
+                            ("--support-left", args.support_left)) if v]
+    if args.support_motion is None:
+        if given:
+            raise InputError(f"{given[0]} needs --support-motion spread|settle|DX,DY")
+        return None
+    if args.support_rate is None:
+        raise InputError("--support-motion needs --support-rate M_PER_S (m/s, > 0)")
+    kind = args.support_motion
+    if kind == "spread" and args.support_left:
+        raise InputError("--support-motion spread moves both supports apart: --support-left does not apply")
+    if isinstance(kind, tuple):
+        return SupportMotion.of("move", args.support_rate, vector=kind, left=args.support_left,
+                                up_to=args.support_up_to)
+    return SupportMotion.of(kind, args.support_rate, left=args.support_left, up_to=args.support_up_to)
+
+
+def support_end(args, curve, motion, t0: float) -> float:
+    """``--t-end``, or by default the time the supports take to move half the span (to
+    ``--support-up-to`` if given) plus ``20 sqrt(L/g)`` (s)."""
+    from ..dynamics.equation import GRAVITY
+    from ..limits import check_duration
+    if args.t_end is not None:
+        t_end = args.t_end
+    else:
+        x = curve.position(np.array([0.0, curve.length]))
+        span = float(abs(x[0, 1] - x[0, 0])) or curve.length
+        reach = motion.up_to if motion.up_to is not None else 0.5 * span
+        t_end = t0 + reach / motion.rate + 20.0 * math.sqrt(curve.length / GRAVITY)
+    if not t_end > t0:
+        raise InputError(f"--t-end must be after the start ({t0:g} s), got {t_end:g}")
+    check_duration(t_end - t0)
+    return t_end
+
+
+def support_lines(res) -> list[str]:
+    """The text lines of a prescribed support motion."""
+    b = res.support_block()
+    mo = res.support_motion
+    side = "left" if mo.kind != "spread" and any(mo.left) else "right"
+    d = mo.left if side == "left" else mo.right
+    what = {"spread": "spreading (each support outward by D/2)", "settle": f"settlement of the {side} support by D",
+            "move": f"the {side} support along ({d[0]:.4g}, {d[1]:.4g}) by D",
+            "rigid": f"both supports together along ({d[0]:.4g}, {d[1]:.4g}) by D"}[mo.kind]
+    lines = [f"  supports moved: {what}, D = {mo.rate:g} m/s x t"
+             + (f", held at {mo.up_to:g} m" if mo.up_to is not None else "")]
+    if b["displacement_at_collapse"] is not None:
+        lines.append(f"  SUPPORT DISPLACEMENT AT COLLAPSE: {b['displacement_at_collapse']:.6g} m")
+    else:
+        lines.append(f"  support displacement at the end: {b['displacement_end']:.6g} m (no collapse)")
+    f = b["last_forces_kN_per_m"]
+    if f["H_left"] is not None:
+        lines.append(f"  last forces on the supports: H {f['H_left']:.5g} / {f['H_right']:.5g} kN/m (left / right, "
+                     f"outward), V {f['V_left']:.5g} / {f['V_right']:.5g} kN/m (downward)")
+    return lines
 
 
 def summary(res) -> str:
@@ -68,13 +159,16 @@ def summary(res) -> str:
     lines = [f"fembeam simulate: {head}",
              f"  ground motion: {res.ground.name} (PGA {res.ground.pga:.4g} g); dt = {res.dt:g} s, "
              f"simulated to t = {res.t_end:.4g} s ({res.steps} steps, {res.cut_steps} cut at landings)"]
+    if res.support_motion is not None:
+        lines += support_lines(res)
     if res.outcome == "cannot_stand":
         lines.append("  outcome: cannot_stand (the pieces do not stand under their own weight: fembeam analyze); "
                      "no motion computed")
         return "\n".join(lines)
     if res.outcome == "overturned":
-        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s (centroid a tenth of the thickness "
-                     f"below its height at rest)")
+        why = ("the energy released beyond the supports' work that of a fall of a tenth of the thickness"
+               if res.support_motion is not None else "centroid a tenth of the thickness below its height at rest")
+        lines.append(f"  outcome: OVERTURNED at t = {res.t_overturn:.6g} s ({why})")
     elif res.outcome == "collapsed_by_sliding":
         lines.append(f"  outcome: COLLAPSED BY SLIDING at t = {res.t_overturn:.6g} s (a joint's faces no longer "
                      f"overlap, or the centroid fell a tenth of the thickness with the joints slid more than opened)")
@@ -149,8 +243,14 @@ def history_figure(res):
     plt = _pyplot()
     h = res.history
     fig, ax = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
-    ax[0].plot(h["t"], h["a_g"], lw=0.8)
-    ax[0].set_ylabel("a_g [g]")
+    if res.support_motion is not None:
+        ax[0].plot(h["t"], h["H_left"], lw=0.8, label="H left")
+        ax[0].plot(h["t"], h["H_right"], lw=0.8, label="H right")
+        ax[0].set_ylabel("thrust [kN/m]")
+        ax[0].legend(loc="upper left", fontsize=8)
+    else:
+        ax[0].plot(h["t"], h["a_g"], lw=0.8)
+        ax[0].set_ylabel("a_g [g]")
     ax[1].plot(h["t"], h["max_rotation"], lw=0.8)
     ax[1].set_ylabel("max |phi| [rad]")
     ax[2].step(h["t"], h["hinges"], where="post", lw=0.8, label="hinges")
@@ -224,8 +324,13 @@ def run(args) -> int:
         if x is not None and not math.isfinite(x):
             raise InputError(f"--{name.replace('_', '-')} must be a finite number, got {x}")
     curve, voussoirs, elements = member_from(args, "simulate")
-    ground = ground_from(args)
-    t_end = run_end(args, curve, ground)
+    motion = support_motion_from(args)
+    if motion is None:
+        ground = ground_from(args)
+        t_end = run_end(args, curve, ground)
+    else:
+        ground = GroundMotion(np.array([0.0, 1.0]), np.zeros(2), "none (supports moved)", True)
+        t_end = support_end(args, curve, motion, 0.0)
     check_dt(args.dt, float(ground.t[0]), t_end)
     n = bodies(voussoirs, elements, args.block is not None)
     check_steps(args.dt, t_end - float(ground.t[0]), n)
@@ -244,7 +349,7 @@ def run(args) -> int:
         return 0
     update, bar = _progress(t_end)
     try:
-        res = sim.run(ground, dt=args.dt, t_end=t_end, dt_out=args.dt_out, progress=update)
+        res = sim.run(ground, dt=args.dt, t_end=t_end, dt_out=args.dt_out, progress=update, support_motion=motion)
     finally:
         if bar is not None:
             bar.close()

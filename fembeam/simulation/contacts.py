@@ -38,6 +38,7 @@ upper banded storage through index arrays fixed at set-up (the sparsity pattern 
 """
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -123,6 +124,28 @@ class Contacts:
         self._i_of = np.clip(i_of, 0, m - 1).reshape(BAND + 1, m)
         self._valid = (i_of >= 0).reshape(BAND + 1, m)
         self._jj = np.arange(J)
+        self._right_end = right_end
+        self.split = False
+
+    def split_supports(self) -> "Contacts":
+        """A copy whose right springing rests on a second support body, row ``n + 1`` (the left
+        one keeps row ``n``): both are kinematic (no inverse mass), so each may move at its own
+        prescribed velocity.  Positions and velocities are then ``(n + 2, 3)`` and :meth:`apply_t`
+        gives the impulses on the two supports in the last two rows."""
+        out = copy.copy(self)
+        n = self.bodies.n
+        out.a = np.where(self._right_end & (self.a == n), n + 1, self.a)
+        out.sides = np.stack([out.a, self.b], axis=1)
+        out.minv = np.vstack([self.minv, np.zeros((1, 3))])
+        out._mi = out.minv[out.sides].reshape(self.J, 1, 6)
+        pairs = [[] for _ in range(n + 2)]
+        for j in range(self.J):
+            for k in range(2):
+                pairs[out.sides[j, k]].append(2 * j + k)
+        pad = 2 * self.J
+        out._gather = np.array([(p + [pad, pad])[:2] for p in pairs], int)
+        out.split = True
+        return out
 
     # ------------------------------------------------------------------ geometry
     def evaluate(self, q: np.ndarray) -> Geometry:
@@ -167,13 +190,15 @@ class Contacts:
         return (rows.reshape(J, 3, 6) @ v[self.sides].reshape(J, 6, 1)).ravel()
 
     def apply_t(self, rows: np.ndarray, P: np.ndarray) -> np.ndarray:
-        """``H^T P`` ``(n + 1, 3)`` (generalised forces or impulses on the bodies; ground row included)."""
+        """``H^T P`` ``(n + 1, 3)`` (generalised forces or impulses on the bodies; the ground's row
+        zero), or ``(n + 2, 3)`` with the impulses on the two supports (:meth:`split_supports`)."""
         J = self.J
         c = (P.reshape(J, 1, 3) @ rows.reshape(J, 3, 6)).reshape(2 * J, 3)
         c = np.vstack([c, np.zeros((1, 3))])
         g = self._gather
         out = c[g[:, 0]] + c[g[:, 1]]
-        out[-1] = 0.0
+        if not self.split:
+            out[-1] = 0.0
         return out
 
     def delassus(self, rows: np.ndarray) -> np.ndarray:

@@ -44,7 +44,8 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
 3. **The loop** (:func:`advance`) runs the steps of :mod:`.stepper` from the state it is given
    until the end of the run, an overturning (when asked to stop there), or a budget of steps or
    output rows is used (the caller then reports progress and calls again).  The state lives in
-   arrays owned by the caller: positions ``q`` and velocities ``v`` ``(n + 1, 3)``, the joint
+   arrays owned by the caller: positions ``q`` and velocities ``v`` ``(n + 2, 3)`` (the last two
+   rows: the left and the right support, kinematic: moved at their own velocity), the joint
    geometry of the last configuration, the warm starts of the solvers, the scalars ``fs``
    (floats, indices ``F_*``) and ``ist`` (integers, indices ``I_*``).
 
@@ -134,7 +135,8 @@ def apply_h(rows, sides, v, out):
 
 @njit(cache=True, error_model="numpy")
 def apply_ht(rows, sides, P, out):
-    """``out = H^T P`` ``(n + 1, 3)`` (impulses on the bodies; the ground's row zero)."""
+    """``out = H^T P`` (impulses on the bodies, ``(n + 2, 3)``; the last two rows: on the left and
+    the right support, N s/m, which have no inverse mass)."""
     out[:] = 0.0
     for j in range(sides.shape[0]):
         for s in range(2):
@@ -142,7 +144,6 @@ def apply_ht(rows, sides, P, out):
             for d in range(3):
                 out[i, d] += rows[j, 0, s, d] * P[3 * j] + rows[j, 1, s, d] * P[3 * j + 1] \
                     + rows[j, 2, s, d] * P[3 * j + 2]
-    out[out.shape[0] - 1, :] = 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -1188,7 +1189,7 @@ OVERTURNED, SLID_OUT = 1, 2
 # statuses of advance()
 RUNNING, FINISHED, STOPPED = 0, 1, 2
 SOLVER_FAILED = 3       # the contact problem of a step failed (ist[I_STATUS] the solver's code)
-HISTORY_COLUMNS = 9
+HISTORY_COLUMNS = 13     # and the mean forces of the arch on the supports (x, y, left then right; N/m)
 LOOSE = 100.0           # a step's frictional problem accepted up to this many times the Coulomb tolerance
                         # when every solver stalls above it (counted: SimulationResult.loose_steps)
 
@@ -1401,20 +1402,39 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
 
 
 @njit(cache=True, error_model="numpy")
+def _on_supports(imp_v, v, n, sup):
+    """Adds the impulses ``imp_v`` (N s/m) on the supports (rows ``n``, ``n + 1``) to ``sup``;
+    returns their work on the arch (J/m): minus their work on the supports moving at ``v``."""
+    work = 0.0
+    for k in range(2):
+        for d in range(2):
+            sup[2 * k + d] += imp_v[n + k, d]
+            work -= imp_v[n + k, d] * v[n + k, d]
+    sup[5] += work
+    return work
+
+
+@njit(cache=True, error_model="numpy")
 def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, joint_thick,
             gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
             fs, ist, dt, t_end, t0, dt_out, g, h_min, gap_tol, V_over, mu, stop,
             kind, amp, period, ts, av, impact_pivots, block_pivots,
-            hist, pos, imp, max_steps, kkt_tol, coulomb_tol, dump_ab, dump_c, dump_P, dump_closed):
+            hist, pos, imp, max_steps, kkt_tol, coulomb_tol, dump_ab, dump_c, dump_P, dump_closed, sup):
     """Steps from the state given until the end, a stop, ``max_steps`` steps, or the buffers
-    ``hist`` ``(rows, 9)`` / ``pos`` ``(rows, n, 3)`` / ``imp`` ``(rows, 3)`` are full.  Returns
-    ``(status, history rows written, impacts written)``."""
+    ``hist`` ``(rows, 13)`` / ``pos`` ``(rows, n, 3)`` / ``imp`` ``(rows, 3)`` are full.  Returns
+    ``(status, history rows written, impacts written)``.  The supports (rows ``n``, ``n + 1`` of
+    ``q``, ``v``) move at their velocities; ``sup`` (6,) accumulates the impulses of the arch on
+    them (x, y left, x, y right; N s/m) and the time (s) since the last history row, whose
+    columns 9-12 are their means (N/m), and (``sup[5]``) their work on the arch (J/m), which also
+    counts as the ground's; the collapse is decided on ``V - sup[5]``: the energy released beyond
+    the supports' work (without a support motion, ``V``)."""
     n = m.size
+    nb = q.shape[0]
     J = A.size
     M3 = 3 * J
     nh = 0
     ni = 0
-    acc = np.zeros((n + 1, 3))
+    acc = np.zeros((nb, 3))
     for i in range(n):
         acc[i, 1] = -g
     ab = np.zeros((BAND + 1, M3))
@@ -1425,18 +1445,18 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
     c = np.zeros(M3)
     Hv = np.zeros(M3)
     Ha = np.zeros(M3)
-    imp_v = np.zeros((n + 1, 3))
+    imp_v = np.zeros((nb, 3))
     closed = np.zeros((J, 2), np.bool_)
     hit = np.zeros((J, 2), np.bool_)
     gm_gap = np.zeros((J, 2))
     gm_slip = np.zeros((J, 2))
     gm_rows = np.zeros((J, 3, 2, 3))
     gm_contact = np.zeros(J, np.int64)
-    qm = np.zeros((n + 1, 3))
-    v_free = np.zeros((n + 1, 3))
-    v_new = np.zeros((n + 1, 3))
-    q_new = np.zeros((n + 1, 3))
-    dq = np.zeros((n + 1, 3))
+    qm = np.zeros((nb, 3))
+    v_free = np.zeros((nb, 3))
+    v_new = np.zeros((nb, 3))
+    q_new = np.zeros((nb, 3))
+    dq = np.zeros((nb, 3))
     on = np.zeros(M3, np.bool_)
     rhs = np.zeros(M3)
     lam = np.zeros(M3)
@@ -1458,7 +1478,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
         # decided in an earlier call that returned for its buffers before it could stop
         done = t >= t_end - h_min or (stop and ist[I_OUTCOME] != 0)
         if ist[I_OUTCOME] == 0:
-            code = collapse(V, V_over, gap, s_ref)
+            code = collapse(V - sup[5], V_over, gap, s_ref)    # V less the work of the supports on the arch
             if code != 0:
                 ist[I_OUTCOME] = code
                 fs[F_TOVER] = t
@@ -1480,6 +1500,10 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
             hist[nh, 6] = hinges
             hist[nh, 7] = separated
             hist[nh, 8] = rot
+            for d in range(4):
+                hist[nh, 9 + d] = sup[d] / sup[4] if sup[4] > 0 else 0.0
+                sup[d] = 0.0
+            sup[4] = 0.0
             pos[nh] = q[:n]
             nh += 1
             fs[F_NEXT] = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
@@ -1523,7 +1547,10 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
                     return SOLVER_FAILED, nh, ni
                 ist[I_HASWI] = 1
                 apply_ht(rows, sides, P, imp_v)
-                for i in range(n + 1):
+                w_sup = _on_supports(imp_v, v, n, sup)
+                fs[F_W_GROUND] += w_sup
+                fs[F_D] += w_sup
+                for i in range(nb):
                     for d in range(3):
                         v[i, d] += minv[i, d] * imp_v[i, d]
                 hit[:, :] = closed
@@ -1559,7 +1586,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
             a_g = ground_at(kind, amp, period, ts, av, t + 0.5 * h)
             for i in range(n):
                 acc[i, 0] = -a_g * g
-        for i in range(n + 1):
+        for i in range(nb):
             for d in range(3):
                 qm[i, d] = q[i, d] + 0.5 * h * v[i, d]
                 v_free[i, d] = v[i, d] + h * acc[i, d]
@@ -1579,14 +1606,15 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
                 return SOLVER_FAILED, nh, ni
             ist[I_HASW] = 1
             apply_ht(gm_rows, sides, P, imp_v)
-            for i in range(n + 1):
+            fs[F_W_GROUND] += _on_supports(imp_v, v, n, sup)
+            for i in range(nb):
                 for d in range(3):
                     v_new[i, d] = v_free[i, d] + minv[i, d] * imp_v[i, d]
         else:
             v_new[:, :] = v_free
             ist[I_HASW] = 0
         was_closed[:, :] = closed
-        for i in range(n + 1):
+        for i in range(nb):
             for d in range(3):
                 q_new[i, d] = qm[i, d] + 0.5 * h * v_new[i, d]
         geometry(q_new, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
@@ -1634,7 +1662,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
                     return SOLVER_FAILED, nh, ni
                 solve(U, rhs, lam)
                 apply_ht(gm_rows, sides, lam, dq)
-                for i in range(n + 1):
+                for i in range(nb):
                     for d in range(3):
                         dq[i, d] *= minv[i, d]
                         q_new[i, d] += dq[i, d]
@@ -1655,6 +1683,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
         q[:, :] = q_new
         v[:, :] = v_new
         t = t + h
+        sup[4] += h
         fs[F_T] = t
         ist[I_STEPS] += 1
     return RUNNING, nh, ni

@@ -14,7 +14,7 @@ from ..dynamics.outcomes import overturn_level
 from .contacts import BAND, OFF_FACE, Contacts
 from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
 from .result import SimulationResult
-from .stepper import GAP_TOL, IMPACT_PIVOTS, MIN_STEP, REST_KINETIC, checked_run
+from .stepper import GAP_TOL, IMPACT_PIVOTS, MIN_STEP, REST_KINETIC, checked_run, support_history, supported
 
 
 def _roots(gap, vn, an):
@@ -27,11 +27,16 @@ def _roots(gap, vn, an):
     return s
 
 
-def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress):
-    """The time history of :meth:`.stepper.Simulator.run` in NumPy (no friction)."""
+def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress,
+                  motion=None):
+    """The time history of :meth:`.stepper.Simulator.run` in NumPy (no friction); the supports
+    are rows ``n`` and ``n + 1`` of the positions and velocities, moved by ``motion``."""
     clock = time.perf_counter()
     t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0)
-    bodies, con, g = sim.bodies, sim.contacts, sim.g
+    bodies, g = sim.bodies, sim.g
+    con, q, v = supported(sim, q, v, motion)
+    t_hold = t0 + motion.hold_after if motion is not None else math.inf
+    sup, sup_t, F_rows, W_sup = np.zeros(4), 0.0, [], 0.0
     V_over = overturn_level(sim.curve, bodies.mass, g)
     L = sim.curve.length
     n = bodies.n
@@ -46,12 +51,12 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
     J = con.J
 
     def potential(q_):
-        return g * float(m @ (q_[:-1, 1] - y0))
+        return g * float(m @ (q_[:n, 1] - y0))
 
     geo = con.evaluate(q)
     res = SimulationResult(sim.curve, ground, bodies, mode=sim.mode, dt=dt)
     mv = np.concatenate([np.repeat(m, 2).reshape(-1, 2), bodies.I[:, None], np.zeros((n, 0))], axis=1)
-    mv = np.vstack([mv, np.zeros((1, 3))]).ravel()             # (vx, vy, omega) weights of 2K
+    mv = np.vstack([mv, np.zeros((2, 3))]).ravel()             # (vx, vy, omega) weights of 2K
 
     def kinetic(v_):
         return 0.5 * float(mv @ (v_.ravel() ** 2))
@@ -68,8 +73,8 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
     outcome, t_over = None, None
     h_min = MIN_STEP * dt
     rec = res.record
-    acc = np.zeros((n + 1, 3))
-    acc[:-1, 1] = -g
+    acc = np.zeros((n + 2, 3))
+    acc[:n, 1] = -g
     nonneg = np.zeros((J, 3), bool)
     free = np.zeros((J, 3), bool)
     jj = np.arange(J)
@@ -83,30 +88,37 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
         V = potential(q)
         E_seen = max(E_seen, K + abs(V), abs(W_ground), D)
         balance = max(balance, abs(K + V - E0 - W_ground + D) / E_seen)
-        rot = float(np.max(np.abs(q[:-1, 2])))
+        rot = float(np.max(np.abs(q[:n, 2])))
         if rot > peak:
             peak, t_peak = rot, t
         done = t >= t_end - h_min                # (a remainder shorter than a landing cut is not stepped)
         if outcome is None:
-            outcome = collapse(V, V_over, geo.gap, s_ref)
+            outcome = collapse(V - W_sup, V_over, geo.gap, s_ref)     # V less the supports' work on the arch
             if outcome is not None:
                 t_over = t
                 done = done or stop_at_overturn
         if t >= next_out or done:
-            rec(t, q, v, K, V, W_ground, D, float(at(t)), geo.gap, thick)
+            rec(t, q[:-1], v[:-1], K, V, W_ground, D, float(at(t)), geo.gap, thick)
+            F_rows.append(sup / sup_t if sup_t > 0 else np.zeros(4))
+            sup, sup_t = np.zeros(4), 0.0
             next_out = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
             if progress is not None:
                 progress(t)
         if done:
             break
-        h = t_end - t if t_end - t < dt + h_min else dt    # no sliver of a step left at the end
+        if t >= t_hold - h_min:                  # the supports held from here on
+            v[-2:] = q[-2:] = 0.0
+            q[-2:, :2] = motion.up_to * np.array([motion.left, motion.right])
+            t_hold = math.inf
+        t_stop = min(t_end, t_hold)
+        h = t_stop - t if t_stop - t < dt + h_min else dt    # no sliver of a step left at the end
         # 1. impact: a corner closes at t (it landed at the end of the last step, or its predicted
         #    landing is within MIN_STEP of t): the projection of v alone, in this configuration
         #    (no force acts during an impact); then 2. the landings within the step, predicted
         #    with the velocity after the impact, cut it there
         closed = geo.gap <= gap_tol
         a_g = at(t + 0.5 * h)
-        acc[:-1, 0] = -a_g * g
+        acc[:n, 0] = -a_g * g
         K_in, hit, s = None, None, None
         while True:
             if (closed & ~was_closed).any() and (hit is None or (closed & ~hit).any()):
@@ -116,7 +128,13 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
                     geo, stale = con.evaluate(q), False
                 sol, working_imp = _project(con, geo.rows, v, closed, working_imp, nonneg, free, g * h, IMPACT_PIVOTS)
                 pivots += sol.pivots
-                v = v + minv * con.apply_t(geo.rows, sol.P)
+                imp_v = con.apply_t(geo.rows, sol.P)
+                v = v + minv * imp_v
+                sup += imp_v[-2:, :2].ravel()
+                w_sup = -float(np.sum(imp_v[-2:, :2] * v[-2:, :2]))      # the supports' work on the arch
+                W_ground += w_sup
+                W_sup += w_sup
+                D += w_sup
                 hit = closed.copy()
             if closed.all():
                 s = None
@@ -138,7 +156,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
                 h = s_cut
                 cuts += 1
                 a_g = at(t + 0.5 * h)
-                acc[:-1, 0] = -a_g * g
+                acc[:n, 0] = -a_g * g
         # 3. midpoint, free velocity
         qm = q + 0.5 * h * v
         v_free = v + h * acc
@@ -148,7 +166,12 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
             gm = con.evaluate(qm)
             sol, working = _project(con, gm.rows, v_free, closed, working, nonneg, free, g * h)
             pivots += sol.pivots
-            v_new = v_free + minv * con.apply_t(gm.rows, sol.P)
+            imp_v = con.apply_t(gm.rows, sol.P)
+            v_new = v_free + minv * imp_v
+            sup += imp_v[-2:, :2].ravel()
+            w_sup = -float(np.sum(imp_v[-2:, :2] * v[-2:, :2]))
+            W_ground += w_sup
+            W_sup += w_sup
             P = sol.P.reshape(J, 3)
             ab = sol.ab
         else:
@@ -174,16 +197,19 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
                 q_new = q_new + dq
                 geo.gap = geo.gap + con.apply(geo.rows, dq).reshape(J, 3)[:, :2]   # to O(|dq|^2)
                 stale = True                 # rows, slips: of q_new before dq (re-evaluated at an impact)
-                drift += g * float(m @ dq[:-1, 1]) + a_g * g * float(m @ dq[:-1, 0])
-        W_ground += float(-a_g * g * (m @ (q_new[:-1, 0] - q[:-1, 0])))
+                drift += g * float(m @ dq[:n, 1]) + a_g * g * float(m @ dq[:n, 0])
+        W_ground += float(-a_g * g * (m @ (q_new[:n, 0] - q[:n, 0])))
         q, v = q_new, v_new
         t = t + h
+        sup_t += h
         steps += 1
     if outcome is None:
         outcome = "rest" if kinetic(v) < REST_KINETIC * E_unit else "survived"
     res.finish(outcome=outcome, t_end=t, t_overturn=t_over, peak_rotation=peak, t_peak=t_peak,
                energy_balance_error=balance, dissipated=D, ground_work=W_ground, projection_drift=drift, steps=steps,
                cut_steps=cuts, pivots=pivots, time=time.perf_counter() - clock)
+    if motion is not None:
+        support_history(res, motion, t0, F_rows)
     return res
 
 

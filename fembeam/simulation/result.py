@@ -37,7 +37,11 @@ class SimulationResult:
     (:data:`HISTORY_COLUMNS`): ``t`` (s), ``K``, ``V``, ``W_ground``, ``dissipated``
     (J/m), ``a_g`` (g), ``hinges`` (joints with exactly one corner open), ``separated`` (joints with
     both corners open), ``max_rotation`` (rad); ``positions`` the ``(n, 3)`` states ``x, y, phi`` at
-    the same times.
+    the same times.  With a prescribed support motion (``support_motion``) the history also has
+    :data:`~.support_motion.SUPPORT_COLUMNS`: ``support_displacement`` (m, the ``delta`` of
+    ``fembeam supports``), ``H_left``, ``H_right`` (kN/m: the mean horizontal force of the arch on
+    each support since the previous row, positive outward) and ``V_left``, ``V_right`` (kN/m, the
+    vertical ones, positive downward).
 
     Attributes
     ----------
@@ -110,6 +114,9 @@ class SimulationResult:
     impacts: list = field(default_factory=list)     # (t, K before, K after) of each impact (a corner closes)
     q_end: np.ndarray | None = None                 # (n + 1, 3) positions and velocities at t_end (the last
     v_end: np.ndarray | None = None                 # row the ground's zeros): a later run may start from them
+    support_motion: object = None                   # the SupportMotion of the run (None: supports fixed)
+    support_t0: float = 0.0                         # s: when the supports started to move
+    support_q_end: np.ndarray | None = None         # (2, 2) m: the supports' displacements at t_end
 
     def record(self, t, q, v, K, V, W_ground, D, a_g, gap, thickness) -> None:
         """Append one history row (``gap`` ``(J, 2)`` and ``thickness`` ``(J, 1)``, m)."""
@@ -190,9 +197,30 @@ class SimulationResult:
                       "history.W_ground": "J/m", "history.dissipated": "J/m", "history.a_g": "g",
                       "history.max_rotation": "rad", "sliding.max_slip": "m", "friction_demand.s": "m"},
         }
+        if self.support_motion is not None:
+            out["support_motion"] = self.support_block()
+            out["units"].update({"support_motion.rate_m_per_s": "m/s", "support_motion.up_to_m": "m",
+                                 "support_displacement_at_collapse": "m", "history.support_displacement": "m",
+                                 "history.H_left": "kN/m", "history.V_left": "kN/m", "history.H_right": "kN/m",
+                                 "history.V_right": "kN/m"})
+            out["support_displacement_at_collapse"] = out["support_motion"]["displacement_at_collapse"]
         if history:
             out["history"] = {k: [float(x) for x in v] for k, v in h.items()}
         return out
+
+    def support_block(self) -> dict:
+        """The JSON block of a prescribed support motion: the motion, the support displacement
+        (m) at the collapse (None if it did not collapse) and at the end, and the last sampled
+        forces on the supports (kN/m)."""
+        mo = self.support_motion
+        collapsed = self.outcome in ("overturned", "collapsed_by_sliding") and self.t_overturn is not None
+        h = self.history
+        last = {k: (float(h[k][-1]) if len(h.get(k, ())) else None) for k in ("H_left", "V_left", "H_right", "V_right")}
+        return {**mo.describe(),
+                "displacement_at_collapse": float(mo.displacement(self.t_overturn - self.support_t0)) if collapsed
+                else None,
+                "displacement_end": float(mo.displacement(self.t_end - self.support_t0)),
+                "last_forces_kN_per_m": last}
 
     def csv_rows(self) -> list[dict]:
         h = self.history

@@ -58,6 +58,7 @@ from ..limits import DT_RANGE, MAX_STEPS   # admitted time steps (s); (t_end - t
 from .bodies import Bodies
 from .contacts import Contacts
 from .result import SimulationResult
+from .support_motion import SUPPORT_COLUMNS, SupportMotion
 
 __all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_KINETIC",
            "check_dt", "check_friction"]
@@ -192,7 +193,7 @@ class Simulator:
     def run(self, ground: GroundMotion, *, dt: float = 1e-3, t_end: float | None = None,
             dt_out: float | None = None, q0: np.ndarray | None = None, v0: np.ndarray | None = None,
             stop_at_overturn: bool = True, progress=None, engine: str = "compiled",
-            t_start: float | None = None) -> SimulationResult:
+            t_start: float | None = None, support_motion: SupportMotion | None = None) -> SimulationResult:
         """Time history of the bodies under a ground motion.
 
         Parameters
@@ -218,6 +219,10 @@ class Simulator:
             The numba kernel, or the NumPy reference (slower; no friction).
         t_start : float, optional
             Start there (s), default the start of the ground motion.
+        support_motion : SupportMotion, optional
+            The supports moved from the start on, as kinematic bodies
+            (:class:`~.support_motion.SupportMotion`); the history then has the columns
+            :data:`~.support_motion.SUPPORT_COLUMNS`.
 
         Returns
         -------
@@ -236,6 +241,8 @@ class Simulator:
         SolverError
             The reference engine met a singular system.
         """
+        if support_motion is not None and not isinstance(support_motion, SupportMotion):
+            raise InputError(f"support_motion must be a SupportMotion, got {type(support_motion).__name__}")
         if engine == "reference":
             if self.friction is not None:
                 raise InputError("the reference engine has no friction")
@@ -243,12 +250,13 @@ class Simulator:
             if t_start is not None:
                 raise InputError("the reference engine starts at the start of the ground motion")
             try:
-                return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress)
+                return run_reference(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress,
+                                     support_motion)
             except np.linalg.LinAlgError as e:
                 raise SolverError(f"the reference engine met a singular system ({e})") from e
         if engine != "compiled":
             raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
-        return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress, t_start)
+        return _run(self, ground, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress, t_start, support_motion)
 
 
 def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = None, elements: int | None = None,
@@ -365,19 +373,44 @@ def checked_run(sim: Simulator, ground, dt, t_end, dt_out, q0, v0, t_start=None)
     return t0, t_end, dt, dt_out, q, v
 
 
+def supported(sim: Simulator, q: np.ndarray, v: np.ndarray, motion: SupportMotion | None):
+    """The contacts with two support bodies (:meth:`.contacts.Contacts.split_supports`) and the
+    positions, velocities ``(n + 2, 3)`` of ``q``, ``v`` ``(n + 1, 3)``: the supports at rest at
+    their places, moving at ``motion``'s velocities (if any, and it moves at all)."""
+    if getattr(sim, "_split", None) is None:
+        sim._split = sim.contacts.split_supports()
+    q2, v2 = np.vstack([q, np.zeros((1, 3))]), np.vstack([v, np.zeros((1, 3))])
+    if motion is not None and motion.hold_after > 0:
+        v2[-2:] = motion.velocities()
+    return sim._split, q2, v2
+
+
+def support_history(res: SimulationResult, motion: SupportMotion, t0: float, F) -> None:
+    """Adds :data:`.support_motion.SUPPORT_COLUMNS` to ``res.history``: the displacement (m) at
+    its times and, from the mean forces ``F`` ``(rows, 4)`` (N/m) of the arch on the supports
+    (x, y of the left, then of the right one), ``H`` (kN/m, outward) and ``V`` (kN/m, downward)."""
+    h = res.history
+    F = np.asarray(F, float).reshape(-1, 4) / 1e3
+    h.update(zip(SUPPORT_COLUMNS, (motion.displacement(np.asarray(h["t"]) - t0), -F[:, 0], -F[:, 1],
+                                   F[:, 2], -F[:, 3])))
+    res.support_motion, res.support_t0 = motion, float(t0)
+
+
 def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_overturn, progress,
-         t_start=None):
+         t_start=None, motion=None):
     clock = time.perf_counter()
     t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0, t_start)
     K = compiled_kernel()                # numba: compiled, or loaded from its cache, on first use
     t_load = time.perf_counter() - clock
-    bodies, con, g = sim.bodies, sim.contacts, sim.g
+    bodies, g = sim.bodies, sim.g
+    con, q, v = supported(sim, q, v, motion)     # the supports: rows n (left) and n + 1 (right)
+    t_hold = t0 + motion.hold_after if motion is not None else math.inf
     L = sim.curve.length
     n, J = bodies.n, con.J
     m, minv = bodies.m, con.minv
-    mv = np.zeros((n + 1, 3))
-    mv[:-1, 0] = mv[:-1, 1] = m
-    mv[:-1, 2] = bodies.I
+    mv = np.zeros((n + 2, 3))
+    mv[:n, 0] = mv[:n, 1] = m
+    mv[:n, 2] = bodies.I
     y0 = bodies.G0[1].copy()
     E_unit = bodies.mass * g * L
     thick = bodies.thickness.copy()
@@ -400,7 +433,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     s_ref = np.zeros(J) if q0 is None else slip[np.arange(J), contact].copy()
     fs = np.zeros(K.N_FLOAT)
     ist = np.zeros(K.N_INT, np.int64)
-    E0 = float(0.5 * np.sum(mv * v * v)) + g * float(m @ (q[:-1, 1] - y0))
+    E0 = float(0.5 * np.sum(mv * v * v)) + g * float(m @ (q[:n, 1] - y0))
     fs[K.F_T], fs[K.F_E0], fs[K.F_NEXT] = t0, E0, t0
     fs[K.F_ESEEN] = max(abs(E0), 1e-9 * E_unit)
     fs[K.F_TPEAK] = fs[K.F_TOVER] = fs[K.F_TRATIO] = fs[K.F_TSLIP] = math.nan
@@ -415,14 +448,16 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     t_start = time.perf_counter()
     h_rows, p_rows, impacts = [], [], []
     dump = (np.zeros((6, 3 * J)), np.zeros(3 * J), np.zeros(3 * J), np.zeros((J, 2), bool))
+    sup = np.zeros(6)
     while True:
+        t_stop = t_hold if t_hold < t_end else t_end     # the supports stop at t_hold: a step ends there
         try:
             status, nh, ni = K.advance(
                 q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, thick,
                 gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
-                fs, ist, dt, t_end, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, mu,
+                fs, ist, dt, t_stop, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, mu,
                 bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
-                hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump)
+                hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump, sup)
         except (np.linalg.LinAlgError, ZeroDivisionError) as e:
             # a singular dense system inside a solver (numba raises numpy's LinAlgError): the step
             # from the state it started from (positions; velocities after its impact, if any)
@@ -447,12 +482,20 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
             raise err
         if progress is not None:
             progress(float(fs[K.F_T]))
+        if status == K.FINISHED and t_stop < t_end:     # the supports held from here on
+            v[-2:] = 0.0
+            q[-2:] = 0.0
+            q[-2:, :2] = motion.up_to * np.array([motion.left, motion.right])
+            t_hold = math.inf
+            continue
         if status in (K.FINISHED, K.STOPPED):
             break
     t_run = time.perf_counter() - t_start
     H = np.vstack(h_rows) if h_rows else np.zeros((0, K.HISTORY_COLUMNS))
     from .result import HISTORY_COLUMNS
     res.history = {k: H[:, i].astype(float) for i, k in enumerate(HISTORY_COLUMNS)}
+    if motion is not None:
+        support_history(res, motion, t0, H[:, len(HISTORY_COLUMNS):len(HISTORY_COLUMNS) + 4])
     res.positions = p_rows
     res.impacts = impacts
     code = int(ist[K.I_OUTCOME])
@@ -479,5 +522,8 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                friction_work=float(fs[K.F_FRICTION]), coulomb_residual=float(fs[K.F_COULOMB]),
                time=time.perf_counter() - clock,
                timings={"compile_or_load": t_load, "run": t_run, "total": time.perf_counter() - clock})
-    res.q_end, res.v_end = q.copy(), v.copy()
+    res.q_end, res.v_end = q[:-1].copy(), v[:-1].copy()
+    res.q_end[-1] = res.v_end[-1] = 0.0
+    if motion is not None:
+        res.support_q_end = q[-2:, :2].copy()
     return res

@@ -1,0 +1,168 @@
+"""A prescribed support motion in the multi-block simulation (``simulate --support-motion``):
+unchanged without it, a rigid translation of both supports equals the equivalent ground motion,
+the two engines agree, and a slow spreading (or settlement) collapses at the capacity of
+``fembeam supports`` with the thrust of its quasi-static path."""
+from __future__ import annotations
+
+import hashlib
+import json
+
+import numpy as np
+import pytest
+
+from fembeam import CircularArch, StraightMember
+from fembeam.analysis.supports import Movement, supports
+from fembeam.dynamics import GroundMotion
+from fembeam.dynamics.equation import GRAVITY
+from fembeam.errors import InputError
+from fembeam.simulation import Simulator
+from fembeam.simulation.support_motion import SUPPORT_COLUMNS, SupportMotion
+
+STILL = GroundMotion(np.array([0.0, 1.0]), np.zeros(2), "none", True)
+
+
+def _md5(a) -> str:
+    return hashlib.md5(np.ascontiguousarray(a).tobytes()).hexdigest()
+
+
+def test_without_support_motion_unchanged():
+    """The runs of the simulation before the supports could move, bit for bit (digests of the
+    final state and of the kinetic energy's history recorded before the change)."""
+    arch = CircularArch()
+    want = {0.3: ("rest", None, 1000, "eb8364bc6a0df94fbf6ea5fda6ff2253", "1b04a0951af40d7f56340fe8ff50d4b3"),
+            0.6: ("overturned", 0.75794263543762, 463, "85b09a24c2802175ea4d5646878600d2",
+                  "5caf82918bbcec8d958ed47408b4df01")}
+    for amp, (outcome, t_over, steps, q_md5, k_md5) in want.items():
+        r = Simulator(arch, voussoirs=7).run(GroundMotion.sine(amp, 0.5), dt=2e-3, t_end=2.0)
+        assert (r.outcome, r.t_overturn, r.steps) == (outcome, t_over, steps)
+        assert _md5(r.q_end) == q_md5 and _md5(r.history["K"]) == k_md5
+        assert r.support_motion is None and not set(SUPPORT_COLUMNS) & set(r.history)
+        assert "support_motion" not in r.to_dict()
+    r = Simulator(arch, voussoirs=7, friction=0.5).run(GroundMotion.sine(0.6, 0.5), dt=2e-3, t_end=1.0)
+    assert (r.outcome, r.t_overturn, r.steps, _md5(r.q_end)) == \
+        ("overturned", 0.734716751908519, 445, "dcc9dbe55f459563e123ef6554493200")
+
+
+@pytest.mark.parametrize("engine", ["compiled", "reference"])
+@pytest.mark.parametrize("member", ["arch", "block"])
+def test_rigid_translation_is_a_ground_motion(engine, member):
+    """Both supports moved together at ``r`` (m/s) from rest: in the supports' frame, a ground
+    whose velocity jumps by ``r``: the rectangular pulse ``r / (g dt)`` over the first step.  The
+    supports already move during the first step (their displacement is ``r t`` exactly) while
+    the pulse's bodies take the jump at its end: the two differ by the support offset
+    ``r dt / 2`` (5e-5 m here), which the rocking then carries: agreement to ``10 r dt``."""
+    dt, r, T = 2e-3, 0.05, 0.6
+    sim = Simulator(CircularArch(), voussoirs=5) if member == "arch" else \
+        Simulator(StraightMember(height=1.0, width=0.25), voussoirs=1)
+    a = sim.run(STILL, dt=dt, t_end=T, dt_out=0.02, engine=engine, support_motion=SupportMotion.rigid((1.0, 0.0), r))
+    b = sim.run(GroundMotion.rectangular(r / (GRAVITY * dt), dt), dt=dt, t_end=T, dt_out=0.02, engine=engine)
+    ta, tb = np.asarray(a.history["t"]), np.asarray(b.history["t"])
+    k = min(ta.size, tb.size)
+    assert np.max(np.abs(ta[:k] - tb[:k])) < dt
+    rel = np.array(a.positions)[:k] - np.array(b.positions)[:k]
+    rel[..., 0] -= r * ta[:k, None]
+    assert np.max(np.abs(rel)) < 10 * r * dt
+    assert np.max(a.history["max_rotation"]) > 5e-4          # it rocked relative to the supports
+    assert np.allclose(a.history["support_displacement"], r * ta)
+
+
+def test_engines_agree_under_spreading():
+    """The compiled loop and the NumPy reference: the same motion and forces on the supports."""
+    sim = Simulator(CircularArch(), voussoirs=5)
+    mo = SupportMotion.of("spread", 0.05, up_to=0.01)
+    a = sim.run(STILL, dt=2e-3, t_end=0.5, dt_out=0.02, support_motion=mo)
+    b = sim.run(STILL, dt=2e-3, t_end=0.5, dt_out=0.02, support_motion=mo, engine="reference")
+    assert a.steps == b.steps
+    assert np.max(np.abs(np.array(a.positions)[-1] - np.array(b.positions)[-1])) < 1e-9
+    ta, tb = np.asarray(a.history["t"]), np.asarray(b.history["t"])
+    for k in ("H_left", "H_right", "V_left", "V_right"):
+        fb = np.interp(ta, tb, b.history[k])
+        # (the compiled loop also samples the instant the supports stop: the means after it differ)
+        keep = np.isin(np.round(ta, 9), np.round(tb, 9)) & (ta > 0) & (ta < mo.hold_after)
+        assert np.allclose(np.asarray(a.history[k])[keep], fb[keep], rtol=1e-6, atol=1e-9), k
+    assert a.history["support_displacement"][-1] == pytest.approx(0.01)     # held at up_to
+    assert np.allclose(a.support_q_end, [[-0.005, 0.0], [0.005, 0.0]])
+
+
+def _quasi_static(kind, voussoirs, rate, dt):
+    arch = CircularArch()
+    qs = supports(arch, Movement.of(kind), voussoirs=voussoirs)
+    sim = Simulator(arch, voussoirs=voussoirs)
+    T = 1.3 * qs.capacity / rate
+    res = sim.run(STILL, dt=dt, t_end=T, dt_out=T / 400, support_motion=SupportMotion.of(kind, rate))
+    return qs, res
+
+
+@pytest.mark.parametrize("kind, rate", [("spread", 0.01), ("settle", 0.01)])
+def test_slow_movement_follows_supports(kind, rate):
+    """7 voussoirs of the default arch moved slowly: the collapse at ``fembeam supports``'s
+    capacity and the thrust along its path (the mechanism may be the mirror image of the
+    quasi-static one: the vertical reactions are compared as a set)."""
+    qs, res = _quasi_static(kind, 7, rate, 1e-3)
+    d = res.to_dict()
+    assert res.outcome == "overturned"
+    assert d["support_displacement_at_collapse"] == pytest.approx(qs.capacity, rel=0.03)
+    P = np.array(qs.path)
+    h = res.history
+    u = np.asarray(h["support_displacement"])
+    for frac in (0.1, 0.3, 0.5, 0.7, 0.9):
+        i = int(np.argmin(np.abs(u - frac * qs.capacity)))
+        H = np.interp(u[i], P[:, 0], P[:, 1])
+        assert h["H_left"][i] == pytest.approx(H, rel=0.02)
+        assert h["H_right"][i] == pytest.approx(H, rel=0.02)
+        Vq = sorted([np.interp(u[i], P[:, 0], P[:, 2]), np.interp(u[i], P[:, 0], P[:, 3])])
+        assert sorted([h["V_left"][i], h["V_right"][i]]) == pytest.approx(Vq, rel=0.02)
+        assert h["K"][i] < 1e-3 * abs(h["W_ground"][i])     # quasi-static: K << the supports' work
+
+
+def test_support_motion_input():
+    for bad in (0.0, -1.0, float("nan"), float("inf"), "x"):
+        with pytest.raises(InputError):
+            SupportMotion.of("spread", bad)
+    for bad in (0.0, -0.1, float("inf")):
+        with pytest.raises(InputError):
+            SupportMotion.of("settle", 0.1, up_to=bad)
+    with pytest.raises(InputError):
+        SupportMotion.of("twist", 0.1)
+    with pytest.raises(InputError):
+        SupportMotion.of("spread", 0.1, left=True)
+    with pytest.raises(InputError):
+        Simulator(CircularArch(), voussoirs=5).run(STILL, support_motion="spread")
+
+
+def _cli(*argv):
+    import subprocess
+    import sys
+    return subprocess.run([sys.executable, "-m", "fembeam", "simulate", *argv], capture_output=True, text=True)
+
+
+@pytest.mark.parametrize("argv", [
+    ["--support-motion", "twist", "--support-rate", "0.1"],
+    ["--support-motion", "spread", "--support-rate", "0"],
+    ["--support-motion", "spread", "--support-rate", "-0.1"],
+    ["--support-motion", "spread", "--support-rate", "nan"],
+    ["--support-motion", "spread", "--support-rate", "inf"],
+    ["--support-motion", "spread"],
+    ["--support-motion", "settle", "--support-rate", "0.1", "--support-up-to", "0"],
+    ["--support-motion", "settle", "--support-rate", "0.1", "--support-up-to", "-1"],
+    ["--support-motion", "0,0", "--support-rate", "0.1"],
+    ["--support-motion", "spread", "--support-rate", "0.1", "--support-left"],
+    ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--support-rate", "0.1"],
+    ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--support-motion", "spread", "--support-rate", "1"],
+])
+def test_cli_bad_input(argv):
+    p = _cli("--voussoirs", "5", *argv)
+    assert p.returncode == 2
+    assert len(p.stderr.strip().splitlines()) == 1, p.stderr
+
+
+def test_cli_json():
+    p = _cli("--voussoirs", "5", "--support-motion", "spread", "--support-rate", "0.05", "--support-up-to", "0.01",
+             "--t-end", "0.3", "--dt", "2e-3", "--json", "--history")
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert d["support_motion"]["kind"] == "spread" and d["support_displacement_at_collapse"] is None
+    assert d["outcome"] in ("rest", "survived")
+    assert set(SUPPORT_COLUMNS) <= set(d["history"])
+    assert d["history"]["support_displacement"][-1] == pytest.approx(0.01)
+    assert d["history"]["H_left"][-1] > 1.0 and d["units"]["history.H_left"] == "kN/m"
