@@ -24,6 +24,7 @@ from fembeam import StraightMember
 from fembeam.cli import main
 from fembeam.dynamics.ground import GroundMotion
 from fembeam.simulation import Simulator
+from fembeam.studies import models
 from fembeam.studies import spectrum as sp
 from fembeam.studies.parallel import Journal, journal_for
 from fembeam.studies.collapse import collapse_scale
@@ -177,8 +178,8 @@ def test_friction_reaches_the_simulator(monkeypatch):
 
     import fembeam.simulation as simulation
     monkeypatch.setattr(simulation, "Simulator", Fake)
-    monkeypatch.setattr(sp, "_check_friction", lambda mu, name: float(mu))
-    monkeypatch.setattr(sp._SIMULATORS, "kept", None, raising=False)
+    monkeypatch.setattr(models, "check_friction", lambda mu, name: float(mu))
+    monkeypatch.setattr(models._SIMULATORS, "kept", None, raising=False)
     res = spectrum(BLOCK, "rect", [0.5], voussoirs=1, amplitudes=[0.1, 0.15, 0.3], bisect_tol=0.05, workers=1,
                    progress=False, model="simulate", dt=DT, friction=0.4)
     row = res.rows[0]
@@ -200,7 +201,7 @@ def test_block_sliding_threshold_with_friction():
     between the two (measured 0.19644 g, slip 0.232 m, then it tips off the edge: collapsed by
     sliding).  It was 0.201286 g, the half-depth rule on a face line without end (the block then
     slid on over air).  Below A_L (0.25 g) the amplitudes are run."""
-    if not sp._simulator_has_friction():
+    if not models.simulator_has_friction():
         pytest.skip("this Simulator has no Coulomb friction")
     mu, t1, g, w, h = 0.1, 0.5, 9.81, 0.5, 2.0
 

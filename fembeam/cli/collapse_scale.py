@@ -16,10 +16,8 @@ from ..dynamics.ground import RECORDS, GroundMotion
 from ..errors import InputError
 from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN, collapse_scale
 from ..studies.models import MODELS, check_model
-from ..studies.spectrum import DT
-from .args import finite_float, note_records
-from .rock import add_member, member_from
-from .spectrum import MODEL_HELP, model_line
+from ..studies.runs import DT
+from .args import add_member, finite_float, member_from, MODEL_HELP, model_line, note_records
 
 
 def register(sub) -> None:

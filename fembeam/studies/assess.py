@@ -34,7 +34,7 @@ from ..limits import check_run_count
 from ..errors import InputError
 from ..geometry import MidCurve
 from ..dynamics.ground import MAX_PGA
-from . import spectrum
+from .runs import json_safe, onset_amplitude
 from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, collapse_scale
 
 __all__ = ["assess", "margin", "AssessResult", "Snapshot", "VERDICTS", "MARGIN_KEYS"]
@@ -85,7 +85,7 @@ class AssessResult:
     def to_dict(self) -> dict:
         """Strict JSON (null for undefined or non-finite numbers)."""
         geo = self.curve.describe() if hasattr(self.curve, "describe") else {}
-        return spectrum._json_safe({"command": "assess", "geometry": geo, "mode": self.mode,
+        return json_safe({"command": "assess", "geometry": geo, "mode": self.mode,
                         "elements": self.elements, "settings": self.settings, "static": self.static,
                         "motions": self.motions,
                         "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
@@ -207,7 +207,7 @@ def margin_span(A: dict, ground: GroundMotion, span: float = SPAN) -> float | No
         :data:`~fembeam.dynamics.ground.MAX_PGA` (g); None when no factor sets the member moving
         (the motion is zero, or ``A_L`` infinite the way it loads) or only one above that PGA does.
     """
-    f0 = spectrum.onset_amplitude(A, ground)
+    f0 = onset_amplitude(A, ground)
     if not math.isfinite(f0) or ground.pga == 0:
         return None
     top = min(span, MAX_PGA / (f0 * ground.pga) * (1 - 1e-9))

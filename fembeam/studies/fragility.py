@@ -51,7 +51,7 @@ from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, default_t_end, o
 from .intensity import IntensityMeasure, parse_im
 from .models import DEFAULT_MODEL, check_model
 from .parallel import Journal, executor_label, run_tasks
-from .spectrum import T_END_FACTOR, _check_runs, _json_safe
+from .runs import T_END_FACTOR, check_runs, json_safe
 from .suites import Record, Suite
 
 __all__ = ["fragility", "fragility_case", "FragilityResult", "plot_fragility", "plot_ida", "SIGNS", "symmetric_model"]
@@ -69,7 +69,7 @@ def fragility_case(curve: MidCurve, record: Record, sign: int, model: str, thres
     res = record_collapse(curve, record.ground, sign=sign, model=model, thresholds=thresholds, voussoirs=voussoirs,
                           elements=elements, backend=backend, dt=dt, resolution=resolution, span=span,
                           max_runs=max_runs, t_end=default_t_end(record.ground, curve, t_end_factor))
-    return _json_safe({"record": record.name, **res})
+    return json_safe({"record": record.name, **res})
 
 
 def _lost_case(task, message: str) -> dict:
@@ -146,7 +146,7 @@ class FragilityResult:
         return out
 
     def to_dict(self) -> dict:
-        return _json_safe({"study": "fragility", "outcome": self.outcome, "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
+        return json_safe({"study": "fragility", "outcome": self.outcome, "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
                            "geometry": self.geometry, "A_L": self.A_L, "settings": self.settings,
                            "counts": self.counts(), "method": "interval_censored", "fit": self.fit,
                            "fit_error": self.fit_error,
@@ -241,7 +241,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
     im_of = {r.name: measure(r.ground) for r in suite.records}
     meta = {r.name: r.metadata() for r in suite.records}
     longest = max(suite.records, key=lambda r: default_t_end(r.ground, curve, t_end_factor) - r.ground.t[0])
-    _check_runs(model, dt, default_t_end(longest.ground, curve, t_end_factor) - float(longest.ground.t[0]),
+    check_runs(model, dt, default_t_end(longest.ground, curve, t_end_factor) - float(longest.ground.t[0]),
                 curve, voussoirs, elements)
     clock = time.perf_counter()
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
