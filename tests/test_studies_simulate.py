@@ -55,8 +55,8 @@ def test_block_rectangular_pulse_rock_and_simulate_agree():
     rock = spectrum(BLOCK, "rect", [0.5], **kw).rows[0]
     sim = spectrum(BLOCK, "rect", [0.5], model="simulate", dt=2e-3, **kw).rows[0]
     assert rock["converged"] and sim["converged"] and sim["collapse"] == "overturned"
-    assert rock["first_overturning"] == pytest.approx(0.339036, rel=5e-4)
-    assert abs(sim["first_overturning"] / rock["first_overturning"] - 1) < 1.5e-3
+    assert rock["first_collapse"] == pytest.approx(0.339036, rel=5e-4)
+    assert abs(sim["first_collapse"] / rock["first_collapse"] - 1) < 1.5e-3
     assert sim["steps"] > 0 and "steps" not in rock
 
 
@@ -73,7 +73,7 @@ def test_outcomes_are_the_simulators(small):
             res = sim.run(GroundMotion.rectangular(a, row["period"]), dt=DT, t_end=row["t_end"], stop_at_overturn=True)
             assert res.outcome == step["outcome"], (row["period"], a)
         lo, hi = row["bracket"]
-        assert row["first_overturning"] == hi and hi - lo <= 0.02 * hi and row["collapse"] == "overturned"
+        assert row["first_collapse"] == hi and hi - lo <= 0.02 * hi and row["collapse"] == "overturned"
     assert small.model == "simulate" and small.settings["dt"] == DT and small.settings["friction"] is None
 
 
@@ -149,7 +149,7 @@ def test_collapse_scale_simulate_against_direct_runs(capsys):
     rec, t_end = GroundMotion.record("elcentro_chopra"), 6.0
     res = collapse_scale(BLOCK, rec, voussoirs=1, resolution=0.05, t_end=t_end, model="simulate", dt=DT)
     lo, hi = res["bracket"]
-    assert res["first_overturning"] == hi and res["smallest"] and hi / lo <= 1.05 * (1 + 1e-9)
+    assert res["first_collapse"] == hi and res["smallest"] and hi / lo <= 1.05 * (1 + 1e-9)
     assert res["model"] == "simulate" and res["dt"] == DT and res["collapse"] == "overturned" and res["steps"] > 0
     sim = Simulator(BLOCK, voussoirs=1)
     assert sim.run(rec.scaled(hi), dt=DT, t_end=t_end).outcome == "overturned"
@@ -185,7 +185,7 @@ def test_friction_reaches_the_simulator(monkeypatch):
     row = res.rows[0]
     assert made == [(1, None, 0.4)]                         # built once for all the runs of the period
     assert [s["outcome"] for s in row["scan"]] == ["rest", "rest", "collapsed_by_sliding"]     # 0.1, 0.15 g < A_L run
-    assert row["collapse"] == "collapsed_by_sliding" and 0.2 <= row["first_overturning"] <= 0.21
+    assert row["collapse"] == "collapsed_by_sliding" and 0.2 <= row["first_collapse"] <= 0.21
     assert res.settings["friction"] == 0.4 and res.to_dict()["settings"]["friction"] == 0.4
     from fembeam.cli.spectrum import table
     assert "collapses by sliding" in table(res) and "friction mu = 0.4" in table(res)
@@ -213,7 +213,7 @@ def test_block_sliding_threshold_with_friction():
     row = res.rows[0]
     assert [s["outcome"] for s in row["scan"]] == ["rest", "rest", "collapsed_by_sliding", "collapsed_by_sliding"]
     assert row["collapse"] == "collapsed_by_sliding" and res.settings["friction"] == mu
-    assert amplitude(w / 2 - mu * h / 2) < row["first_overturning"] < amplitude(w / 2)
+    assert amplitude(w / 2 - mu * h / 2) < row["first_collapse"] < amplitude(w / 2)
 
 
 @pytest.mark.parametrize("argv", [

@@ -90,7 +90,8 @@ class Segment:
 @dataclass
 class AutoResult:
     """The verdict of :meth:`AutoModel.run`: ``outcome`` (:data:`fembeam.dynamics.OUTCOMES`),
-    ``t_overturn``, the largest rotation of any piece or body ``peak_rotation`` (rad) and its time,
+    ``t_collapse`` (the time of the collapse, by overturning or by sliding; ``t_overturn`` is the
+    same, its deprecated name kept for one release), the largest rotation of any piece or body ``peak_rotation`` (rad) and its time,
     the ``segments``, the first time the one-mechanism model failed (``first_failure``: ``(t,
     reason)`` or None) and the ``history`` (``t``, ``model`` (0 rock, 1 simulate), ``K``, ``V``
     (J/m), ``a_g`` (g), ``max_rotation`` (rad))."""
@@ -118,6 +119,11 @@ class AutoResult:
                                                        # every run made, in order (to draw the member at any time)
 
     @property
+    def t_collapse(self) -> float | None:
+        """The time of the collapse (s), by overturning or by sliding; None without one."""
+        return self.t_overturn
+
+    @property
     def handovers(self) -> int:
         return max(len(self.segments) - 1, 0)
 
@@ -140,6 +146,7 @@ class AutoResult:
             "A_L": {"+1": num(self.A_L.get(1)), "-1": num(self.A_L.get(-1))},
             "peak_rotation": float(self.peak_rotation),
             "t_peak": num(self.t_peak),
+            "t_collapse": num(self.t_overturn),
             "t_overturn": num(self.t_overturn),
             "overturn_reason": self.overturn_reason,
             "first_failure": None if self.first_failure is None else

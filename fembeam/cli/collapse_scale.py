@@ -100,7 +100,7 @@ def summary(res: dict) -> str:
               f"{f0:.6g}",
               f"  hunt and fill: resolution {res['resolution']:g} (relative), factors up to {top:.4g} "
               f"({top / f0:g} x the onset factor)"]
-    f = res["first_overturning"]
+    f = res["first_collapse"]
     lo, hi = res["bracket"]
     reached = res["resolution_reached"]
     if f is None:
@@ -111,7 +111,7 @@ def summary(res: dict) -> str:
                          "apart, more than the resolution")
     else:
         how = " (collapses by sliding)" if res.get("collapse") == "collapsed_by_sliding" else ""
-        lines.append(f"  first collapse found: factor {f:.6g} (PGA {res['pga_at_first_overturning']:.6g} g){how}")
+        lines.append(f"  first collapse found: factor {f:.6g} (PGA {res['pga_at_first_collapse']:.6g} g){how}")
         if res["smallest"]:
             lines.append(f"  the smallest at resolution {res['resolution']:g}: every factor run below it stands, "
                          f"consecutive factors from the onset to {lo:.6g} at most {100 * reached:.3g} % apart")

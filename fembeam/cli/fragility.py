@@ -225,7 +225,7 @@ def table(res: FragilityResult) -> str:
            f"{'safe above':>10} {'runs':>6}"]
     for r in res.rows:
         if r["status"] == "collapsed":
-            first, im = _num(r["first_overturning"], ".5g"), _num(r["im_at_collapse"], ".5g")
+            first, im = _num(r["first_collapse"], ".5g"), _num(r["im_at_collapse"], ".5g")
             smallest = "yes" if r["smallest"] else f"no ({_num(r['resolution_reached'], '.2g')})"
         elif r["status"] == "censored":
             first, im, smallest = "none", f"> {r['censored_at']:.5g}", "-"

@@ -120,7 +120,7 @@ def table(res: SpectrumResult) -> str:
            f"runs to pulse end + {res.settings['t_end_factor']:g} sqrt(L/g)",
            f"  {col + ' [s]':>12} {'a_over [g]':>11} {'a/onset':>8} {'bracket [g]':>23} {'safe above':>10} {'runs':>5}"]
     for r in res.rows:
-        a, (lo, hi) = r["first_overturning"], r["bracket"]
+        a, (lo, hi) = r["first_collapse"], r["bracket"]
         if a is None:
             br, ratio = f"none up to {amps[-1]:.4g}", "-"
         else:

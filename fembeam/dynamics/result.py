@@ -36,7 +36,8 @@ class ImpactEvent:
 class RockingResult:
     """Outcome and history of :func:`rock`.  ``history`` columns: ``t`` (s), ``mechanism``
     (index, -1 at rest), ``theta`` (rad), ``rate`` (rad/s), ``K``, ``V`` (J/m),
-    ``a_g`` (g)."""
+    ``a_g`` (g).  ``t_collapse`` is the time of the collapse (s; one mechanism collapses by
+    overturning only); ``t_overturn`` is the same, its deprecated name kept for one release."""
 
     curve: MidCurve
     ground: GroundMotion
@@ -51,7 +52,7 @@ class RockingResult:
     peak_theta: float = 0.0                     # largest |theta| (the rotation of the first moving piece)
     t_peak_theta: float | None = None
     peaks: list = field(default_factory=list)   # (t, mechanism index, theta): every turning point
-    t_overturn: float | None = None
+    t_overturn: float | None = None        # deprecated name of t_collapse, kept for one release
     settled_at: float | None = None         # Rocker.run(settle=True): the free motion ends at rest
     overturn_reason: str | None = None      # "below_rest" or "linkage_locked"
     thrust_line_exits_at: float | None = None
@@ -79,6 +80,11 @@ class RockingResult:
     timings: dict = field(default_factory=dict)
 
     @property
+    def t_collapse(self) -> float | None:
+        """The time of the collapse (s); None without one."""
+        return self.t_overturn
+
+    @property
     def elements(self) -> int:
         """:attr:`n` (the JSON's ``elements``: voussoirs or elements, as ``mode`` says)."""
         return self.n
@@ -104,6 +110,7 @@ class RockingResult:
             "peak_theta": float(self.peak_theta),
             "t_peak_theta": num(self.t_peak_theta),
             "turning_points": [{"t": t, "mechanism": k, "theta": th} for t, k, th in self.peaks],
+            "t_collapse": num(self.t_overturn),
             "t_overturn": num(self.t_overturn),
             "overturn_reason": self.overturn_reason,
             "thrust_line_exits_at": num(self.thrust_line_exits_at),

@@ -42,8 +42,8 @@ __all__ = ["assess", "margin", "AssessResult", "Snapshot", "VERDICTS", "MARGIN_K
 VERDICTS = {"rest": "survives", "survived": "survives", "overturned": "overturns",
             "collapsed_by_sliding": "collapsed_by_sliding", "cannot_stand": "cannot_stand"}
 _THICKNESS_KEYS = ("thickness", "thickness_springing", "thickness_crown", "width")
-_VERDICT_KEYS = ("outcome", "t_end", "t_overturn", "overturn_reason", "peak_rotation", "t_peak", "first_failure",
-                 "handovers", "time_in", "n_impacts", "friction_demand", "segments")
+_VERDICT_KEYS = ("outcome", "t_end", "t_collapse", "t_overturn", "overturn_reason", "peak_rotation", "t_peak",
+                 "first_failure", "handovers", "time_in", "n_impacts", "friction_demand", "segments")
 
 
 @dataclass
@@ -162,7 +162,7 @@ def snapshot(runs: list, segments, t: float) -> Snapshot | None:
 
 
 # --------------------------------------------------------------------------- margin
-MARGIN_KEYS = ("factor", "pga_g", "bracket", "converged", "smallest", "resolution", "resolution_reached", "collapse",
+MARGIN_KEYS = ("factor", "pga_g", "bracket", "smallest", "resolution", "resolution_reached", "collapse",
                "safe_above", "safe_factors_above", "none_up_to_max", "budget_exhausted", "onset_factor", "max_factor",
                "runs", "errors")
 
@@ -179,11 +179,10 @@ def _margin_entry(res: dict) -> dict:
     -------
     dict
         The keys :data:`MARGIN_KEYS`: the first collapsing factor found (``factor``, its PGA
-        ``pga_g`` in g), whether it is the smallest at ``resolution`` (``smallest``; ``converged``
-        the same, its former name) and the claims of
+        ``pga_g`` in g), whether it is the smallest at ``resolution`` (``smallest``) and the claims of
         :func:`~fembeam.studies.huntfill.hunt_and_fill` that qualify it.
     """
-    out = {"factor": res["first_overturning"], "pga_g": res["pga_at_first_overturning"]}
+    out = {"factor": res["first_collapse"], "pga_g": res["pga_at_first_collapse"]}
     out.update({k: res[k] for k in MARGIN_KEYS if k not in out})
     return out
 

@@ -99,7 +99,10 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
                    max_runs: int = MAX_RUNS, sign: int = 1, backend: str = "clarabel", progress: Callable | None = None,
                    model: str = "rock", dt: float | None = None, friction: float | None = None) -> dict:
     """The scale factor of ``ground`` at which ``curve`` first collapses (:func:`record_collapse`),
-    its PGA (g), the member's ``A_L`` both ways and the settings; JSON-safe.  Bad input raises
+    its PGA (g), the member's ``A_L`` both ways and the settings; JSON-safe.  ``first_collapse`` and
+    ``pga_at_first_collapse`` (g) name the first collapse, by overturning or by sliding;
+    ``first_overturning`` and ``pga_at_first_overturning`` are deprecated aliases with the same
+    values, kept for one release.  Bad input raises
     :class:`InputError` before any run; ``outcome`` ``"computed"``, or ``"cannot_stand"`` for a member
     that does not stand (no run, no factor)."""
     dt, friction = check_model(model, dt, friction)
@@ -117,6 +120,7 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
     if not rk.stands:             # a physical outcome: the answer, without a run
         return json_safe({"outcome": "cannot_stand", "record": ground.name, "pga": ground.pga, "sign": sign,
+                           "first_collapse": None, "pga_at_first_collapse": None,
                            "first_overturning": None, "pga_at_first_overturning": None,
                            "A_L": {"+1": None, "-1": None}, "geometry": curve.describe() if hasattr(curve, "describe")
                            else {}, "voussoirs": voussoirs, "elements": elements if voussoirs is None else None,
@@ -125,8 +129,10 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     res = record_collapse(curve, ground, sign=sign, model=model, thresholds=[rk.A[1], rk.A[-1]],
                           voussoirs=voussoirs, elements=elements, backend=backend, dt=dt, friction=friction,
                           resolution=resolution, span=span, max_runs=max_runs, t_end=t_end, progress=progress)
-    f = res["first_overturning"]
-    res.update(outcome="computed", record=ground.name, pga=ground.pga, pga_at_first_overturning=None if f is None else f * ground.pga,
+    f = res["first_collapse"]
+    pga_f = None if f is None else f * ground.pga
+    res.update(outcome="computed", record=ground.name, pga=ground.pga, pga_at_first_collapse=pga_f,
+               pga_at_first_overturning=pga_f,
                A_L={"+1": rk.A[1], "-1": rk.A[-1]}, geometry=curve.describe() if hasattr(curve, "describe") else {},
                voussoirs=voussoirs, elements=elements if voussoirs is None else None, model=model, dt=dt,
                friction=friction)

@@ -77,8 +77,8 @@ def _lost_case(task, message: str) -> dict:
     its last safe factor is the onset factor (nothing moves below it)."""
     kw = task[1]
     onset, top = onset_and_top(kw["record"].ground, kw["thresholds"], kw["sign"], kw["span"])
-    return {"record": kw["record"].name, "sign": kw["sign"], "first_overturning": None, "smallest": False,
-            "converged": False, "none_up_to_max": False, "collapse": None, "bracket": [onset, None],
+    return {"record": kw["record"].name, "sign": kw["sign"], "first_collapse": None, "first_overturning": None,
+            "smallest": False, "none_up_to_max": False, "collapse": None, "bracket": [onset, None],
             "resolution": kw["resolution"], "resolution_reached": None, "safe_above": False, "safe_factors_above": [],
             "budget_exhausted": False, "errors": [{"factor": None, "outcome": "lost",
                                                    "error": f"the worker process died twice ({message})"}],
@@ -86,7 +86,7 @@ def _lost_case(task, message: str) -> dict:
 
 
 def _status(row: dict) -> str:
-    if row["first_overturning"] is not None:
+    if row["first_collapse"] is not None:
         return "collapsed"
     return "error" if row["errors"] else "censored"
 
@@ -161,7 +161,8 @@ class FragilityResult:
                         "component": r["component"], "group": r["group"], "normalisation": r["normalisation"],
                         "pga_g": r["pga_g"], "pgv_m_s": r["pgv_m_s"], f"im_record_{self._unit}": r["im_record"],
                         "status": r["status"], "mirrored": r["mirrored"], "onset_factor": r["onset_factor"],
-                        "first_overturning": r["first_overturning"], "smallest": r["smallest"],
+                        "first_collapse": r["first_collapse"], "first_overturning": r["first_collapse"],
+                        "smallest": r["smallest"],
                         "resolution_reached": r["resolution_reached"], "bracket_lo": r["bracket"][0],
                         f"im_at_collapse_{self._unit}": r["im_at_collapse"],
                         f"im_lower_{self._unit}": r["im_interval"][0], f"im_upper_{self._unit}": r["im_interval"][1],
@@ -273,7 +274,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
         rows += [r] if len(signs) == 2 else [r, _mirror(r)]
     for r in rows:
         x = im_of[r["record"]]
-        f, lo = r["first_overturning"], r["bracket"][0]
+        f, lo = r["first_collapse"], r["bracket"][0]
         r.update({k: v for k, v in meta[r["record"]].items() if k != "record"}, im_record=x,
                  status=_status(r), im_at_collapse=None if f is None else f * x)
         r["im_interval"] = [lo * x, None if f is None else f * x]
@@ -378,7 +379,7 @@ def plot_ida(result: FragilityResult, path) -> None:
     edge = 1.1 * max(peaks + [1e-3])
     for r in result.rows:
         x = r["im_record"]
-        first = r["first_overturning"]
+        first = r["first_collapse"]
         safe = [(s["peak_rotation"], s["factor"] * x) for s in r["scan"] if s.get("peak_rotation") is not None
                 and s["outcome"] not in ("overturned", "collapsed_by_sliding")
                 and (first is None or s["factor"] < first)]

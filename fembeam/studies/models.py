@@ -15,9 +15,10 @@ runner, run to ``t_end`` without the free-decay shortcut so that the peak rotati
 run's); ``simulate`` moves the pieces as rigid bodies in contact
 (:class:`~fembeam.simulation.Simulator`, built once per worker thread and member, time step ``dt``,
 stopped at overturning; ``friction``: Coulomb's coefficient at the joints, ``math.inf`` (or None,
-its synonym) for joints that never slide); ``auto`` is ``rock`` while its mechanism is admissible and ``simulate`` from the first
-violation (:class:`~fembeam.auto.AutoModel`, built once per worker thread and member; its time
-steps are not counted).  :data:`MODELS` are the names the commands know; a name without a runner is
+its synonym) for joints that never slide); ``auto`` is ``rock`` while its mechanism is admissible
+and ``simulate`` from the first violation (:class:`~fembeam.auto.AutoModel`, built once per worker
+thread and member; its time steps are not counted).  :class:`MultiBody` is the member of a
+simulate or auto search, :func:`simulator` and :func:`auto_model` the models kept per thread.  :data:`MODELS` are the names the commands know; a name without a runner is
 refused by :func:`check_model` ("not available"), and a new model is one entry of :data:`RUNNERS`.
 """
 from __future__ import annotations

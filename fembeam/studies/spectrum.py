@@ -157,8 +157,9 @@ def overturning_amplitude(rocker: Rocker | MultiBody, make_ground: Callable[[flo
     ``onset``: amplitudes up to it cannot move the member (default ``min(A_L(+1), A_L(-1))``,
     right when ``a`` is the peak ``|a_g|``); ``progress(a, outcome)`` after each decision.
 
-    Returns ``first_overturning`` (upper end of the bracket; None if no scanned amplitude
-    overturns), ``bracket`` ``[lo, hi]`` (lo safe, hi overturning; ``[largest safe, None]``
+    Returns ``first_collapse`` (upper end of the bracket; None if no scanned amplitude
+    collapses; ``first_overturning``: a deprecated alias with the same value, kept for one
+    release), ``bracket`` ``[lo, hi]`` (lo safe, hi overturning; ``[largest safe, None]``
     without overturning), ``safe_above`` and ``safe_amplitudes_above`` (scanned amplitudes above
     the first overturning one that do not overturn), ``collapse`` (the outcome at the upper end of
     the bracket: ``"overturned"`` or ``"collapsed_by_sliding"``; None without one), ``runs`` (time
@@ -178,7 +179,8 @@ def overturning_amplitude(rocker: Rocker | MultiBody, make_ground: Callable[[flo
     scan = [(a, "no_motion" if a <= onset and decide.shortcut else decide(a)) for a in amps]
     over = [i for i, (_, o) in enumerate(scan) if o in COLLAPSE]
     safe = [a for a, o in scan if o in SAFE]
-    out = {"first_overturning": None, "bracket": [safe[-1] if safe else None, None], "safe_above": False,
+    out = {"first_collapse": None, "first_overturning": None, "bracket": [safe[-1] if safe else None, None],
+           "safe_above": False,
            "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": float(onset), "bisection": []}
     if over:
         i = over[0]
@@ -200,7 +202,8 @@ def overturning_amplitude(rocker: Rocker | MultiBody, make_ground: Callable[[flo
             else:
                 break
         above = [a for a, o in scan[i + 1:] if o in SAFE]
-        out.update(first_overturning=hi, bracket=[lo, hi], safe_above=bool(above), safe_amplitudes_above=above,
+        out.update(first_collapse=hi, first_overturning=hi, bracket=[lo, hi], safe_above=bool(above),
+                   safe_amplitudes_above=above,
                    converged=hi - lo <= bisect_tol * hi, collapse=how, bisection=steps)
     out.update(runs=decide.runs, scan=[{"amplitude": a, "outcome": o} for a, o in scan], errors=decide.errors)
     return out
@@ -234,7 +237,8 @@ def _pulse_of(kind: str, period: float, amplitude: float) -> GroundMotion:
 
 @dataclass
 class SpectrumResult:
-    """Rows per period (``period`` s: the duration for rect pulses; ``first_overturning``,
+    """Rows per period (``period`` s: the duration for rect pulses; ``first_collapse`` (and its
+    deprecated alias ``first_overturning``),
     ``bracket`` in g, ``safe_above``, ``runs``, the scan); ``A_L`` (g) both ways; ``onset`` (g):
     the amplitude at which the pulse first moves the member."""
 
@@ -262,12 +266,21 @@ class SpectrumResult:
                            "rows": self.rows, "wall_time_s": round(self.wall_time, 3), "timing_s": self.timing})
 
     def csv_rows(self) -> list[dict]:
-        """One row per period: amplitudes in g and over the onset; empty cells for none."""
+        """One row per period: amplitudes in g and over the onset; empty cells for none.
+
+        Returns
+        -------
+        list of dict
+            ``first_collapse_g`` and ``first_collapse_over_onset`` name the first collapse;
+            ``first_overturning_g`` and ``first_overturning_over_onset`` are deprecated aliases
+            with the same values, kept for one release.
+        """
         out = []
         for r in self.rows:
-            a, (lo, hi) = r["first_overturning"], r["bracket"]
-            out.append({"period_s": r["period"], "first_overturning_g": a,
-                        "first_overturning_over_onset": None if a is None else a / self.onset,
+            a, (lo, hi) = r["first_collapse"], r["bracket"]
+            over = None if a is None else a / self.onset
+            out.append({"period_s": r["period"], "first_collapse_g": a, "first_collapse_over_onset": over,
+                        "first_overturning_g": a, "first_overturning_over_onset": over,
                         "bracket_lo_g": lo, "bracket_hi_g": hi, "safe_above": r["safe_above"],
                         "safe_amplitudes_above_g": ";".join(f"{x:.6g}" for x in r["safe_amplitudes_above"]),
                         "runs": r["runs"], "errors": len(r["errors"]), "time_s": round(r["time_s"], 4)})
@@ -375,7 +388,8 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
 
 def _cannot_stand_row(period: float, model: str) -> dict:
     """The row of a period for a member that cannot stand: no run, no amplitude."""
-    return {"period": float(period), "outcome": "cannot_stand", "first_overturning": None, "bracket": [None, None],
+    return {"period": float(period), "outcome": "cannot_stand", "first_collapse": None,
+            "first_overturning": None, "bracket": [None, None],
             "safe_above": False, "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": None,
             "scan": [], "bisection": [], "runs": 0, "errors": [], "time_s": 0.0,
             **({"steps": 0} if model != "rock" else {})}
@@ -385,7 +399,8 @@ def _lost_period(task, message: str) -> dict:
     """The row of a period whose worker process died twice: undecided, with the error."""
     kw = task[1]
     extra = {"steps": 0} if kw.get("model", "rock") != "rock" else {}
-    return {"period": float(kw["period"]), "first_overturning": None, "bracket": [None, None], "safe_above": False,
+    return {"period": float(kw["period"]), "first_collapse": None, "first_overturning": None, "bracket": [None, None],
+            "safe_above": False,
             "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": kw["onset"], "bisection": [],
             "runs": 0, "errors": [f"the worker process died twice ({message})"], "t_end": float(kw["t_end"]),
             **extra, "time_s": 0.0}
@@ -421,9 +436,9 @@ def plot_spectrum(result: SpectrumResult, path) -> None:
         ax.plot(*zip(*above), "o", color="tab:green", mfc="none", ms=5,
                 label="scanned: safe above the first overturning")
     x = [r["period"] for r in rows]
-    y = [np.nan if r["first_overturning"] is None else r["first_overturning"] / A0 for r in rows]
+    y = [np.nan if r["first_collapse"] is None else r["first_collapse"] / A0 for r in rows]
     ax.plot(x, y, "k-o", ms=3.5, lw=1.3, label="first overturning amplitude (bisected)")
-    none = [r["period"] for r in rows if r["first_overturning"] is None]
+    none = [r["period"] for r in rows if r["first_collapse"] is None]
     if none:
         top = max(result.amplitudes) / A0
         ax.plot(none, [top] * len(none), "^", color="k", mfc="none", ms=6,
