@@ -23,6 +23,7 @@ import pytest
 from fembeam import StraightMember
 from fembeam.cli import main
 from fembeam.dynamics.ground import GroundMotion
+from fembeam.errors import InputError
 from fembeam.simulation import Simulator
 from fembeam.studies import models
 from fembeam.studies import spectrum as sp
@@ -279,3 +280,39 @@ def test_a_singular_system_is_a_recorded_error(monkeypatch, small):
     first, second = res.rows
     assert len(first["errors"]) == 1 and "singular" in first["errors"][0]["error"]
     assert strip([second]) == strip([small.rows[1]])
+
+
+def test_collapse_scale_auto_is_simulates_on_a_record_with_hand_backs():
+    """El Centro's first 4 s on a 7-voussoir arch: ``auto`` hands the motion back to ``rock`` (at
+    rest at factor 2, on a mechanism at 6) and still decides every factor of the search as
+    ``simulate`` does, so both find the same first collapse (3.3116 measured) with the same
+    bracket.  The deprecated keys hold the same values as the new ones."""
+    from fembeam import CircularArch
+    from fembeam.auto import AutoModel
+    import numpy as np
+    arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
+    rec = GroundMotion.record("elcentro")
+    n = int(np.searchsorted(rec.t, 4.0))
+    excerpt = GroundMotion(rec.t[:n], rec.a[:n], name="elcentro, first 4 s")
+    ends = {f: [s.end for s in AutoModel(arch, voussoirs=7, dt=2e-3).run(excerpt.scaled(f), t_end=5.0).segments]
+            for f in (2.0, 6.0)}
+    assert "rest" in ends[2.0][1:] and "mechanism" in ends[6.0][1:], ends
+    kw = dict(voussoirs=7, dt=2e-3, resolution=0.05, t_end=5.0, span=8)
+    auto = collapse_scale(arch, excerpt, model="auto", **kw)
+    sim = collapse_scale(arch, excerpt, model="simulate", **kw)
+    assert [(s["factor"], s["outcome"]) for s in auto["scan"]] == [(s["factor"], s["outcome"]) for s in sim["scan"]]
+    assert auto["first_collapse"] == sim["first_collapse"] and auto["bracket"] == sim["bracket"]
+    assert auto["smallest"] and auto["collapse"] == "overturned" and 3.2 < auto["first_collapse"] < 3.4
+    assert auto["first_overturning"] == auto["first_collapse"]
+    assert auto["pga_at_first_overturning"] == auto["pga_at_first_collapse"] == auto["first_collapse"] * excerpt.pga
+
+
+def test_unlimited_friction_is_spelled_inf():
+    """``friction=math.inf`` is unlimited friction, as None: the model check gives None for both,
+    and a finite coefficient is kept."""
+    import math
+    assert models.check_model("simulate", 1e-3, math.inf) == models.check_model("simulate", 1e-3, None) == (1e-3, None)
+    assert models.unlimited_friction(math.inf) and models.unlimited_friction(None)
+    assert not models.unlimited_friction(0.5)
+    with pytest.raises(InputError):
+        models.check_model("simulate", 1e-3, -1.0)
