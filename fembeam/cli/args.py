@@ -462,7 +462,7 @@ def member_from(args, model: str = "rock"):
         curve = StraightMember(height=height, width=width, density=args.density)
         check_block(curve.width, curve.height)
         return curve, 1, 200
-    from ..analysis.pipeline import DEFAULT_ELEMENTS
+    from ..analysis.sizes import DEFAULT_ELEMENTS
     check_discretisation(model, args.voussoirs, args.elements)
     return arch_from(args), args.voussoirs, DEFAULT_ELEMENTS if args.elements is None else args.elements
 
@@ -588,7 +588,7 @@ def friction_coefficient(text: str) -> float:
         mu = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number >= 0), got {text!r}") from None
-    from ..analysis.friction import MAX_FRICTION
+    from ..analysis.rows import MAX_FRICTION
 
     if not math.isfinite(mu) or not 0 <= mu <= MAX_FRICTION:
         raise argparse.ArgumentTypeError(f"the friction coefficient must be a number in [0, {MAX_FRICTION:g}] "
