@@ -44,8 +44,8 @@ from fembeam.dynamics.ground import GroundMotion
 from fembeam.dynamics.rocking import Rocker
 from fembeam.errors import SolverError
 from fembeam.simulation import Simulator
-from fembeam.studies.spectrum import (geometric_grid, onset_amplitude, overturning_amplitude, pulse, pulse_end,
-                                      spectrum)
+from fembeam.studies.runs import onset_amplitude
+from fembeam.studies.spectrum import geometric_grid, overturning_amplitude, pulse, pulse_end, spectrum
 
 HERE = Path(__file__).resolve().parent
 VOUSSOIRS = 7

@@ -91,7 +91,7 @@ def test_housner_pulses_collapse_at_the_closed_form_threshold(housner):
         assert lo <= f and f / 1.02 < hi, (x, f / exact - 1)    # the first collapse within one step above it
         assert r["bracket"][1] / r["bracket"][0] <= 1.02 * (1 + 1e-9) and r["bracket"][0] < lo
         assert r["onset_factor"] == pytest.approx(math.tan(ALPHA), rel=1e-9)
-        assert r["collapse"] == "overturned" and not r["errors"] and r["converged"]
+        assert r["collapse"] == "overturned" and not r["errors"] and r["smallest"]
     # the block is symmetric: sign -1 is the mirror image of +1, the same search
     assert housner.settings["symmetric"] and housner.settings["signs_run"] == [1]
     for a, b in zip(rows[::2], rows[1::2]):
@@ -168,13 +168,13 @@ def test_block_under_el_centro_window_below_the_old_answer():
     overturns; at a resolution of 0.2 % the search finds the window (0.841 to 0.843)."""
     block, rec = StraightMember(height=1.5, width=0.3), GroundMotion.record("elcentro")
     res = collapse_scale(block, rec, voussoirs=1, resolution=0.002)
-    f, (lo, hi) = res["first_overturning"], res["bracket"]
+    f, (lo, hi) = res["first_collapse"], res["bracket"]
     assert res["smallest"] and 0.84 <= f <= 0.8432 and hi == f and f / lo <= 1.002 * (1 + 1e-9)
     assert res["safe_factors_above"] and min(res["safe_factors_above"]) > f
     rk = Rocker(block, voussoirs=1, qp=False)
     run = functools.partial(rk.run, thrust_check=False, history=False)
     assert run(rec.scaled(f)).outcome == "overturned" and run(rec.scaled(lo)).outcome == "rest"
-    assert res["pga_at_first_overturning"] == pytest.approx(f * rec.pga, rel=1e-15)
+    assert res["pga_at_first_collapse"] == pytest.approx(f * rec.pga, rel=1e-15)
 
 
 def test_auto_runs_are_the_hand_over_models():
@@ -306,7 +306,7 @@ def test_mirrored_rows_are_the_runs_of_the_other_sign():
         assert 2 * half.timing["runs"] == full.timing["runs"] > 0 and half.counts()["mirrored"] == 2
         for m, r in zip(half.rows, full.rows):
             assert (m["record"], m["sign"], m["status"]) == (r["record"], r["sign"], r["status"])
-            assert m["first_overturning"] == r["first_overturning"] and m["bracket"] == r["bracket"]
+            assert m["first_collapse"] == r["first_collapse"] and m["bracket"] == r["bracket"]
             assert [(s["factor"], s["outcome"], s["steps"]) for s in m["scan"]] == \
                 [(s["factor"], s["outcome"], s["steps"]) for s in r["scan"]]
             assert [s["peak_rotation"] for s in m["scan"]] == pytest.approx([s["peak_rotation"] for s in r["scan"]],

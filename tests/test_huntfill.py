@@ -27,13 +27,14 @@ def check_claims(res, windows, resolution):
     """What ``smallest`` promises: every gap from the onset to the first collapse at most
     1 + resolution, all safe below; the outcomes those of the decider; the safe ones above listed."""
     runs = res["scan"]
-    assert res["runs"] == len(runs) and res["converged"] == res["smallest"]
+    assert res["runs"] == len(runs) and "converged" not in res
+    assert res["first_overturning"] == res["first_collapse"]          # the deprecated alias
     assert res["safe_above"] == bool(res["safe_factors_above"])
     assert [r["factor"] for r in runs] == sorted(r["factor"] for r in runs)
     for r in runs:
         assert r["outcome"] == ("overturned" if any(a <= r["factor"] <= b for a, b in windows) else "rest")
         assert r["factor"] > ONSET
-    first = res["first_overturning"]
+    first = res["first_collapse"]
     below = [ONSET] + [r["factor"] for r in runs if first is None or r["factor"] < first] + \
         ([first] if first is not None else [])
     assert all(r["outcome"] == "rest" for r in runs if first is None or r["factor"] < first)
@@ -70,7 +71,7 @@ def test_a_window_below_the_hunts_collapse_is_found_and_the_collapse_above_repor
     windows = [(1.0, 1.03), (1.5, math.inf)]     # 3 % wide, between the hunt's runs at 0.924 and 1.2012
     res = hunt_and_fill(decider(windows), ONSET, resolution=0.02, max_factor=20 * ONSET)
     check_claims(res, windows, 0.02)
-    assert res["smallest"] and 1.0 <= res["first_overturning"] <= 1.03
+    assert res["smallest"] and 1.0 <= res["first_collapse"] <= 1.03
     assert 1.2012 in [round(f, 6) for f in res["safe_factors_above"]]
     assert all(1.03 < f < 1.5 for f in res["safe_factors_above"])
 
@@ -82,21 +83,21 @@ def test_a_window_narrower_than_the_resolution_may_be_missed_but_then_nothing_is
     for res, resolution in ((coarse, 0.05), (fine, 0.002)):
         check_claims(res, windows, resolution)
         assert res["smallest"]
-    assert coarse["first_overturning"] >= 1.03                # the 0.24 % window lies between two runs
-    assert 0.841 <= fine["first_overturning"] <= 0.843        # 0.2 % steps cannot jump over it
+    assert coarse["first_collapse"] >= 1.03                # the 0.24 % window lies between two runs
+    assert 0.841 <= fine["first_collapse"] <= 0.843        # 0.2 % steps cannot jump over it
 
 
 def test_budget_stops_the_search_without_claiming_the_smallest():
     res = hunt_and_fill(decider([(3.0, math.inf)]), ONSET, resolution=0.01, max_factor=20 * ONSET, max_runs=12)
     check_claims(res, [(3.0, math.inf)], 0.01)
     assert res["runs"] == 12 and res["budget_exhausted"] and not res["smallest"]
-    assert res["first_overturning"] is not None and res["resolution_reached"] > 0.01
+    assert res["first_collapse"] is not None and res["resolution_reached"] > 0.01
 
 
 def test_no_collapse_up_to_the_largest_factor():
     res = hunt_and_fill(decider([]), ONSET, resolution=0.05, max_factor=10 * ONSET)
     check_claims(res, [], 0.05)
-    assert res["first_overturning"] is None and res["none_up_to_max"] and not res["smallest"]
+    assert res["first_collapse"] is None and res["none_up_to_max"] and not res["smallest"]
     assert res["scan"][-1]["factor"] == 10 * ONSET and res["bracket"] == [10 * ONSET, None]
 
 
@@ -106,7 +107,7 @@ def test_a_failed_run_stops_the_search():
             return {"outcome": "solver_error", "error": "SolverError: no"}
         return {"outcome": "rest"}
     res = hunt_and_fill(run, ONSET, resolution=0.05, max_factor=20 * ONSET)
-    assert res["first_overturning"] is None and not res["smallest"] and not res["none_up_to_max"]
+    assert res["first_collapse"] is None and not res["smallest"] and not res["none_up_to_max"]
     assert len(res["errors"]) == 1 and res["errors"][0]["factor"] > 1.2
     assert res["errors"][0]["error"] == res["scan"][-1]["error"] == "SolverError: no"
 
@@ -135,9 +136,9 @@ def test_onset_not_safe_runs_the_onset_and_never_claims_the_smallest():
     assert res["scan"][0]["outcome"] == "rest"
     # the same runs as with a safe onset, plus the onset's
     assert [r["factor"] for r in res["scan"]] == [ONSET] + [r["factor"] for r in safe["scan"]]
-    first = res["first_overturning"]
-    assert first == safe["first_overturning"] and 1.0 <= first <= 1.03
-    assert not res["smallest"] and not res["converged"] and safe["smallest"]
+    first = res["first_collapse"]
+    assert first == safe["first_collapse"] and 1.0 <= first <= 1.03
+    assert not res["smallest"] and safe["smallest"]
     # the claims against the known set, by hand: every run below the first collapse is safe and
     # the widest ratio between consecutive factors run from the onset up to it is the one reported
     below = sorted(f for f in log if f <= first)
@@ -159,14 +160,14 @@ def test_onset_not_safe_and_collapsing_is_one_run():
     res = hunt_and_fill(decider([(0.5, 0.75), (1.5, math.inf)], log), ONSET, resolution=0.02,
                         max_factor=20 * ONSET, onset_safe=False)
     assert log == [ONSET] and res["runs"] == 1
-    assert res["first_overturning"] == ONSET and res["collapse"] == "overturned"
+    assert res["first_collapse"] == ONSET and res["collapse"] == "overturned"
     assert not res["smallest"] and res["safe_factors_above"] == [] and not res["safe_above"]
     assert res["resolution_reached"] == 0.0 and res["bracket"] == [None, ONSET]
 
 
 def test_onset_not_safe_without_collapse_claims_nothing_up_to_the_largest_factor():
     res = hunt_and_fill(decider([(0.1, 0.2)]), ONSET, resolution=0.05, max_factor=10 * ONSET, onset_safe=False)
-    assert res["first_overturning"] is None and not res["smallest"]
+    assert res["first_collapse"] is None and not res["smallest"]
     assert not res["none_up_to_max"]          # below the onset is not searched
     assert res["scan"][0]["factor"] == ONSET and res["scan"][-1]["factor"] == 10 * ONSET
     assert res["resolution_reached"] <= 0.05 * (1 + 1e-9) and res["bracket"] == [10 * ONSET, None]

@@ -4,7 +4,8 @@
 from .impact import ImpactResult, impact
 from .limit import LimitResult, limit_analysis
 from .continuum import ContinuumLimit, continuum_limit
-from .pipeline import DEFAULT_ELEMENTS, MAX_ELEMENTS, AnalysisResult, analyze
+from .pipeline import AnalysisResult, analyze
+from .sizes import DEFAULT_ELEMENTS, MAX_ELEMENTS
 from .thickness import MinimumThickness, minimum_thickness
 from .qp import BACKENDS, QPSolution, solve_qp
 from .verification import THRESHOLDS, check

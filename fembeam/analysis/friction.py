@@ -50,11 +50,9 @@ from .rows import (MAX_FRICTION, STAND_TOL, append_section_rows, check_friction,
                    main_lp, solve_unboxed)
 from .statics import Statics, statics
 
-# check_friction, friction_rows, jumps (fembeam.analysis.rows) and hinges_and_slides
-# (fembeam.mechanisms.hinge) are kept here for compatibility
-__all__ = ["check_friction", "friction_rows", "jumps", "mechanism", "hinges_and_slides", "required_friction",
+__all__ = ["mechanism", "required_friction",
            "mass_on_midcurve", "continuum_support", "REDUCED_FRICTION", "UPPER_BOUND", "LOWER_BOUND",
-           "EXACT_WITHOUT_FRICTION", "THICKNESS_BOUND", "MAX_FRICTION", "bound_of", "lower_bound", "bounds"]
+           "EXACT_WITHOUT_FRICTION", "THICKNESS_BOUND", "bound_of", "lower_bound", "bounds"]
 
 # Radenkovic's reduced coefficient of a cohesionless Coulomb joint that slides without
 # dilatancy, whatever its mu: the largest cone {|S| <= mu* N} whose normals contain every

@@ -51,9 +51,7 @@ from .rows import (BOX, STAND_TOL, XBOX, check_direction, check_friction, joint_
 from .statics import Statics, section_forces, statics
 from .verification import check
 
-# the LP rows and LPs live in fembeam.analysis.rows; their names here are kept for compatibility
-__all__ = ["LimitResult", "limit_analysis", "FRICTION_TOL", "joint_rows", "stand_lp", "main_lp", "ray_lp",
-           "STAND_TOL", "BOX", "XBOX"]
+__all__ = ["LimitResult", "limit_analysis", "FRICTION_TOL"]
 
 FRICTION_TOL = 1e-6  # friction_excess above which a result with friction fails its check
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import SolverError
 
-__all__ = ["SmallLP", "maximise"]
+__all__ = ["SmallLP", "maximise", "first_highs"]
 
 FEAS_TOL = 1e-10      # row violation accepted (rows are in units of the total weight)
 HIGHS_OPTIONS = {"output_flag": False, "primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
@@ -133,7 +133,7 @@ _BANNER_DONE = False   # the first construction in this process is done (HiGHS >
 _LOCK = threading.Lock()
 
 
-def _first_highs() -> None:
+def first_highs() -> None:
     """Construct a first HiGHS object with the C-level stdout sent to /dev/null: HiGHS >= 1.16
     prints its banner on the first construction in a process, before any option can be
     set, and the commands' stdout must stay pure (JSON)."""
@@ -173,7 +173,7 @@ def _first_highs() -> None:
 
 def _highs(c: np.ndarray, bounds: list) -> "highspy.Highs":
     """A HiGHS model ``min -c.z`` over the box ``bounds`` (None: infinite), no rows yet."""
-    _first_highs()
+    first_highs()
     h = highspy.Highs()
     for k, v in HIGHS_OPTIONS.items():
         h.setOptionValue(k, v)

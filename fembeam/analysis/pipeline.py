@@ -56,8 +56,7 @@ from .verification import THRESHOLDS, check
 IMPULSE_UNIT = "N s/m (for a mean horizontal speed of 1 m/s before the impact)"
 IMPULSE_MOMENT_UNIT = "N m s/m (for a mean horizontal speed of 1 m/s before the impact)"
 
-# DEFAULT_ELEMENTS and MAX_ELEMENTS live in fembeam.analysis.sizes; kept here for compatibility
-__all__ = ["AnalysisResult", "analyze", "DEFAULT_ELEMENTS", "MAX_ELEMENTS"]
+__all__ = ["AnalysisResult", "analyze"]
 
 
 @dataclass

@@ -69,7 +69,7 @@ from ..fem import nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..units import kN
 from .load_factor import mass_nodes
-from .lp import HIGHS_OPTIONS, _first_highs
+from .lp import HIGHS_OPTIONS, first_highs
 from .sizes import MAX_ELEMENTS, MIN_ELEMENTS, check_count
 
 __all__ = ["Movement", "SupportsResult", "Chain", "supports", "MOVEMENTS", "DEFAULT_STEPS", "MAX_STEPS"]
@@ -286,7 +286,7 @@ class _LP:
 
 
 def _highs(nv: int, lo, up, cost) -> "highspy.Highs":
-    _first_highs()
+    first_highs()
     h = highspy.Highs()
     for k, v in HIGHS_OPTIONS.items():
         h.setOptionValue(k, v)

@@ -105,6 +105,9 @@ class Segment:
 class AutoResult:
     """The verdict of :meth:`AutoModel.run`.
 
+    ``t_collapse`` is the time of the collapse, by overturning or by sliding
+    (``t_overturn`` the same, its deprecated name kept for one release).
+
     Attributes
     ----------
     curve : MidCurve
@@ -166,6 +169,11 @@ class AutoResult:
                                                        # every run made, in order (to draw the member at any time)
 
     @property
+    def t_collapse(self) -> float | None:
+        """The time of the collapse (s), by overturning or by sliding; None without one."""
+        return self.t_overturn
+
+    @property
     def handovers(self) -> int:
         """Hand-overs between the models (segments less one)."""
         return max(len(self.segments) - 1, 0)
@@ -189,6 +197,7 @@ class AutoResult:
             "A_L": {"+1": num(self.A_L.get(1)), "-1": num(self.A_L.get(-1))},
             "peak_rotation": float(self.peak_rotation),
             "t_peak": num(self.t_peak),
+            "t_collapse": num(self.t_overturn),
             "t_overturn": num(self.t_overturn),
             "overturn_reason": self.overturn_reason,
             "first_failure": None if self.first_failure is None else

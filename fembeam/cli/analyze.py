@@ -1,16 +1,15 @@
 """``fembeam analyze``: limit analysis and impact of an arch (any shape of :func:`.args.add_arch`)."""
 from __future__ import annotations
 
-import argparse
 import json
-import math
 import sys
 from pathlib import Path
 
 from ..analysis import AnalysisResult, analyze
 from ..errors import InputError
 from ..units import kN
-from .args import add_arch, add_loads, add_solver, arch_from, arch_title, finite_float, points_of
+from .args import (add_arch, add_friction, add_loads, add_picture_options, add_solver, arch_from, arch_title,
+                   check_picture_options, finite_float, friction_lines, points_of)
 
 
 def register(sub) -> None:
@@ -39,56 +38,6 @@ def register(sub) -> None:
     s.add_argument("--plot", metavar="PATH", help="with --load-scan: the figure (PNG)")
     s.add_argument("--out-dir", metavar="DIR", help="with --load-scan: load_scan.csv/.json/.png in DIR")
     p.set_defaults(func=run)
-
-
-def friction_coefficient(text: str) -> float:
-    """A finite Coulomb coefficient >= 0 (argparse type: exit 2 with one line otherwise)."""
-    try:
-        mu = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number >= 0), got {text!r}") from None
-    from ..analysis.friction import MAX_FRICTION
-
-    if not math.isfinite(mu) or not 0 <= mu <= MAX_FRICTION:
-        raise argparse.ArgumentTypeError(f"the friction coefficient must be a number in [0, {MAX_FRICTION:g}] "
-                                         f"(omit --friction for joints that never slide), got {text!r}")
-    return mu
-
-
-def add_friction(p, help_text: str) -> None:
-    p.add_argument("--friction", type=friction_coefficient, default=None, metavar="MU", help=help_text)
-
-
-def add_picture_options(p) -> None:
-    """``--vtk``, ``--png``, ``--figure`` (docs/visualisation.md); reusable by other commands."""
-    g = p.add_argument_group("files (docs/visualisation.md)")
-    g.add_argument("--vtk", type=Path, metavar="PATH.vtu",
-                   help="VTK export: PATH.vtu (arch body) plus PATH_joints/_impulse/_thrust/_hinges.vtu "
-                        "and a PATH.vtm index that ParaView/pyvista open at once")
-    g.add_argument("--png", type=Path, metavar="PATH.png",
-                   help="off-screen pyvista rendering: body coloured by post-impact speed, lines, hinges")
-    g.add_argument("--figure", type=Path, metavar="PATH",
-                   help="paper-style matplotlib figure (Figs. 10-12); format from the suffix (png, pdf, svg)")
-
-
-def check_picture_options(args) -> None:
-    """Reject bad output paths before any computation (exit 2): suffix, a directory, a
-    missing or read-only parent (:func:`~fembeam.output.files.check_output`)."""
-    from ..output.files import check_distinct, check_name, check_output
-
-    vtk = check_output(getattr(args, "vtk", None), "--vtk", (".vtu",))
-    check_output(getattr(args, "png", None), "--png", (".png",))
-    if getattr(args, "figure", None) is not None:
-        from matplotlib.figure import Figure
-        ok = sorted(Figure().canvas.get_supported_filetypes())
-        check_output(args.figure, "--figure", tuple(f".{x}" for x in ok))
-    outputs = {"--png": getattr(args, "png", None), "--figure": getattr(args, "figure", None)}
-    if vtk is not None:
-        from ..output.export import output_paths
-        for part, path in output_paths(vtk).items():        # the files the export derives from the name
-            check_name(path, "--vtk")
-            outputs[f"--vtk ({part})"] = path
-    check_distinct(outputs)
 
 
 def write_pictures(res, args) -> list[str]:
@@ -158,28 +107,6 @@ def run(args) -> int:
 
 def _hinges(hs) -> str:
     return ", ".join(f"{h.angle_deg:.2f} deg {h.side}" for h in hs) or "none"
-
-
-def friction_lines(rf: dict, mu: float | None, names: dict) -> list[str]:
-    """Text of :meth:`AnalysisResult.required_friction`-like dicts: the friction each stage
-    needs and, with ``mu``, the joints needing more (flagged, never silently)."""
-    lines = []
-    for stage, ratio in names.items():
-        d = rf.get(stage)
-        label = {"impact_qp": "impact (general QP)"}.get(stage, stage)
-        if d is None:
-            continue
-        if d.get("max") is None:
-            lines.append(f"  friction needed at the {label}: n/a ({d.get('reason', 'undefined')})")
-            continue
-        lines.append(f"  friction needed at the {label}: max {ratio} = {d['max']:.4f} at {d['at_deg']:.2f} deg")
-        above = d.get("above") or []
-        if mu is not None and "above" in d and not above:
-            lines[-1] += f" (within mu = {mu:g})"
-        if mu is not None and above:
-            where = ", ".join(f"{a['angle_deg']:.2f}" for a in above[:8]) + (" ..." if len(above) > 8 else "")
-            lines.append(f"    SLIDING RISK: {len(above)} joint(s) need more than mu = {mu:g}, at {where} deg")
-    return lines
 
 
 def friction_bound_lines(fb: dict | None) -> list[str]:

@@ -1,4 +1,11 @@
-"""Argument types and option groups shared by the sub-commands."""
+"""Argument types and option groups shared by the sub-commands.
+
+The commands share their parsing through this module, never by importing each other: the arch
+(:func:`add_arch`, :func:`arch_from`), the member of a motion (:func:`add_member`,
+:func:`member_from`), the ground motion (:func:`add_ground`, :func:`ground_from`), friction
+(:func:`coulomb`, :func:`friction_coefficient`), the model of each run of a study
+(:func:`add_model`, :func:`model_from`), and the outputs of a time history.
+"""
 from __future__ import annotations
 
 import argparse
@@ -7,13 +14,20 @@ import json
 import math
 import os
 import sys
+from pathlib import Path
 
 from ..analysis import DEFAULT_ELEMENTS
+from ..dynamics.ground import RECORDS, GroundMotion
+from ..dynamics.rocking import RockingResult
 from ..errors import InputError
 from ..geometry import (CatenaryArch, CircularArch, EllipticalArch, MidCurve, ParabolicArch, PointedArch,
-                        SurveyedArch)
+                        StraightMember, SurveyedArch)
 from ..geometry.base import DEFAULT_DENSITY
 from ..analysis.impact import IMPACT_BACKENDS
+from ..limits import check_block, check_discretisation, check_duration
+from ..output.files import check_distinct, check_name, check_output
+from ..studies.models import MODELS, check_model
+from ..studies.runs import DT
 
 
 def finite_float(text: str) -> float:
@@ -383,3 +397,302 @@ def print_result(as_json: bool, data, page, written=()) -> int:
         for w in written:
             print(f"  {w}")
     return 0
+
+
+# --------------------------------------------------------------------------- members, ground motions, models
+PULSES = ("rect", "sine", "ricker")
+
+
+
+def add_member(p: argparse.ArgumentParser, solver: bool = True) -> None:
+    """Arch options of ``analyze``, ``--voussoirs``/``--elements``, or ``--block``; ``solver``:
+    also ``--backend`` and ``--no-qp`` (the general QP at each impact)."""
+    add_arch(p)
+    g = p.add_argument_group("discretisation")
+    m = g.add_mutually_exclusive_group()
+    m.add_argument("--voussoirs", type=int, default=None, metavar="N",
+                   help="discrete arch of N voussoirs: hinges only at the N+1 joints (rock: 3 to 80; simulate: at "
+                        "most 1000)")
+    m.add_argument("--elements", type=int, default=None, metavar="N",
+                   help="continuous arch: rigid elements of the limit analysis and the general QP (default 200; "
+                        "rock: at most 20000; simulate: at most 1000)")
+    m.add_argument("--block", type=finite_float, nargs=2, default=None, metavar=("WIDTH", "HEIGHT"),
+                   help="instead of an arch: a rectangular block WIDTH x HEIGHT (m) rocking on a rigid base, "
+                        "WIDTH / HEIGHT in [1e-3, 1e3]")
+    if solver:
+        g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel",
+                       help="QP solver of the general QP")
+        g.add_argument("--no-qp", action="store_true", help="skip the general QP's r_qp at each impact")
+
+
+
+def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False):
+    """``--pulse`` with ``--amplitude``/``--duration``/``--period``, or ``--record``; returns the
+    (required) group of mutually exclusive sources, to which a command may add its own."""
+    g = p.add_argument_group("ground motion (accelerations in g, positive along +x)")
+    w = g.add_mutually_exclusive_group(required=True)
+    w.add_argument("--pulse", choices=PULSES, help="rectangular, one-sine or Ricker pulse")
+    if not pulse_required:
+        w.add_argument("--record", metavar="FILE",
+                       help=f"PEER .AT2 file or CSV (time s, acceleration g; a regular file of at most 24 MB, "
+                            f"10^6 samples, DT in [1e-5, 1] s), or a shipped record: "
+                            f"{', '.join(RECORDS)}")
+    g.add_argument("--amplitude", type=finite_float, metavar="A", help="pulse amplitude (g)")
+    g.add_argument("--duration", type=finite_float, metavar="T1", help="rectangular pulse: duration (s)")
+    g.add_argument("--period", type=finite_float, metavar="TP", help="sine or Ricker pulse: period (s)")
+    if not pulse_required:
+        s = g.add_mutually_exclusive_group()
+        s.add_argument("--scale", type=finite_float, metavar="F", help="record: multiply by F")
+        s.add_argument("--pga", type=finite_float, metavar="A", help="record: scale to a peak of A g")
+    return w
+
+
+
+def member_from(args, model: str = "rock"):
+    """``(curve, voussoirs, elements)`` of the member options, within the bounds of ``model``
+    (``"rock"``, ``"simulate"`` or ``"auto"``: :func:`fembeam.limits.check_block`,
+    :func:`~fembeam.limits.check_discretisation`), checked before the member is built."""
+    if args.block is not None:
+        given = [o for o, v in (("--fill-density", getattr(args, "fill_density", None)),
+                                ("--fill-depth", getattr(args, "fill_depth", None)),
+                                ("--mass", getattr(args, "mass", None))) if v]
+        if given:
+            raise InputError(f"{given[0]} applies to arches, not to a --block")
+        width, height = args.block
+        curve = StraightMember(height=height, width=width, density=args.density)
+        check_block(curve.width, curve.height)
+        return curve, 1, 200
+    from ..analysis.sizes import DEFAULT_ELEMENTS
+    check_discretisation(model, args.voussoirs, args.elements)
+    return arch_from(args), args.voussoirs, DEFAULT_ELEMENTS if args.elements is None else args.elements
+
+
+
+def pulse_from(kind: str, amplitude: float, args) -> GroundMotion:
+    if kind == "rect":
+        if args.duration is None:
+            raise InputError("--pulse rect needs --duration T1 (s)")
+        return GroundMotion.rectangular(amplitude, args.duration)
+    if args.period is None:
+        raise InputError(f"--pulse {kind} needs --period TP (s)")
+    return (GroundMotion.sine if kind == "sine" else GroundMotion.ricker)(amplitude, args.period)
+
+
+
+def ground_from(args) -> GroundMotion:
+    if args.pulse is not None:
+        if args.amplitude is None:
+            raise InputError(f"--pulse {args.pulse} needs --amplitude A (g)")
+        if getattr(args, "scale", None) is not None or getattr(args, "pga", None) is not None:
+            raise InputError("--scale and --pga apply to --record, not to a pulse")
+        return pulse_from(args.pulse, args.amplitude, args)
+    if args.amplitude is not None or args.duration is not None or args.period is not None:
+        raise InputError("--amplitude, --duration and --period describe a --pulse, not a --record")
+    gm = GroundMotion.record(args.record)
+    note_records([gm])
+    if args.scale is not None:
+        gm = gm.scaled(args.scale)
+    if args.pga is not None:
+        gm = gm.to_pga(args.pga)
+    return gm
+
+
+
+def coulomb(text: str) -> float:
+    """A Coulomb coefficient of the motion models, in
+    :data:`~fembeam.simulation.stepper.MU_RANGE` (argparse type: exit 2 with one line otherwise)."""
+    from ..simulation.stepper import MU_RANGE
+
+    lo, hi = MU_RANGE
+    try:
+        mu = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number in [{lo:g}, {hi:g}]), "
+                                         f"got {text!r}") from None
+    if not (math.isfinite(mu) and lo <= mu <= hi):
+        raise argparse.ArgumentTypeError(f"the friction coefficient of the motion must be in [{lo:g}, {hi:g}] "
+                                         f"(omit --friction for joints that never slide), got {text!r}")
+    return mu
+
+
+
+def friction_line(res: RockingResult) -> str | None:
+    """The summary's line of the friction demand (None when it was not checked)."""
+    fd = res.friction_demand
+    if fd is None:
+        return None
+    if fd["t"] is None:
+        line = "  friction demand: none (no motion)"
+    else:
+        where = f"s = {fd['s']:.6g} m" if fd["s"] is not None else "no section in compression"
+        if fd["s"] is not None and res.curve.describe().get("shape") != "block":
+            where += f" ({float(res.curve.angle_deg(fd['s'])):.2f} deg)"
+        what = "|S|/N during the motion" if fd["at"] == "motion" else "|P_t|/P_n of an impact"
+        line = f"  friction demand: largest {what} = {fd['max_ratio']:.4f} at {where}, t = {fd['t']:.6g} s"
+    if fd["mu"] is not None:
+        line += (f": SLIDING RISK (above mu = {fd['mu']:g})" if fd["sliding_risk"] else f" (within mu = {fd['mu']:g})")
+    return line
+
+
+
+def time_progress(t_end: float):
+    """A tqdm bar over simulated time on stderr when it is a terminal (None otherwise)."""
+    if not sys.stderr.isatty():
+        return None, None
+    from tqdm import tqdm
+    bar = tqdm(total=round(t_end, 3), unit="s", desc="simulated time", file=sys.stderr, leave=False)
+
+    def update(t: float):
+        bar.n = round(min(t, t_end), 3)
+        bar.refresh()
+    return update, bar
+
+
+
+def motion_outputs(args) -> dict:
+    """The outputs of a time-history command (``--csv``, ``--plot``, ``--vtk``, ``--gif``),
+    ``--frames`` and ``--history``, checked before computing."""
+    outputs = {"csv": check_output(args.csv, "--csv", (".csv",)),
+               "plot": check_output(args.plot, "--plot", (".png", ".pdf", ".svg")),
+               "vtk": check_output(args.vtk, "--vtk", (".pvd",)),
+               "gif": check_output(args.gif, "--gif", (".gif",))}
+    if args.frames is not None and not 2 <= args.frames <= 100_000:
+        raise InputError(f"--frames must be in [2, 100000], got {args.frames}")
+    if outputs["vtk"] is not None:            # the longest frame name the series will have
+        n = args.frames or 200
+        check_name(outputs["vtk"].with_name(f"{outputs['vtk'].stem}_{n - 1:04d}.vtu"), "--vtk")
+    check_distinct({"--csv": args.csv, "--plot": args.plot, "--vtk": args.vtk, "--gif": args.gif})
+    if args.history and not args.json:
+        raise InputError("--history adds the history to --json output; give --json too")
+    return outputs
+
+
+
+def run_end(args, curve, ground) -> float:
+    """``--t-end`` (s; default: the end of the ground motion plus ``20 sqrt(L/g)``), after the
+    start of the ground motion by at most :data:`~fembeam.limits.MAX_DURATION`."""
+    from ..dynamics.equation import GRAVITY
+
+    t0 = float(ground.t[0])
+    t_end = args.t_end if args.t_end is not None else float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / GRAVITY)
+    if not t_end > t0:
+        raise InputError(f"--t-end must be after the start of the ground motion ({t0:g} s), got {t_end:g}")
+    check_duration(t_end - t0)
+    return t_end
+
+
+
+def friction_coefficient(text: str) -> float:
+    """A finite Coulomb coefficient >= 0 (argparse type: exit 2 with one line otherwise)."""
+    try:
+        mu = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number >= 0), got {text!r}") from None
+    from ..analysis.rows import MAX_FRICTION
+
+    if not math.isfinite(mu) or not 0 <= mu <= MAX_FRICTION:
+        raise argparse.ArgumentTypeError(f"the friction coefficient must be a number in [0, {MAX_FRICTION:g}] "
+                                         f"(omit --friction for joints that never slide), got {text!r}")
+    return mu
+
+
+
+def add_friction(p, help_text: str) -> None:
+    p.add_argument("--friction", type=friction_coefficient, default=None, metavar="MU", help=help_text)
+
+
+
+def add_picture_options(p) -> None:
+    """``--vtk``, ``--png``, ``--figure`` (docs/visualisation.md); reusable by other commands."""
+    g = p.add_argument_group("files (docs/visualisation.md)")
+    g.add_argument("--vtk", type=Path, metavar="PATH.vtu",
+                   help="VTK export: PATH.vtu (arch body) plus PATH_joints/_impulse/_thrust/_hinges.vtu "
+                        "and a PATH.vtm index that ParaView/pyvista open at once")
+    g.add_argument("--png", type=Path, metavar="PATH.png",
+                   help="off-screen pyvista rendering: body coloured by post-impact speed, lines, hinges")
+    g.add_argument("--figure", type=Path, metavar="PATH",
+                   help="paper-style matplotlib figure (Figs. 10-12); format from the suffix (png, pdf, svg)")
+
+
+
+def check_picture_options(args) -> None:
+    """Reject bad output paths before any computation (exit 2): suffix, a directory, a
+    missing or read-only parent (:func:`~fembeam.output.files.check_output`)."""
+    from ..output.files import check_distinct, check_name, check_output
+
+    vtk = check_output(getattr(args, "vtk", None), "--vtk", (".vtu",))
+    check_output(getattr(args, "png", None), "--png", (".png",))
+    if getattr(args, "figure", None) is not None:
+        from matplotlib.figure import Figure
+        ok = sorted(Figure().canvas.get_supported_filetypes())
+        check_output(args.figure, "--figure", tuple(f".{x}" for x in ok))
+    outputs = {"--png": getattr(args, "png", None), "--figure": getattr(args, "figure", None)}
+    if vtk is not None:
+        from ..output.export import output_paths
+        for part, path in output_paths(vtk).items():        # the files the export derives from the name
+            check_name(path, "--vtk")
+            outputs[f"--vtk ({part})"] = path
+    check_distinct(outputs)
+
+
+
+def friction_lines(rf: dict, mu: float | None, names: dict) -> list[str]:
+    """Text of :meth:`AnalysisResult.required_friction`-like dicts: the friction each stage
+    needs and, with ``mu``, the joints needing more (flagged, never silently)."""
+    lines = []
+    for stage, ratio in names.items():
+        d = rf.get(stage)
+        label = {"impact_qp": "impact (general QP)"}.get(stage, stage)
+        if d is None:
+            continue
+        if d.get("max") is None:
+            lines.append(f"  friction needed at the {label}: n/a ({d.get('reason', 'undefined')})")
+            continue
+        lines.append(f"  friction needed at the {label}: max {ratio} = {d['max']:.4f} at {d['at_deg']:.2f} deg")
+        above = d.get("above") or []
+        if mu is not None and "above" in d and not above:
+            lines[-1] += f" (within mu = {mu:g})"
+        if mu is not None and above:
+            where = ", ".join(f"{a['angle_deg']:.2f}" for a in above[:8]) + (" ..." if len(above) > 8 else "")
+            lines.append(f"    SLIDING RISK: {len(above)} joint(s) need more than mu = {mu:g}, at {where} deg")
+    return lines
+
+
+
+MODEL_HELP = ("rock: one mechanism between impacts (default); simulate: the voussoirs, rigid elements or block "
+              "as rigid bodies in contact (fembeam simulate, hinges anywhere), about 10x slower; auto: rock while its "
+              "mechanism is admissible, simulate from the first violation (fembeam rock --model auto); a run "
+              "collapses when it overturns or, with --friction, collapses by sliding")
+
+
+
+def add_model(p) -> None:
+    """``--model``, ``--dt``, ``--friction``."""
+    g = p.add_argument_group("model of each run")
+    g.add_argument("--model", choices=MODELS, default="rock", help=MODEL_HELP)
+    g.add_argument("--dt", type=finite_float, default=None, metavar="S",
+                   help=f"--model simulate or auto: time step (s; default {DT:g}, in [1e-6, 0.05], at most 1e7 steps "
+                        f"a run)")
+    g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
+                   help="--model simulate or auto: Coulomb coefficient at every joint, the springings included (default: "
+                        "joints never slide); collapse by sliding then counts as overturning, and amplitudes "
+                        "(factors) below the onset at A_L are run too")
+
+
+
+def model_from(args) -> tuple[float | None, float | None]:
+    """``(dt, friction)`` of ``--model`` (InputError, exit 2: ``--dt`` or ``--friction`` with rock, or
+    out of range)."""
+    return check_model(args.model, args.dt, args.friction, names=("--model", "--dt", "--friction"))
+
+
+
+def model_line(dt: float, friction: float | None, model: str = "simulate") -> str:
+    """The line naming ``--model simulate`` (or ``auto``) and what counts as collapse."""
+    name = "simulate (rigid bodies in contact" if model == "simulate" else \
+        "auto (rock while its mechanism is admissible, then rigid bodies in contact"
+    if friction is None:
+        return f"model: {name}, dt = {dt:g} s, joints never slide); collapse = overturned"
+    return (f"model: {name}, dt = {dt:g} s, Coulomb friction mu = {friction:g}); "
+            f"collapse = overturned or collapsed by sliding")
+

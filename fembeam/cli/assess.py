@@ -18,8 +18,7 @@ from ..limits import MAX_COMMAND_RUNS
 from ..errors import InputError
 from ..studies.collapse import MAX_RUNS, RESOLUTION
 from ..studies.suites import record_files
-from .args import arch_title, finite_float, note_records
-from .rock import add_ground, add_member, coulomb, ground_from, member_from
+from .args import add_ground, add_member, arch_title, coulomb, finite_float, ground_from, member_from, note_records
 
 REPLACED = ("--factors", "--bisect-tol")      # the former grid search of the margins: refused with one line
 

@@ -16,10 +16,8 @@ from ..dynamics.ground import RECORDS, GroundMotion
 from ..errors import InputError
 from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN, collapse_scale
 from ..studies.models import MODELS, check_model
-from ..studies.spectrum import DT
-from .args import finite_float, note_records
-from .rock import add_member, member_from
-from .spectrum import MODEL_HELP, model_line
+from ..studies.runs import DT
+from .args import add_member, finite_float, member_from, MODEL_HELP, model_line, note_records
 
 
 def register(sub) -> None:
@@ -102,7 +100,7 @@ def summary(res: dict) -> str:
               f"{f0:.6g}",
               f"  hunt and fill: resolution {res['resolution']:g} (relative), factors up to {top:.4g} "
               f"({top / f0:g} x the onset factor)"]
-    f = res["first_overturning"]
+    f = res["first_collapse"]
     lo, hi = res["bracket"]
     reached = res["resolution_reached"]
     if f is None:
@@ -113,7 +111,7 @@ def summary(res: dict) -> str:
                          "apart, more than the resolution")
     else:
         how = " (collapses by sliding)" if res.get("collapse") == "collapsed_by_sliding" else ""
-        lines.append(f"  first collapse found: factor {f:.6g} (PGA {res['pga_at_first_overturning']:.6g} g){how}")
+        lines.append(f"  first collapse found: factor {f:.6g} (PGA {res['pga_at_first_collapse']:.6g} g){how}")
         if res["smallest"]:
             lines.append(f"  the smallest at resolution {res['resolution']:g}: every factor run below it stands, "
                          f"consecutive factors from the onset to {lo:.6g} at most {100 * reached:.3g} % apart")

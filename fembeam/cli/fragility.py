@@ -18,10 +18,9 @@ from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN
 from ..studies.fragility import BOOTSTRAP, LEVEL, FragilityResult, fragility, plot_fragility, plot_ida
 from ..studies.models import DEFAULT_MODEL, MODELS
 from ..studies.parallel import journal_for
-from ..studies.spectrum import DT, T_END_FACTOR
+from ..studies.runs import DT, T_END_FACTOR
 from ..studies.suites import FEMA_SUITES, load_suite
-from .args import arch_title, check_scheduler, finite_float, note_records, noted, print_result
-from .rock import add_member, member_from
+from .args import add_member, arch_title, check_scheduler, finite_float, member_from, note_records, noted, print_result
 
 FILES = {"csv": "fragility.csv", "json": "fragility.json", "plot": "fragility.png", "ida_csv": "ida.csv",
          "ida_plot": "ida.png"}
@@ -226,7 +225,7 @@ def table(res: FragilityResult) -> str:
            f"{'safe above':>10} {'runs':>6}"]
     for r in res.rows:
         if r["status"] == "collapsed":
-            first, im = _num(r["first_overturning"], ".5g"), _num(r["im_at_collapse"], ".5g")
+            first, im = _num(r["first_collapse"], ".5g"), _num(r["im_at_collapse"], ".5g")
             smallest = "yes" if r["smallest"] else f"no ({_num(r['resolution_reached'], '.2g')})"
         elif r["status"] == "censored":
             first, im, smallest = "none", f"> {r['censored_at']:.5g}", "-"

@@ -21,9 +21,9 @@ from ..mechanisms.four_hinge_analysis import DEFAULT_SECTIONS, SIZE_LIMITS, Four
 from ..errors import InputError
 from ..mechanisms.hinge import side_from_text
 from ..geometry import CircularArch
-from .args import add_arch, arch_from, arch_title, int_list
+from .args import (add_arch, add_friction, add_picture_options, arch_from, arch_title, check_picture_options,
+                   friction_lines, int_list)
 from ..analysis.friction import required_friction
-from .analyze import add_friction, add_picture_options, check_picture_options, friction_lines
 
 def hinge_spec(text: str) -> tuple[list[float], list[str]]:
     """``"0:e,45:i,112.5:e,157.5:i"`` -> angles (deg) and sides.  Only the syntax is

@@ -16,8 +16,7 @@ from ..analysis import analyze, minimum_thickness
 from ..analysis.friction import EXACT_WITHOUT_FRICTION, REDUCED_FRICTION, THICKNESS_BOUND
 from ..errors import InputError
 from ..geometry import MidCurve
-from .analyze import friction_coefficient
-from .args import add_arch, arch_from, arch_title, finite_float
+from .args import add_arch, arch_from, arch_title, finite_float, friction_coefficient
 
 
 def register(sub) -> None:

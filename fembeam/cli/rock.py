@@ -6,110 +6,16 @@ computation is :class:`fembeam.dynamics.rocking.Rocker`; this module parses, pri
 """
 from __future__ import annotations
 
-import argparse
-import math
-import sys
 
-from ..dynamics.ground import RECORDS, GroundMotion
 from ..dynamics.rocking import Rocker, RockingResult
 from ..errors import InputError
-from ..geometry import StraightMember
-from ..limits import bodies, check_block, check_discretisation, check_duration, check_history, check_steps
-from ..output.files import check_distinct, check_name, check_output, write_table
-from .args import add_arch, arch_from, arch_title, finite_float, note_records, print_result
+from ..limits import bodies, check_history, check_steps
+from ..output.files import write_table
+from .args import (add_ground, add_member, arch_title, coulomb, finite_float, friction_line, ground_from, member_from,
+                   motion_outputs, print_result, run_end, time_progress)
 
-PULSES = ("rect", "sine", "ricker")
 REASONS = {"below_rest": "centroid a tenth of the thickness below its height at rest",
            "linkage_locked": "the four-bar linkage locks"}
-
-
-def add_member(p: argparse.ArgumentParser, solver: bool = True) -> None:
-    """Arch options of ``analyze``, ``--voussoirs``/``--elements``, or ``--block``; ``solver``:
-    also ``--backend`` and ``--no-qp`` (the general QP at each impact)."""
-    add_arch(p)
-    g = p.add_argument_group("discretisation")
-    m = g.add_mutually_exclusive_group()
-    m.add_argument("--voussoirs", type=int, default=None, metavar="N",
-                   help="discrete arch of N voussoirs: hinges only at the N+1 joints (rock: 3 to 80; simulate: at "
-                        "most 1000)")
-    m.add_argument("--elements", type=int, default=None, metavar="N",
-                   help="continuous arch: rigid elements of the limit analysis and the general QP (default 200; "
-                        "rock: at most 20000; simulate: at most 1000)")
-    m.add_argument("--block", type=finite_float, nargs=2, default=None, metavar=("WIDTH", "HEIGHT"),
-                   help="instead of an arch: a rectangular block WIDTH x HEIGHT (m) rocking on a rigid base, "
-                        "WIDTH / HEIGHT in [1e-3, 1e3]")
-    if solver:
-        g.add_argument("--backend", choices=("clarabel", "osqp"), default="clarabel",
-                       help="QP solver of the general QP")
-        g.add_argument("--no-qp", action="store_true", help="skip the general QP's r_qp at each impact")
-
-
-def add_ground(p: argparse.ArgumentParser, pulse_required: bool = False):
-    """``--pulse`` with ``--amplitude``/``--duration``/``--period``, or ``--record``; returns the
-    (required) group of mutually exclusive sources, to which a command may add its own."""
-    g = p.add_argument_group("ground motion (accelerations in g, positive along +x)")
-    w = g.add_mutually_exclusive_group(required=True)
-    w.add_argument("--pulse", choices=PULSES, help="rectangular, one-sine or Ricker pulse")
-    if not pulse_required:
-        w.add_argument("--record", metavar="FILE",
-                       help=f"PEER .AT2 file or CSV (time s, acceleration g; a regular file of at most 24 MB, "
-                            f"10^6 samples, DT in [1e-5, 1] s), or a shipped record: "
-                            f"{', '.join(RECORDS)}")
-    g.add_argument("--amplitude", type=finite_float, metavar="A", help="pulse amplitude (g)")
-    g.add_argument("--duration", type=finite_float, metavar="T1", help="rectangular pulse: duration (s)")
-    g.add_argument("--period", type=finite_float, metavar="TP", help="sine or Ricker pulse: period (s)")
-    if not pulse_required:
-        s = g.add_mutually_exclusive_group()
-        s.add_argument("--scale", type=finite_float, metavar="F", help="record: multiply by F")
-        s.add_argument("--pga", type=finite_float, metavar="A", help="record: scale to a peak of A g")
-    return w
-
-
-def member_from(args, model: str = "rock"):
-    """``(curve, voussoirs, elements)`` of the member options, within the bounds of ``model``
-    (``"rock"``, ``"simulate"`` or ``"auto"``: :func:`fembeam.limits.check_block`,
-    :func:`~fembeam.limits.check_discretisation`), checked before the member is built."""
-    if args.block is not None:
-        given = [o for o, v in (("--fill-density", getattr(args, "fill_density", None)),
-                                ("--fill-depth", getattr(args, "fill_depth", None)),
-                                ("--mass", getattr(args, "mass", None))) if v]
-        if given:
-            raise InputError(f"{given[0]} applies to arches, not to a --block")
-        width, height = args.block
-        curve = StraightMember(height=height, width=width, density=args.density)
-        check_block(curve.width, curve.height)
-        return curve, 1, 200
-    from ..analysis.pipeline import DEFAULT_ELEMENTS
-    check_discretisation(model, args.voussoirs, args.elements)
-    return arch_from(args), args.voussoirs, DEFAULT_ELEMENTS if args.elements is None else args.elements
-
-
-def pulse_from(kind: str, amplitude: float, args) -> GroundMotion:
-    if kind == "rect":
-        if args.duration is None:
-            raise InputError("--pulse rect needs --duration T1 (s)")
-        return GroundMotion.rectangular(amplitude, args.duration)
-    if args.period is None:
-        raise InputError(f"--pulse {kind} needs --period TP (s)")
-    return (GroundMotion.sine if kind == "sine" else GroundMotion.ricker)(amplitude, args.period)
-
-
-def ground_from(args) -> GroundMotion:
-    if args.pulse is not None:
-        if args.amplitude is None:
-            raise InputError(f"--pulse {args.pulse} needs --amplitude A (g)")
-        if getattr(args, "scale", None) is not None or getattr(args, "pga", None) is not None:
-            raise InputError("--scale and --pga apply to --record, not to a pulse")
-        return pulse_from(args.pulse, args.amplitude, args)
-    if args.amplitude is not None or args.duration is not None or args.period is not None:
-        raise InputError("--amplitude, --duration and --period describe a --pulse, not a --record")
-    gm = GroundMotion.record(args.record)
-    note_records([gm])
-    if args.scale is not None:
-        gm = gm.scaled(args.scale)
-    if args.pga is not None:
-        gm = gm.to_pga(args.pga)
-    return gm
 
 
 def register(sub) -> None:
@@ -150,54 +56,6 @@ def register(sub) -> None:
     o.add_argument("--frames", type=int, default=None, metavar="N",
                    help="--vtk and --gif: at most N frames, taken from the history (default 200 and 120)")
     p.set_defaults(func=run)
-
-
-def coulomb(text: str) -> float:
-    """A Coulomb coefficient of the motion models, in
-    :data:`~fembeam.simulation.stepper.MU_RANGE` (argparse type: exit 2 with one line otherwise)."""
-    from ..simulation.stepper import MU_RANGE
-
-    lo, hi = MU_RANGE
-    try:
-        mu = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number in [{lo:g}, {hi:g}]), "
-                                         f"got {text!r}") from None
-    if not (math.isfinite(mu) and lo <= mu <= hi):
-        raise argparse.ArgumentTypeError(f"the friction coefficient of the motion must be in [{lo:g}, {hi:g}] "
-                                         f"(omit --friction for joints that never slide), got {text!r}")
-    return mu
-
-
-def friction_line(res: RockingResult) -> str | None:
-    """The summary's line of the friction demand (None when it was not checked)."""
-    fd = res.friction_demand
-    if fd is None:
-        return None
-    if fd["t"] is None:
-        line = "  friction demand: none (no motion)"
-    else:
-        where = f"s = {fd['s']:.6g} m" if fd["s"] is not None else "no section in compression"
-        if fd["s"] is not None and res.curve.describe().get("shape") != "block":
-            where += f" ({float(res.curve.angle_deg(fd['s'])):.2f} deg)"
-        what = "|S|/N during the motion" if fd["at"] == "motion" else "|P_t|/P_n of an impact"
-        line = f"  friction demand: largest {what} = {fd['max_ratio']:.4f} at {where}, t = {fd['t']:.6g} s"
-    if fd["mu"] is not None:
-        line += (f": SLIDING RISK (above mu = {fd['mu']:g})" if fd["sliding_risk"] else f" (within mu = {fd['mu']:g})")
-    return line
-
-
-def _progress(t_end: float):
-    """A tqdm bar over simulated time on stderr when it is a terminal (None otherwise)."""
-    if not sys.stderr.isatty():
-        return None, None
-    from tqdm import tqdm
-    bar = tqdm(total=round(t_end, 3), unit="s", desc="simulated time", file=sys.stderr, leave=False)
-
-    def update(t: float):
-        bar.n = round(min(t, t_end), 3)
-        bar.refresh()
-    return update, bar
 
 
 def hinges_text(m) -> str:
@@ -257,37 +115,6 @@ def write_csv(res: RockingResult, path) -> None:
     write_table(path, res.history)
 
 
-def motion_outputs(args) -> dict:
-    """The outputs of a time-history command (``--csv``, ``--plot``, ``--vtk``, ``--gif``),
-    ``--frames`` and ``--history``, checked before computing."""
-    outputs = {"csv": check_output(args.csv, "--csv", (".csv",)),
-               "plot": check_output(args.plot, "--plot", (".png", ".pdf", ".svg")),
-               "vtk": check_output(args.vtk, "--vtk", (".pvd",)),
-               "gif": check_output(args.gif, "--gif", (".gif",))}
-    if args.frames is not None and not 2 <= args.frames <= 100_000:
-        raise InputError(f"--frames must be in [2, 100000], got {args.frames}")
-    if outputs["vtk"] is not None:            # the longest frame name the series will have
-        n = args.frames or 200
-        check_name(outputs["vtk"].with_name(f"{outputs['vtk'].stem}_{n - 1:04d}.vtu"), "--vtk")
-    check_distinct({"--csv": args.csv, "--plot": args.plot, "--vtk": args.vtk, "--gif": args.gif})
-    if args.history and not args.json:
-        raise InputError("--history adds the history to --json output; give --json too")
-    return outputs
-
-
-def run_end(args, curve, ground) -> float:
-    """``--t-end`` (s; default: the end of the ground motion plus ``20 sqrt(L/g)``), after the
-    start of the ground motion by at most :data:`~fembeam.limits.MAX_DURATION`."""
-    from ..dynamics.equation import GRAVITY
-
-    t0 = float(ground.t[0])
-    t_end = args.t_end if args.t_end is not None else float(ground.t[-1]) + 20.0 * math.sqrt(curve.length / GRAVITY)
-    if not t_end > t0:
-        raise InputError(f"--t-end must be after the start of the ground motion ({t0:g} s), got {t_end:g}")
-    check_duration(t_end - t0)
-    return t_end
-
-
 def run(args) -> int:
     if args.model == "auto":
         return run_auto(args)
@@ -303,7 +130,7 @@ def run(args) -> int:
     check_history(end - float(ground.t[0]), args.dt_out)
     rocker = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=args.backend, qp=not args.no_qp)
     t_end = args.t_end if args.t_end is not None else None
-    update, bar = _progress(end)
+    update, bar = time_progress(end)
     try:
         res = rocker.run(ground, t_end=t_end, dt_out=args.dt_out, thrust_check=not args.no_thrust_check,
                          progress=update, friction=args.friction)
@@ -348,7 +175,7 @@ def run_auto(args) -> int:
     model = AutoModel(curve, voussoirs=voussoirs, elements=elements, friction=args.friction, dt=dt,
                       backend=args.backend)
     t_end = args.t_end
-    update, bar = _progress(end)
+    update, bar = time_progress(end)
     try:
         res = model.run(ground, t_end=t_end, dt_out=args.dt_out, progress=update)
     finally:

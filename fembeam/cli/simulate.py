@@ -17,9 +17,8 @@ from ..dynamics.ground import GroundMotion
 from ..errors import InputError
 from ..limits import bodies, check_history, check_steps
 from ..output.files import atomic, atomic_group, write_table
-from .args import arch_title
-from .rock import (_progress, add_ground, add_member, coulomb, friction_line, ground_from, member_from, motion_outputs,
-                   run_end)
+from .args import (add_ground, add_member, arch_title, coulomb, friction_line, ground_from, member_from,
+                   motion_outputs, run_end, time_progress)
 
 HELP = "multi-body time history: Moreau-Jean steps, impact QP at every step, hinges anywhere"
 
@@ -347,7 +346,7 @@ def run(args) -> int:
                 print("  no files written: no motion to write")
         sys.stdout.flush()
         return 0
-    update, bar = _progress(t_end)
+    update, bar = time_progress(t_end)
     try:
         res = sim.run(ground, dt=args.dt, t_end=t_end, dt_out=args.dt_out, progress=update, support_motion=motion)
     finally:

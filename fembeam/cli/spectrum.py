@@ -14,35 +14,10 @@ import csv
 from ..limits import MAX_WORKERS, check_workers
 from ..output.files import atomic, check_distinct, check_output
 from ..studies.parallel import journal_for
-from ..studies.spectrum import (AMPLITUDE_SPAN, DT, MODELS, N_GRID, PULSES, T_END_FACTOR, SpectrumResult,
-                                check_model, plot_spectrum, spectrum)
-from .args import check_scheduler, finite_float, float_list, noted, print_result
-from .rock import add_member, member_from
-
-MODEL_HELP = ("rock: one mechanism between impacts (default); simulate: the voussoirs, rigid elements or block "
-              "as rigid bodies in contact (fembeam simulate, hinges anywhere), about 10x slower; auto: rock while its "
-              "mechanism is admissible, simulate from the first violation (fembeam rock --model auto); a run "
-              "collapses when it overturns or, with --friction, collapses by sliding")
-
-
-def add_model(p) -> None:
-    """``--model``, ``--dt``, ``--friction``."""
-    g = p.add_argument_group("model of each run")
-    g.add_argument("--model", choices=MODELS, default="rock", help=MODEL_HELP)
-    g.add_argument("--dt", type=finite_float, default=None, metavar="S",
-                   help=f"--model simulate or auto: time step (s; default {DT:g}, in [1e-6, 0.05], at most 1e7 steps "
-                        f"a run)")
-    g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
-                   help="--model simulate or auto: Coulomb coefficient at every joint, the springings included (default: "
-                        "joints never slide); collapse by sliding then counts as overturning, and amplitudes "
-                        "(factors) below the onset at A_L are run too")
-
-
-def model_from(args) -> tuple[float | None, float | None]:
-    """``(dt, friction)`` of ``--model`` (InputError, exit 2: ``--dt`` or ``--friction`` with rock, or
-    out of range)."""
-    return check_model(args.model, args.dt, args.friction, names=("--model", "--dt", "--friction"))
-
+from ..studies.runs import T_END_FACTOR
+from ..studies.spectrum import AMPLITUDE_SPAN, N_GRID, PULSES, SpectrumResult, plot_spectrum, spectrum
+from .args import (add_member, add_model, check_scheduler, finite_float, float_list, member_from, model_from,
+                   model_line, noted, print_result)
 
 def register(sub) -> None:
     p = sub.add_parser("spectrum", help="overturning amplitude against pulse period (safe regions above it too)",
@@ -145,7 +120,7 @@ def table(res: SpectrumResult) -> str:
            f"runs to pulse end + {res.settings['t_end_factor']:g} sqrt(L/g)",
            f"  {col + ' [s]':>12} {'a_over [g]':>11} {'a/onset':>8} {'bracket [g]':>23} {'safe above':>10} {'runs':>5}"]
     for r in res.rows:
-        a, (lo, hi) = r["first_overturning"], r["bracket"]
+        a, (lo, hi) = r["first_collapse"], r["bracket"]
         if a is None:
             br, ratio = f"none up to {amps[-1]:.4g}", "-"
         else:
@@ -170,11 +145,3 @@ def table(res: SpectrumResult) -> str:
     return "\n".join(out)
 
 
-def model_line(dt: float, friction: float | None, model: str = "simulate") -> str:
-    """The line naming ``--model simulate`` (or ``auto``) and what counts as collapse."""
-    name = "simulate (rigid bodies in contact" if model == "simulate" else \
-        "auto (rock while its mechanism is admissible, then rigid bodies in contact"
-    if friction is None:
-        return f"model: {name}, dt = {dt:g} s, joints never slide); collapse = overturned"
-    return (f"model: {name}, dt = {dt:g} s, Coulomb friction mu = {friction:g}); "
-            f"collapse = overturned or collapsed by sliding")

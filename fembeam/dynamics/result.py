@@ -54,6 +54,9 @@ class ImpactEvent:
 class RockingResult:
     """Outcome and history of :func:`rock` (and :meth:`Rocker.run`).
 
+    ``t_collapse`` is the time of the collapse (s; one mechanism collapses by
+    overturning only); ``t_overturn`` is the same, its deprecated name kept for one release.
+
     Energies are per metre of barrel width (J/m); rotations in rad, positive
     counter-clockwise.
 
@@ -111,7 +114,7 @@ class RockingResult:
     peak_theta: float = 0.0                     # largest |theta| (the rotation of the first moving piece)
     t_peak_theta: float | None = None
     peaks: list = field(default_factory=list)   # (t, mechanism index, theta): every turning point
-    t_overturn: float | None = None
+    t_overturn: float | None = None        # deprecated name of t_collapse, kept for one release
     settled_at: float | None = None         # Rocker.run(settle=True): the free motion ends at rest
     overturn_reason: str | None = None      # "below_rest" or "linkage_locked"
     thrust_line_exits_at: float | None = None
@@ -139,6 +142,11 @@ class RockingResult:
     timings: dict = field(default_factory=dict)
 
     @property
+    def t_collapse(self) -> float | None:
+        """The time of the collapse (s); None without one."""
+        return self.t_overturn
+
+    @property
     def elements(self) -> int:
         """:attr:`n` (the JSON's ``elements``: voussoirs or elements, as ``mode`` says)."""
         return self.n
@@ -164,6 +172,7 @@ class RockingResult:
             "peak_theta": float(self.peak_theta),
             "t_peak_theta": num(self.t_peak_theta),
             "turning_points": [{"t": t, "mechanism": k, "theta": th} for t, k, th in self.peaks],
+            "t_collapse": num(self.t_overturn),
             "t_overturn": num(self.t_overturn),
             "overturn_reason": self.overturn_reason,
             "thrust_line_exits_at": num(self.thrust_line_exits_at),

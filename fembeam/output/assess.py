@@ -119,8 +119,8 @@ def motion_lines(m: dict, k: int, friction: float | None = None) -> list[str]:
     v = VERDICT_WORDS.get(m["verdict"], m["verdict"])
     if m["verdict"] == "cannot_stand":
         return lines + ["  verdict (auto): CANNOT STAND"]
-    if m["t_overturn"] is not None:
-        v += f" at t = {m['t_overturn']:.6g} s"
+    if m["t_collapse"] is not None:
+        v += f" at t = {m['t_collapse']:.6g} s"
     elif m["outcome"] == "rest":
         v += f" (at rest at t = {m['t_end']:.4g} s)"
     else:

@@ -34,7 +34,7 @@ from ..limits import check_run_count
 from ..errors import InputError
 from ..geometry import MidCurve
 from ..dynamics.ground import MAX_PGA
-from . import spectrum
+from .runs import json_safe, onset_amplitude
 from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, collapse_scale
 
 __all__ = ["assess", "margin", "AssessResult", "Snapshot", "VERDICTS", "MARGIN_KEYS"]
@@ -42,8 +42,8 @@ __all__ = ["assess", "margin", "AssessResult", "Snapshot", "VERDICTS", "MARGIN_K
 VERDICTS = {"rest": "survives", "survived": "survives", "overturned": "overturns",
             "collapsed_by_sliding": "collapsed_by_sliding", "cannot_stand": "cannot_stand"}
 _THICKNESS_KEYS = ("thickness", "thickness_springing", "thickness_crown", "width")
-_VERDICT_KEYS = ("outcome", "t_end", "t_overturn", "overturn_reason", "peak_rotation", "t_peak", "first_failure",
-                 "handovers", "time_in", "n_impacts", "friction_demand", "segments")
+_VERDICT_KEYS = ("outcome", "t_end", "t_collapse", "t_overturn", "overturn_reason", "peak_rotation", "t_peak",
+                 "first_failure", "handovers", "time_in", "n_impacts", "friction_demand", "segments")
 
 
 @dataclass
@@ -106,7 +106,7 @@ class AssessResult:
     def to_dict(self) -> dict:
         """Strict JSON (null for undefined or non-finite numbers)."""
         geo = self.curve.describe() if hasattr(self.curve, "describe") else {}
-        return spectrum._json_safe({"command": "assess", "geometry": geo, "mode": self.mode,
+        return json_safe({"command": "assess", "geometry": geo, "mode": self.mode,
                         "elements": self.elements, "settings": self.settings, "static": self.static,
                         "motions": self.motions,
                         "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
@@ -183,7 +183,7 @@ def snapshot(runs: list, segments, t: float) -> Snapshot | None:
 
 
 # --------------------------------------------------------------------------- margin
-MARGIN_KEYS = ("factor", "pga_g", "bracket", "converged", "smallest", "resolution", "resolution_reached", "collapse",
+MARGIN_KEYS = ("factor", "pga_g", "bracket", "smallest", "resolution", "resolution_reached", "collapse",
                "safe_above", "safe_factors_above", "none_up_to_max", "budget_exhausted", "onset_factor", "max_factor",
                "runs", "errors")
 
@@ -200,11 +200,10 @@ def _margin_entry(res: dict) -> dict:
     -------
     dict
         The keys :data:`MARGIN_KEYS`: the first collapsing factor found (``factor``, its PGA
-        ``pga_g`` in g), whether it is the smallest at ``resolution`` (``smallest``; ``converged``
-        the same, its former name) and the claims of
+        ``pga_g`` in g), whether it is the smallest at ``resolution`` (``smallest``) and the claims of
         :func:`~fembeam.studies.huntfill.hunt_and_fill` that qualify it.
     """
-    out = {"factor": res["first_overturning"], "pga_g": res["pga_at_first_overturning"]}
+    out = {"factor": res["first_collapse"], "pga_g": res["pga_at_first_collapse"]}
     out.update({k: res[k] for k in MARGIN_KEYS if k not in out})
     return out
 
@@ -228,7 +227,7 @@ def margin_span(A: dict, ground: GroundMotion, span: float = SPAN) -> float | No
         :data:`~fembeam.dynamics.ground.MAX_PGA` (g); None when no factor sets the member moving
         (the motion is zero, or ``A_L`` infinite the way it loads) or only one above that PGA does.
     """
-    f0 = spectrum.onset_amplitude(A, ground)
+    f0 = onset_amplitude(A, ground)
     if not math.isfinite(f0) or ground.pga == 0:
         return None
     top = min(span, MAX_PGA / (f0 * ground.pga) * (1 - 1e-9))

@@ -8,7 +8,7 @@ Sign convention (that of :mod:`fembeam.dynamics.rocking`): accelerations in g, p
 ``sign = -1`` runs the mirrored record.  The onset factor is the smallest at which the record
 exceeds ``A_L`` either way (``min(A_L(-1) / max(a), A_L(+1) / max(-a))``): below it nothing moves
 and no run is made.  Each run lasts to ``t_end`` (default: the end of the record plus
-:data:`~fembeam.studies.spectrum.T_END_FACTOR` ``sqrt(L/g)``); a motion still under way then counts
+:data:`~fembeam.studies.runs.T_END_FACTOR` ``sqrt(L/g)``); a motion still under way then counts
 as safe.
 """
 from __future__ import annotations
@@ -24,7 +24,7 @@ from ..errors import CannotStandError, InputError
 from ..geometry import MidCurve
 from .huntfill import hunt_and_fill
 from .models import check_model, runner
-from .spectrum import T_END_FACTOR, _check_runs, _json_safe, onset_amplitude
+from .runs import T_END_FACTOR, check_runs, json_safe, onset_amplitude
 
 __all__ = ["record_collapse", "collapse_scale", "onset_and_top", "RESOLUTION", "SPAN", "MAX_RUNS", "default_t_end"]
 
@@ -100,6 +100,10 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
                    model: str = "rock", dt: float | None = None, friction: float | None = None) -> dict:
     """The smallest scale factor of a ground motion at which a member collapses.
 
+    ``first_collapse`` and ``pga_at_first_collapse`` (g) name the first collapse, by
+    overturning or by sliding; ``first_overturning`` and ``pga_at_first_overturning`` are
+    deprecated aliases with the same values, kept for one release.
+
     A hunt-and-fill search (:func:`record_collapse`) over the factors of the motion, from
     the onset factor (where the inertia load first reaches ``A_L``) up to ``span``
     onset factors.
@@ -171,11 +175,12 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     check_search(resolution, span, max_runs)
     if t_end is not None and not (math.isfinite(t_end) and t_end > ground.t[0]):
         raise InputError(f"t_end must be finite and after the start of the record ({ground.t[0]:g} s), got {t_end}")
-    _check_runs(model, dt, (t_end if t_end is not None else default_t_end(ground, curve)) - float(ground.t[0]),
+    check_runs(model, dt, (t_end if t_end is not None else default_t_end(ground, curve)) - float(ground.t[0]),
                 curve, voussoirs, elements)
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
     if not rk.stands:             # a physical outcome: the answer, without a run
-        return _json_safe({"outcome": "cannot_stand", "record": ground.name, "pga": ground.pga, "sign": sign,
+        return json_safe({"outcome": "cannot_stand", "record": ground.name, "pga": ground.pga, "sign": sign,
+                           "first_collapse": None, "pga_at_first_collapse": None,
                            "first_overturning": None, "pga_at_first_overturning": None,
                            "A_L": {"+1": None, "-1": None}, "geometry": curve.describe() if hasattr(curve, "describe")
                            else {}, "voussoirs": voussoirs, "elements": elements if voussoirs is None else None,
@@ -184,9 +189,11 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     res = record_collapse(curve, ground, sign=sign, model=model, thresholds=[rk.A[1], rk.A[-1]],
                           voussoirs=voussoirs, elements=elements, backend=backend, dt=dt, friction=friction,
                           resolution=resolution, span=span, max_runs=max_runs, t_end=t_end, progress=progress)
-    f = res["first_overturning"]
-    res.update(outcome="computed", record=ground.name, pga=ground.pga, pga_at_first_overturning=None if f is None else f * ground.pga,
+    f = res["first_collapse"]
+    pga_f = None if f is None else f * ground.pga
+    res.update(outcome="computed", record=ground.name, pga=ground.pga, pga_at_first_collapse=pga_f,
+               pga_at_first_overturning=pga_f,
                A_L={"+1": rk.A[1], "-1": rk.A[-1]}, geometry=curve.describe() if hasattr(curve, "describe") else {},
                voussoirs=voussoirs, elements=elements if voussoirs is None else None, model=model, dt=dt,
                friction=friction)
-    return _json_safe(res)
+    return json_safe(res)

@@ -51,7 +51,7 @@ from .collapse import MAX_RUNS, RESOLUTION, SPAN, check_search, default_t_end, o
 from .intensity import IntensityMeasure, parse_im
 from .models import DEFAULT_MODEL, check_model
 from .parallel import Journal, executor_label, run_tasks
-from .spectrum import T_END_FACTOR, _check_runs, _json_safe
+from .runs import T_END_FACTOR, check_runs, json_safe
 from .suites import Record, Suite
 
 __all__ = ["fragility", "fragility_case", "FragilityResult", "plot_fragility", "plot_ida", "SIGNS", "symmetric_model"]
@@ -69,7 +69,7 @@ def fragility_case(curve: MidCurve, record: Record, sign: int, model: str, thres
     res = record_collapse(curve, record.ground, sign=sign, model=model, thresholds=thresholds, voussoirs=voussoirs,
                           elements=elements, backend=backend, dt=dt, resolution=resolution, span=span,
                           max_runs=max_runs, t_end=default_t_end(record.ground, curve, t_end_factor))
-    return _json_safe({"record": record.name, **res})
+    return json_safe({"record": record.name, **res})
 
 
 def _lost_case(task, message: str) -> dict:
@@ -77,8 +77,8 @@ def _lost_case(task, message: str) -> dict:
     its last safe factor is the onset factor (nothing moves below it)."""
     kw = task[1]
     onset, top = onset_and_top(kw["record"].ground, kw["thresholds"], kw["sign"], kw["span"])
-    return {"record": kw["record"].name, "sign": kw["sign"], "first_overturning": None, "smallest": False,
-            "converged": False, "none_up_to_max": False, "collapse": None, "bracket": [onset, None],
+    return {"record": kw["record"].name, "sign": kw["sign"], "first_collapse": None, "first_overturning": None,
+            "smallest": False, "none_up_to_max": False, "collapse": None, "bracket": [onset, None],
             "resolution": kw["resolution"], "resolution_reached": None, "safe_above": False, "safe_factors_above": [],
             "budget_exhausted": False, "errors": [{"factor": None, "outcome": "lost",
                                                    "error": f"the worker process died twice ({message})"}],
@@ -86,7 +86,7 @@ def _lost_case(task, message: str) -> dict:
 
 
 def _status(row: dict) -> str:
-    if row["first_overturning"] is not None:
+    if row["first_collapse"] is not None:
         return "collapsed"
     return "error" if row["errors"] else "censored"
 
@@ -146,7 +146,7 @@ class FragilityResult:
         return out
 
     def to_dict(self) -> dict:
-        return _json_safe({"study": "fragility", "outcome": self.outcome, "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
+        return json_safe({"study": "fragility", "outcome": self.outcome, "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
                            "geometry": self.geometry, "A_L": self.A_L, "settings": self.settings,
                            "counts": self.counts(), "method": "interval_censored", "fit": self.fit,
                            "fit_error": self.fit_error,
@@ -161,7 +161,8 @@ class FragilityResult:
                         "component": r["component"], "group": r["group"], "normalisation": r["normalisation"],
                         "pga_g": r["pga_g"], "pgv_m_s": r["pgv_m_s"], f"im_record_{self._unit}": r["im_record"],
                         "status": r["status"], "mirrored": r["mirrored"], "onset_factor": r["onset_factor"],
-                        "first_overturning": r["first_overturning"], "smallest": r["smallest"],
+                        "first_collapse": r["first_collapse"], "first_overturning": r["first_collapse"],
+                        "smallest": r["smallest"],
                         "resolution_reached": r["resolution_reached"], "bracket_lo": r["bracket"][0],
                         f"im_at_collapse_{self._unit}": r["im_at_collapse"],
                         f"im_lower_{self._unit}": r["im_interval"][0], f"im_upper_{self._unit}": r["im_interval"][1],
@@ -241,7 +242,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
     im_of = {r.name: measure(r.ground) for r in suite.records}
     meta = {r.name: r.metadata() for r in suite.records}
     longest = max(suite.records, key=lambda r: default_t_end(r.ground, curve, t_end_factor) - r.ground.t[0])
-    _check_runs(model, dt, default_t_end(longest.ground, curve, t_end_factor) - float(longest.ground.t[0]),
+    check_runs(model, dt, default_t_end(longest.ground, curve, t_end_factor) - float(longest.ground.t[0]),
                 curve, voussoirs, elements)
     clock = time.perf_counter()
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
@@ -273,7 +274,7 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
         rows += [r] if len(signs) == 2 else [r, _mirror(r)]
     for r in rows:
         x = im_of[r["record"]]
-        f, lo = r["first_overturning"], r["bracket"][0]
+        f, lo = r["first_collapse"], r["bracket"][0]
         r.update({k: v for k, v in meta[r["record"]].items() if k != "record"}, im_record=x,
                  status=_status(r), im_at_collapse=None if f is None else f * x)
         r["im_interval"] = [lo * x, None if f is None else f * x]
@@ -378,7 +379,7 @@ def plot_ida(result: FragilityResult, path) -> None:
     edge = 1.1 * max(peaks + [1e-3])
     for r in result.rows:
         x = r["im_record"]
-        first = r["first_overturning"]
+        first = r["first_collapse"]
         safe = [(s["peak_rotation"], s["factor"] * x) for s in r["scan"] if s.get("peak_rotation") is not None
                 and s["outcome"] not in ("overturned", "collapsed_by_sliding")
                 and (first is None or s["factor"] < first)]

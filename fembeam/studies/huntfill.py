@@ -16,8 +16,10 @@ what it has seen.  Factors are positive; below the onset factor ``f0`` the groun
 
 Claims, in the returned dict:
 
-* ``first_overturning``: the lowest collapsing factor found (None: none up to ``max_factor``);
-* ``smallest`` (bool; also ``converged``, the name of the former search's flag): every gap from
+* ``first_collapse``: the lowest collapsing factor found, by overturning or by sliding (None:
+  none up to ``max_factor``); ``first_overturning`` is a deprecated alias with the same value,
+  kept for one release;
+* ``smallest`` (bool): every gap from
   ``f0`` up to it is at most ``1 + resolution`` and every run below it is safe, so no collapsing
   window wider than ``resolution`` (relative) lies below it.  A narrower window can (the safe set
   of a rocking member has gaps of a fraction of a per cent), and the true first collapse lies in
@@ -124,7 +126,7 @@ def hunt_and_fill(run: Callable[[float], dict], onset: float, *, resolution: flo
                     default=onset if onset_safe else None)
     smallest = bool(top is not None and covered and onset_safe)
     above = sorted(x for x, r in done.items() if top is not None and x > top and r["outcome"] in SAFE)
-    return {"first_overturning": top, "smallest": smallest, "converged": smallest,
+    return {"first_collapse": top, "first_overturning": top, "smallest": smallest,
             "none_up_to_max": bool(top is None and covered and max_factor > onset and onset_safe),
             "collapse": None if top is None else done[top]["outcome"],
             "bracket": [last_safe, top], "resolution": float(resolution), "resolution_reached": float(reached),

@@ -43,8 +43,6 @@ from __future__ import annotations
 
 import functools
 import math
-import sys
-import threading
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -56,21 +54,19 @@ from ..dynamics.ground import PERIOD_RANGE, GroundMotion
 from ..dynamics.rocking import Rocker
 from ..errors import CannotStandError, InputError, SolverError
 from ..geometry import MidCurve
+from .models import MultiBody, check_model
 from .parallel import Journal, executor_label, run_tasks
+from .runs import T_END_FACTOR, check_runs, json_safe, onset_amplitude
 
 __all__ = ["overturning_amplitude", "spectrum", "spectrum_case", "SpectrumResult", "plot_spectrum",
-           "pulse", "pulse_end", "onset_amplitude", "geometric_grid", "check_model", "MultiBody",
-           "PULSES", "SAFE", "COLLAPSE", "MODELS", "DT"]
+           "pulse", "pulse_end", "geometric_grid", "PULSES", "SAFE", "COLLAPSE"]
 
 PULSES = ("rect", "sine", "ricker")
-MODELS = ("rock", "simulate", "auto")   # one mechanism; the multi-block simulation; rock while it holds, then simulate
 SAFE = ("no_motion", "rest", "survived", "below_barrier")   # outcomes that are not overturning
 COLLAPSE = ("overturned", "collapsed_by_sliding")           # outcomes that count as collapse (sliding: simulate
                                                             # with friction only)
-DT = 1e-3               # default time step of model="simulate" (s), that of fembeam simulate
 N_GRID = 40             # default grid points (amplitudes)
 AMPLITUDE_SPAN = 10.0   # default amplitude grid: onset .. 10 x onset (geometric)
-T_END_FACTOR = 20.0     # default free time after a pulse, in sqrt(L/g)
 MAX_BISECT = 60         # bound on the bisection steps
 MAX_CASES = 10_000      # bound on the scanned (period, amplitude) points of one study
 
@@ -90,14 +86,6 @@ def pulse(kind: str, amplitude: float, period: float) -> GroundMotion:
 def pulse_end(kind: str, period: float) -> float:
     """End of the pulse (s): rect and sine ``period``, Ricker ``3 period``."""
     return 3.0 * period if kind == "ricker" else float(period)
-
-
-def onset_amplitude(A: dict, unit: GroundMotion) -> float:
-    """Smallest ``f > 0`` at which ``f * unit`` can set the member moving: ``min(A_L(-1) /
-    max(a), A_L(+1) / max(-a))`` over the signs present in ``unit`` (inf if none)."""
-    pos, neg = float(np.max(unit.a)), float(np.max(-unit.a))
-    cands = [A[-1] / pos if pos > 0 else math.inf, A[1] / neg if neg > 0 else math.inf]
-    return float(min(cands))
 
 
 def geometric_grid(lo: float, span: float, n: int) -> list[float]:
@@ -121,139 +109,6 @@ def _check_grid(values, name: str) -> list[float]:
     if any(b <= a for a, b in zip(v, v[1:])):
         raise InputError(f"{name} must be strictly increasing")
     return v
-
-
-def check_model(model: str, dt: float | None = None, friction: float | None = None,
-                names: tuple[str, str, str] = ("model", "dt", "friction")) -> tuple[float | None, float | None]:
-    """``(dt, friction)`` of ``model``: None, None for ``"rock"`` (which takes neither: InputError
-    if one is given); for ``"simulate"`` ``dt`` (s, default :data:`DT`) a finite number in the
-    simulation's ``DT_RANGE`` and ``friction`` None (joints never slide) or a coefficient the
-    Simulator admits.  ``names``: how the messages call the three (the CLI's options)."""
-    m, d, f = names
-    if model not in MODELS:
-        raise InputError(f"{m} must be one of {', '.join(MODELS)}, got {model!r}")
-    if model == "rock":
-        given = [n for n, x in ((d, dt), (f, friction)) if x is not None]
-        if given:
-            raise InputError(f"{' and '.join(given)} appl{'y' if len(given) > 1 else 'ies'} to the multi-block "
-                             f"simulation only ({m} simulate or auto), not to rock")
-        return None, None
-    from ..simulation import DT_RANGE
-    lo, hi = DT_RANGE
-    if dt is None:
-        dt = DT
-    try:
-        dt = float(dt)
-    except (TypeError, ValueError):
-        raise InputError(f"{d} must be a number of seconds, got {dt!r}") from None
-    if not (math.isfinite(dt) and lo <= dt <= hi):
-        raise InputError(f"{d} must be in [{lo:g}, {hi:g}] s, got {dt:g}")
-    if friction is not None:
-        friction = _check_friction(friction, f)
-    return dt, friction
-
-
-def _check_friction(mu, name: str) -> float:
-    """``mu`` checked by the Simulator's own rule (InputError naming ``name`` otherwise)."""
-    try:
-        mu = float(mu)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {mu!r}") from None
-    if not (math.isfinite(mu) and mu >= 0):
-        raise InputError(f"{name} must be a friction coefficient (a finite number >= 0; omit it for joints that "
-                         f"never slide), got {mu:g}")
-    if not _simulator_has_friction():
-        raise InputError(f"{name}: this fembeam's Simulator has no Coulomb friction")
-    from ..simulation.stepper import check_friction
-    try:
-        return check_friction(mu)
-    except InputError as e:
-        raise InputError(f"{name}: {e}") from None
-
-
-def _check_runs(model: str, dt: float | None, duration: float, curve: MidCurve, voussoirs: int | None,
-                elements: int | None) -> None:
-    """The bounds of :mod:`fembeam.limits` on the longest run (``duration`` s of simulated
-    time): at most ``MAX_DURATION`` s; with ``model="simulate"`` its steps and body-steps too."""
-    from ..geometry import StraightMember
-    from ..limits import bodies, check_duration, check_steps
-    check_duration(duration, "t_end")
-    if model != "rock":
-        check_steps(dt, duration, bodies(voussoirs, elements, isinstance(curve, StraightMember)), "dt")
-
-
-def _simulator_has_friction() -> bool:
-    import inspect
-
-    from ..simulation import Simulator
-    return "friction" in inspect.signature(Simulator).parameters
-
-
-_SIMULATORS = threading.local()
-
-
-def _simulator(curve: MidCurve, voussoirs: int | None, elements: int | None, friction: float | None):
-    """This thread's :class:`~fembeam.simulation.Simulator` of the member, built on first use and
-    kept for the next tasks on the same member (one at a time: a worker runs one study)."""
-    from ..simulation import Simulator
-    with np.printoptions(threshold=sys.maxsize, precision=17):
-        key = (repr(curve), voussoirs, elements, friction)
-    kept = getattr(_SIMULATORS, "kept", None)
-    if kept is not None and kept[0] == key:
-        return kept[1]
-    kw = {"voussoirs": voussoirs} if voussoirs is not None else {"elements": elements}
-    if friction is not None:
-        kw["friction"] = friction
-    sim = Simulator(curve, **kw)
-    _SIMULATORS.kept = (key, sim)
-    return sim
-
-
-def _auto_model(curve: MidCurve, voussoirs: int | None, elements: int, friction: float | None, dt: float):
-    """This thread's :class:`~fembeam.auto.AutoModel` of the member (kept for the next tasks, as
-    :func:`_simulator`)."""
-    from ..auto import AutoModel
-    with np.printoptions(threshold=sys.maxsize, precision=17):
-        key = ("auto", repr(curve), voussoirs, elements, friction, dt)
-    kept = getattr(_SIMULATORS, "auto", None)
-    if kept is not None and kept[0] == key:
-        return kept[1]
-    am = AutoModel(curve, voussoirs=voussoirs, elements=elements, friction=friction, dt=dt)
-    _SIMULATORS.auto = (key, am)
-    return am
-
-
-class MultiBody:
-    """The member as ``fembeam simulate`` moves it (``model="simulate"``), or as ``--model auto``
-    (``"auto"``: :class:`~fembeam.auto.AutoModel`, the one-mechanism model while it holds, the
-    simulation from the first violation), for :func:`overturning_amplitude`: its
-    :class:`~fembeam.simulation.Simulator` (of this worker thread, reused), the onset thresholds
-    ``A`` (g, ``{+1: A_L(+1), -1: A_L(-1)}``, from the limit analysis), the time step ``dt`` (s) and
-    the Coulomb coefficient ``friction`` (None: the joints never slide).  ``steps`` counts the time
-    steps of its runs."""
-
-    def __init__(self, curve: MidCurve, A: dict, *, voussoirs: int | None = None, elements: int = 200,
-                 dt: float = DT, friction: float | None = None, model: str = "simulate"):
-        self.curve, self.dt, self.friction, self.model = curve, float(dt), friction, model
-        self.A = {1: float(A[1]), -1: float(A[-1])}
-        self.stands = not any(math.isnan(x) for x in self.A.values())
-        if model == "auto":
-            self.sim = _auto_model(curve, voussoirs, elements, friction, self.dt)
-        else:
-            self.sim = _simulator(curve, voussoirs, None if voussoirs is not None else elements, friction)
-        self.steps = 0
-
-    @property
-    def still_below_onset(self) -> bool:
-        """A ground motion below ``A_L`` both ways leaves the member at rest (no sliding joints)."""
-        return self.friction is None
-
-    def outcome(self, ground: GroundMotion, t_end: float | None) -> str:
-        if self.model == "auto":
-            return self.sim.run(ground, t_end=t_end, history=False).outcome
-        res = self.sim.run(ground, dt=self.dt, t_end=t_end, stop_at_overturn=True)
-        self.steps += int(res.steps)
-        return res.outcome
 
 
 class _Decider:
@@ -302,8 +157,9 @@ def overturning_amplitude(rocker: Rocker | MultiBody, make_ground: Callable[[flo
     ``onset``: amplitudes up to it cannot move the member (default ``min(A_L(+1), A_L(-1))``,
     right when ``a`` is the peak ``|a_g|``); ``progress(a, outcome)`` after each decision.
 
-    Returns ``first_overturning`` (upper end of the bracket; None if no scanned amplitude
-    overturns), ``bracket`` ``[lo, hi]`` (lo safe, hi overturning; ``[largest safe, None]``
+    Returns ``first_collapse`` (upper end of the bracket; None if no scanned amplitude
+    collapses; ``first_overturning``: a deprecated alias with the same value, kept for one
+    release), ``bracket`` ``[lo, hi]`` (lo safe, hi overturning; ``[largest safe, None]``
     without overturning), ``safe_above`` and ``safe_amplitudes_above`` (scanned amplitudes above
     the first overturning one that do not overturn), ``collapse`` (the outcome at the upper end of
     the bracket: ``"overturned"`` or ``"collapsed_by_sliding"``; None without one), ``runs`` (time
@@ -323,7 +179,8 @@ def overturning_amplitude(rocker: Rocker | MultiBody, make_ground: Callable[[flo
     scan = [(a, "no_motion" if a <= onset and decide.shortcut else decide(a)) for a in amps]
     over = [i for i, (_, o) in enumerate(scan) if o in COLLAPSE]
     safe = [a for a, o in scan if o in SAFE]
-    out = {"first_overturning": None, "bracket": [safe[-1] if safe else None, None], "safe_above": False,
+    out = {"first_collapse": None, "first_overturning": None, "bracket": [safe[-1] if safe else None, None],
+           "safe_above": False,
            "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": float(onset), "bisection": []}
     if over:
         i = over[0]
@@ -345,7 +202,8 @@ def overturning_amplitude(rocker: Rocker | MultiBody, make_ground: Callable[[flo
             else:
                 break
         above = [a for a, o in scan[i + 1:] if o in SAFE]
-        out.update(first_overturning=hi, bracket=[lo, hi], safe_above=bool(above), safe_amplitudes_above=above,
+        out.update(first_collapse=hi, first_overturning=hi, bracket=[lo, hi], safe_above=bool(above),
+                   safe_amplitudes_above=above,
                    converged=hi - lo <= bisect_tol * hi, collapse=how, bisection=steps)
     out.update(runs=decide.runs, scan=[{"amplitude": a, "outcome": o} for a, o in scan], errors=decide.errors)
     return out
@@ -377,23 +235,10 @@ def _pulse_of(kind: str, period: float, amplitude: float) -> GroundMotion:
     return pulse(kind, amplitude, period)
 
 
-def _json_safe(x):
-    if isinstance(x, dict):
-        return {str(k): _json_safe(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple, np.ndarray)):
-        return [_json_safe(v) for v in x]
-    if isinstance(x, (bool, np.bool_)):
-        return bool(x)
-    if isinstance(x, (int, np.integer)):
-        return int(x)
-    if isinstance(x, (float, np.floating)):
-        return float(x) if math.isfinite(x) else None
-    return x
-
-
 @dataclass
 class SpectrumResult:
-    """Rows per period (``period`` s: the duration for rect pulses; ``first_overturning``,
+    """Rows per period (``period`` s: the duration for rect pulses; ``first_collapse`` (and its
+    deprecated alias ``first_overturning``),
     ``bracket`` in g, ``safe_above``, ``runs``, the scan); ``A_L`` (g) both ways; ``onset`` (g):
     the amplitude at which the pulse first moves the member."""
 
@@ -412,7 +257,7 @@ class SpectrumResult:
 
     def to_dict(self) -> dict:
         """JSON-safe (null for undefined or non-finite numbers)."""
-        return _json_safe({"study": "spectrum", "outcome": self.outcome, "model": self.model,
+        return json_safe({"study": "spectrum", "outcome": self.outcome, "model": self.model,
                            "collapse_outcomes": _collapse_outcomes(self.model),
                            "pulse": self.kind, "sign": self.sign,
                            "abscissa": "duration_s" if self.kind == "rect" else "period_s",
@@ -421,12 +266,21 @@ class SpectrumResult:
                            "rows": self.rows, "wall_time_s": round(self.wall_time, 3), "timing_s": self.timing})
 
     def csv_rows(self) -> list[dict]:
-        """One row per period: amplitudes in g and over the onset; empty cells for none."""
+        """One row per period: amplitudes in g and over the onset; empty cells for none.
+
+        Returns
+        -------
+        list of dict
+            ``first_collapse_g`` and ``first_collapse_over_onset`` name the first collapse;
+            ``first_overturning_g`` and ``first_overturning_over_onset`` are deprecated aliases
+            with the same values, kept for one release.
+        """
         out = []
         for r in self.rows:
-            a, (lo, hi) = r["first_overturning"], r["bracket"]
-            out.append({"period_s": r["period"], "first_overturning_g": a,
-                        "first_overturning_over_onset": None if a is None else a / self.onset,
+            a, (lo, hi) = r["first_collapse"], r["bracket"]
+            over = None if a is None else a / self.onset
+            out.append({"period_s": r["period"], "first_collapse_g": a, "first_collapse_over_onset": over,
+                        "first_overturning_g": a, "first_overturning_over_onset": over,
                         "bracket_lo_g": lo, "bracket_hi_g": hi, "safe_above": r["safe_above"],
                         "safe_amplitudes_above_g": ";".join(f"{x:.6g}" for x in r["safe_amplitudes_above"]),
                         "runs": r["runs"], "errors": len(r["errors"]), "time_s": round(r["time_s"], 4)})
@@ -494,7 +348,7 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     dt, friction = check_model(model, dt, friction)
     ps = _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign,
                          n_amplitudes, span)
-    _check_runs(model, dt, max(pulse_end(kind, p) for p in ps) + t_end_factor * math.sqrt(curve.length / GRAVITY),
+    check_runs(model, dt, max(pulse_end(kind, p) for p in ps) + t_end_factor * math.sqrt(curve.length / GRAVITY),
                 curve, voussoirs, elements)
     clock = time.perf_counter()
     rk = Rocker(curve, voussoirs=voussoirs, elements=elements, backend=backend, qp=False)
@@ -534,7 +388,8 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
 
 def _cannot_stand_row(period: float, model: str) -> dict:
     """The row of a period for a member that cannot stand: no run, no amplitude."""
-    return {"period": float(period), "outcome": "cannot_stand", "first_overturning": None, "bracket": [None, None],
+    return {"period": float(period), "outcome": "cannot_stand", "first_collapse": None,
+            "first_overturning": None, "bracket": [None, None],
             "safe_above": False, "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": None,
             "scan": [], "bisection": [], "runs": 0, "errors": [], "time_s": 0.0,
             **({"steps": 0} if model != "rock" else {})}
@@ -544,7 +399,8 @@ def _lost_period(task, message: str) -> dict:
     """The row of a period whose worker process died twice: undecided, with the error."""
     kw = task[1]
     extra = {"steps": 0} if kw.get("model", "rock") != "rock" else {}
-    return {"period": float(kw["period"]), "first_overturning": None, "bracket": [None, None], "safe_above": False,
+    return {"period": float(kw["period"]), "first_collapse": None, "first_overturning": None, "bracket": [None, None],
+            "safe_above": False,
             "safe_amplitudes_above": [], "converged": False, "collapse": None, "onset": kw["onset"], "bisection": [],
             "runs": 0, "errors": [f"the worker process died twice ({message})"], "t_end": float(kw["t_end"]),
             **extra, "time_s": 0.0}
@@ -580,9 +436,9 @@ def plot_spectrum(result: SpectrumResult, path) -> None:
         ax.plot(*zip(*above), "o", color="tab:green", mfc="none", ms=5,
                 label="scanned: safe above the first overturning")
     x = [r["period"] for r in rows]
-    y = [np.nan if r["first_overturning"] is None else r["first_overturning"] / A0 for r in rows]
+    y = [np.nan if r["first_collapse"] is None else r["first_collapse"] / A0 for r in rows]
     ax.plot(x, y, "k-o", ms=3.5, lw=1.3, label="first overturning amplitude (bisected)")
-    none = [r["period"] for r in rows if r["first_overturning"] is None]
+    none = [r["period"] for r in rows if r["first_collapse"] is None]
     if none:
         top = max(result.amplitudes) / A0
         ax.plot(none, [top] * len(none), "^", color="k", mfc="none", ms=6,
