@@ -342,7 +342,7 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
     and its ``dt`` and ``friction``, so a journal of one model is never read for another).
 
     ``model="simulate"``: each run is the multi-block simulation (:class:`MultiBody`) with time
-    step ``dt`` (s, default :data:`DT`) and Coulomb coefficient ``friction`` (default None: no
+    step ``dt`` (s, default ``fembeam.studies.runs.DT``, 1e-3 s) and Coulomb coefficient ``friction`` (default None: no
     sliding); collapse by sliding counts as overturning.  ``dt`` and ``friction`` with
     ``model="rock"`` are an :class:`InputError`."""
     dt, friction = check_model(model, dt, friction)
