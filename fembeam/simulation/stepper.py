@@ -463,7 +463,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
             # from the state it started from (positions; velocities after its impact, if any)
             err = SolverError(f"the contact problem of the step at t = {fs[K.F_T]:.9g} s met a singular system "
                               f"({type(e).__name__}: {e})")
-            err.problem = {"t": float(fs[K.F_T]), "q": q.copy(), "v": v.copy(), "mu": mu, "dt": dt,
+            err.problem = {"t": float(fs[K.F_T]), "q": _public(q), "v": _public(v), "mu": mu, "dt": dt,
                            "slip_carried": s_ref.copy(), "error": f"{type(e).__name__}: {e}"}
             raise err from e
         h_rows.append(hist[:nh].copy())
@@ -474,7 +474,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                               f"{_SOLVER_STATUS.get(int(ist[K.I_STATUS]), 'failed')} "
                               f"(residual {fs[K.F_KKT]:.3g})")
             # the problem, for a report: the state the step started from, and the frictional problem
-            err.problem = {"t": float(fs[K.F_T]), "q": q.copy(), "v": v.copy(), "mu": mu, "dt": dt,
+            err.problem = {"t": float(fs[K.F_T]), "q": _public(q), "v": _public(v), "mu": mu, "dt": dt,
                            "slip_carried": s_ref.copy()}
             if ist[K.I_STATUS] == 4:
                 err.problem.update({"W_banded": dump[0], "c": dump[1], "P_stick": dump[2], "closed": dump[3],
@@ -522,8 +522,15 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
                friction_work=float(fs[K.F_FRICTION]), coulomb_residual=float(fs[K.F_COULOMB]),
                time=time.perf_counter() - clock,
                timings={"compile_or_load": t_load, "run": t_run, "total": time.perf_counter() - clock})
-    res.q_end, res.v_end = q[:-1].copy(), v[:-1].copy()
-    res.q_end[-1] = res.v_end[-1] = 0.0
+    res.q_end, res.v_end = _public(q), _public(v)
     if motion is not None:
         res.support_q_end = q[-2:, :2].copy()
     return res
+
+
+def _public(x: np.ndarray) -> np.ndarray:
+    """The kernel's state ``x`` (bodies, then the two supports) in :meth:`Simulator.run`'s
+    layout: ``(n + 1, 3)``, the bodies and a last row of the ground's zeros."""
+    out = x[:-1].copy()
+    out[-1] = 0.0
+    return out
