@@ -59,9 +59,9 @@ import math
 import numpy as np
 from numba import njit
 
+from .constants import BAND, COULOMB_TOL, IPM_ITERATIONS, KKT_TOL, LOOSE, MAX_PIVOTS, OFF_FACE, OPEN_TOL, REG
+
 # ================================================================================================= operators
-BAND = 5                # half-bandwidth of W (three rows per joint, consecutive joints share a body)
-OFF_FACE = 1e300        # as contacts.OFF_FACE: the gap of a joint end whose faces no longer overlap
 
 
 @njit(cache=True, error_model="numpy")
@@ -230,15 +230,10 @@ def solve(U, b, x):
 
 
 # =========================================================================================== contact solvers
-REG = 1e-12          # as projection.REG
-KKT_TOL = 1e-8       # as projection.KKT_TOL (the default of the kkt_tol arguments)
-MAX_PIVOTS = 1000
-IPM_ITERATIONS = 80
 BOX_PIVOTS = 100     # box pivots per Tresca problem
 PGS_SWEEPS = 2000   # projected Gauss-Seidel sweeps (fallback)
 FIXED_POINT = 60     # Tresca fixed-point iterations
 RELAX_FROM = 10      # fixed-point iterations before the update of N is relaxed
-COULOMB_TOL = 1e-5   # Coulomb residual admitted (relative to the scales of percussions and rates)
 REG_FRICTION = 1e-9  # regularisation of the Tresca problems (relative to the largest diagonal entry of W):
                      # the self-stress states of redundant closed joints are otherwise decided by
                      # round-off at a condition number of 1e12, and the pivots cycle on them
@@ -471,6 +466,14 @@ def solve_mlcp(ab, c, free, nonneg, F, warm, vscale, block_pivots, U, P, w, kkt_
             res = kkt_residual(P, w, free, nonneg, vscale, dmax)
             return (0 if res <= kkt_tol else 2), pivots, res
     return 1, MAX_PIVOTS, 0.0
+
+
+@njit(cache=True)
+def compiled_constants():
+    """The values of :mod:`.constants` this compiled code was built with (numba freezes module
+    globals at compilation; the cache is keyed on this file only), in the order of
+    :func:`.constants.values`."""
+    return (BAND, OFF_FACE, REG, KKT_TOL, MAX_PIVOTS, IPM_ITERATIONS, COULOMB_TOL, LOOSE, OPEN_TOL)
 
 
 # ------------------------------------------------------------------------------------- friction
@@ -1189,8 +1192,6 @@ OVERTURNED, SLID_OUT = 1, 2
 RUNNING, FINISHED, STOPPED = 0, 1, 2
 SOLVER_FAILED = 3       # the contact problem of a step failed (ist[I_STATUS] the solver's code)
 HISTORY_COLUMNS = 9
-LOOSE = 100.0           # a step's frictional problem accepted up to this many times the Coulomb tolerance
-                        # when every solver stalls above it (counted: SimulationResult.loose_steps)
 
 
 @njit(cache=True, error_model="numpy")
@@ -1468,7 +1469,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
                 return RUNNING, nh, ni
             hinges, separated = 0, 0
             for j in range(J):
-                k = int(gap[j, 0] > 1e-6 * thick[j]) + int(gap[j, 1] > 1e-6 * thick[j])
+                k = int(gap[j, 0] > OPEN_TOL * thick[j]) + int(gap[j, 1] > OPEN_TOL * thick[j])
                 hinges += k == 1
                 separated += k == 2
             hist[nh, 0] = t
