@@ -6,8 +6,11 @@ elements, through 10 s at dt = 1e-3 s under a ground motion (default: the one-si
 impacts and solves, the best of ``--repeat`` warm runs (wall and CPU seconds, microseconds per
 step), the peak memory of one run (tracemalloc), the same run with Coulomb friction ``--mu``, and
 for N <= 30 the NumPy reference engine; then the growth exponent of the time per step against N
-(least squares on the logs) and per solve (a banded factorisation and its solves), and the wall time of ``fembeam simulate --json`` in a fresh process
-(start-up, numba's cache load and the run).
+(least squares on the logs) and per solve (a banded factorisation and its solves), with and without
+friction, and the friction's cost (its time over the frictionless run's) with what the frictional
+steps needed (steps that left the cone, and which stage solved them); then the wall time of
+``fembeam simulate --json`` in a fresh process (start-up, numba's cache load and the run) and the
+cache load alone (the first call of the compiled loop in a fresh process, best of 3).
 
     python benchmarks/simulate.py [--sizes 7 15 30 50 100 200] [--seconds 10] [--dt 1e-3] [--mu 0.6]
 """
@@ -56,7 +59,7 @@ def main() -> None:
     Simulator(arch, voussoirs=3).run(ground, dt=args.dt, t_end=0.01)       # compile or load the cache
     print(f"{'N':>5} {'rows':>5} {'steps':>6} {'impacts':>7} {'solves':>8} {'wall s':>7} {'cpu s':>7} "
           f"{'us/step':>8} {'us/solve':>8} {'MB':>6} {'mu s':>7} {'mu/none':>7} {'ref s':>7} {'speedup':>7} {'outcome':>9} {'peak rad':>9}")
-    sizes, per_step, per_solve = [], [], []
+    sizes, per_step, per_solve, friction = [], [], [], []
     for n in args.sizes:
         kw = {"voussoirs": n} if n < 50 else {"elements": n}
         sim = Simulator(arch, **kw)
@@ -66,8 +69,9 @@ def main() -> None:
         mem = tracemalloc.get_traced_memory()[1] / 2**20
         tracemalloc.stop()
         try:
-            _, wmu, _ = timed(Simulator(arch, friction=args.mu, **kw), ground, args, 1)
+            rmu, wmu, _ = timed(Simulator(arch, friction=args.mu, **kw), ground, args, args.repeat)
             mu = f"{wmu:7.2f} {wmu / wall:7.2f}"
+            friction.append((n, wall, wmu, rmu))
         except Exception as e:                    # a frictional step the solvers could not resolve
             mu = f"{'failed':>7} {'':>7}"
             print(f"  (N = {n}, mu = {args.mu:g}: {e})", file=sys.stderr)
@@ -89,12 +93,30 @@ def main() -> None:
         k_solve = np.polyfit(np.log(sizes), np.log(per_solve), 1)[0]
         print(f"growth with N of the time per step: exponent {k:.2f} over all sizes, {k_big:.2f} over the three "
               f"largest (more impacts per step); of the time per solve (one banded factorisation): {k_solve:.2f}")
+    if friction:
+        print(f"friction mu = {args.mu:g}: bodies, wall s without and with friction, ratio, steps that left the cone "
+              f"(sliding_steps), solved by (stick in the cone after a self-stress / fixed point / Newton / Gauss-Seidel / "
+              f"Lemke / loose), pivots and solves with friction")
+        for n, w0, w1, r in friction:
+            sb = r.solved_by
+            print(f"{n:5d} {w0:8.3f} {w1:8.3f} {w1 / w0:6.2f} {r.sliding_steps:7d}   {r.redistributed}/{sb['fixed_point']}/"
+                  f"{sb['newton']}/{sb['gauss_seidel']}/{sb['lemke']}/{r.loose_steps} {r.pivots:9d}")
+        if len(friction) > 2:
+            nb = np.log([f[0] for f in friction])
+            k0 = np.polyfit(nb, np.log([f[1] for f in friction]), 1)[0]
+            k1 = np.polyfit(nb, np.log([f[2] for f in friction]), 1)[0]
+            print(f"growth with N of the run's wall time: exponent {k0:.2f} without friction, {k1:.2f} with")
     cmd = [sys.executable, "-m", "fembeam.cli", "simulate", "--voussoirs", "7", "--radius", "5", "--pulse", "sine",
            "--amplitude", "0.6", "--period", "0.56", "--t-end", f"{args.seconds:g}", "--json"]
     t0 = time.perf_counter()
     out = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
     print(f"fresh process, {' '.join(cmd[3:])}: wall {time.perf_counter() - t0:.2f} s, timings_s "
           f"{out['timings_s']}")
+    load = [sys.executable, "-c", "import time; from fembeam.simulation.stepper import compiled_kernel; "
+            "t = time.perf_counter(); compiled_kernel(); print(time.perf_counter() - t)"]
+    loads = [float(subprocess.run(load, capture_output=True, text=True, check=True).stdout) for _ in range(3)]
+    print(f"numba cache load (first compiled_kernel() of a fresh process, warm cache): best {min(loads):.3f} s, "
+          f"of 3: {' '.join(f'{x:.3f}' for x in loads)}")
 
 
 if __name__ == "__main__":

@@ -56,11 +56,9 @@ def test_each_name_is_declared_in_its_own_module_only():
         assert not set(module.__all__) & set(home.__all__), (module.__name__, home.__name__)
 
 
-def test_moved_simulation_names_still_answer():
-    from fembeam.simulation import stepper
+def test_the_simulation_has_no_former_names():
+    """The former name REST_ENERGY is gone; REST_KINETIC is the one name of the rest threshold."""
+    from fembeam.simulation import constants, stepper
 
-    with pytest.warns(DeprecationWarning, match="REST_KINETIC"):
-        assert stepper.REST_ENERGY == stepper.REST_KINETIC
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        assert not hasattr(stepper, "NO_SUCH_NAME")
+    assert not hasattr(stepper, "REST_ENERGY")
+    assert stepper.REST_KINETIC is constants.REST_KINETIC

@@ -34,11 +34,11 @@ from ..dynamics.equation import EquationOfMotion
 from ..errors import InputError, SolverError
 from ..mechanisms import Mechanism
 from ..simulation.bodies import Bodies
+from ..simulation.constants import OPEN_TOL    # a corner open by more than this fraction of the joint's thickness
 from ..simulation.contacts import Contacts
 
 __all__ = ["bodies_state", "mechanism_of", "OPEN_TOL"]
 
-OPEN_TOL = 1e-6       # a corner open by more than this fraction of the joint's thickness
 
 
 def _rot(phi: np.ndarray, v: np.ndarray) -> np.ndarray:

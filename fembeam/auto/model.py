@@ -41,6 +41,7 @@ from ..dynamics.rocking import Rocker
 from ..errors import InputError, SolverError
 from ..fem import nodes_through, uniform_nodes
 from ..geometry import MidCurve
+from ..simulation.constants import REST_KINETIC   # at rest: kinetic energy below this fraction of m g L
 from .manifold import bodies_state, mechanism_of
 
 __all__ = ["AutoModel", "AutoResult", "Segment", "WINDOW", "REST_KINETIC", "POSITION_TOL", "VELOCITY_TOL",
@@ -48,7 +49,6 @@ __all__ = ["AutoModel", "AutoResult", "Segment", "WINDOW", "REST_KINETIC", "POSI
 
 DT = 1e-3               # s: default time step of the simulation segments (that of fembeam simulate)
 WINDOW = 0.1            # s: a simulation segment is advanced this long between two hand-back checks
-REST_KINETIC = 1e-12    # at rest: kinetic energy below this fraction of m g L (as fembeam simulate)
 POSITION_TOL = 1e-5     # hand-back: positions rebuilt from theta within this fraction of the thickness
 VELOCITY_TOL = 1e-3     # hand-back: kinetic energy off the mechanism's field below this fraction
 MAX_SEGMENTS = 10_000   # bound on the segments of one run

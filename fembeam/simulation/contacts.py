@@ -45,11 +45,10 @@ import numpy as np
 from scipy.linalg.blas import dsbmv
 
 from .bodies import Bodies
+from .constants import BAND, OFF_FACE
 
 __all__ = ["Contacts", "Geometry", "OFF_FACE", "EDGE_TOL"]
 
-BAND = 5   # half-bandwidth of W (three rows per joint, consecutive joints share a body)
-OFF_FACE = 1e300   # m: the gap of a joint end whose faces no longer overlap (it never closes)
 EDGE_TOL = 1e-7    # relative to the depth: a corner beyond the other face's end by less is still over
                    # it (the closing tolerance of a gap; at a hinge the two corners coincide to round-off)
 

@@ -60,9 +60,9 @@ import math
 import numpy as np
 from numba import njit
 
+from .constants import BAND, COULOMB_TOL, IPM_ITERATIONS, KKT_TOL, LOOSE, MAX_PIVOTS, OFF_FACE, OPEN_TOL, REG
+
 # ================================================================================================= operators
-BAND = 5                # half-bandwidth of W (three rows per joint, consecutive joints share a body)
-OFF_FACE = 1e300        # as contacts.OFF_FACE: the gap of a joint end whose faces no longer overlap
 
 
 @njit(cache=True, error_model="numpy")
@@ -231,15 +231,10 @@ def solve(U, b, x):
 
 
 # =========================================================================================== contact solvers
-REG = 1e-12          # as projection.REG
-KKT_TOL = 1e-8       # as projection.KKT_TOL (the default of the kkt_tol arguments)
-MAX_PIVOTS = 1000
-IPM_ITERATIONS = 80
 BOX_PIVOTS = 100     # box pivots per Tresca problem
 PGS_SWEEPS = 2000   # projected Gauss-Seidel sweeps (fallback)
 FIXED_POINT = 60     # Tresca fixed-point iterations
 RELAX_FROM = 10      # fixed-point iterations before the update of N is relaxed
-COULOMB_TOL = 1e-5   # Coulomb residual admitted (relative to the scales of percussions and rates)
 REG_FRICTION = 1e-9  # regularisation of the Tresca problems (relative to the largest diagonal entry of W):
                      # the self-stress states of redundant closed joints are otherwise decided by
                      # round-off at a condition number of 1e12, and the pivots cycle on them
@@ -472,6 +467,14 @@ def solve_mlcp(ab, c, free, nonneg, F, warm, vscale, block_pivots, U, P, w, kkt_
             res = kkt_residual(P, w, free, nonneg, vscale, dmax)
             return (0 if res <= kkt_tol else 2), pivots, res
     return 1, MAX_PIVOTS, 0.0
+
+
+@njit(cache=True)
+def compiled_constants():
+    """The values of :mod:`.constants` this compiled code was built with (numba freezes module
+    globals at compilation; the cache is keyed on this file only), in the order of
+    :func:`.constants.values`."""
+    return (BAND, OFF_FACE, REG, KKT_TOL, MAX_PIVOTS, IPM_ITERATIONS, COULOMB_TOL, LOOSE, OPEN_TOL)
 
 
 # ------------------------------------------------------------------------------------- friction
@@ -1097,12 +1100,49 @@ def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
 
 
 @njit(cache=True, error_model="numpy")
+def _band_solve(A, b, kl, ku, x):
+    """``x`` with ``A x = b`` for a square ``A`` whose entries vanish outside ``-kl <= k - i <= ku``
+    (dense storage; ``A`` and ``b`` overwritten), by Gaussian elimination with partial pivoting
+    restricted to the band (LAPACK's ``dgbsv`` order: ``O(m kl (kl + ku))`` operations instead of
+    ``O(m^3)``).  False if a pivot vanishes (``A`` singular)."""
+    m = b.size
+    for j in range(m):
+        p = j
+        big = abs(A[j, j])
+        for i in range(j + 1, min(m, j + kl + 1)):
+            if abs(A[i, j]) > big:
+                big, p = abs(A[i, j]), i
+        if big == 0.0:
+            return False
+        last = min(m, j + kl + ku + 1)          # a swapped row reaches kl + ku to the right
+        if p != j:
+            for k in range(j, last):
+                A[j, k], A[p, k] = A[p, k], A[j, k]
+            b[j], b[p] = b[p], b[j]
+        for i in range(j + 1, min(m, j + kl + 1)):
+            f = A[i, j] / A[j, j]
+            if f != 0.0:
+                for k in range(j + 1, last):
+                    A[i, k] -= f * A[j, k]
+                b[i] -= f * b[j]
+            A[i, j] = 0.0
+    for i in range(m - 1, -1, -1):
+        acc = b[i]
+        for k in range(i + 1, min(m, i + kl + ku + 1)):
+            acc -= A[i, k] * x[k]
+        x[i] = acc / A[i, i]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     """Coulomb's law as the equations of Alart and Curnier, ``P_n = max(0, P_n - rho w_n)`` and
     ``P_t = proj[-mu N, mu N](P_t - rho w_t)`` (``rho = 1 / W_ii``), solved by the semi-smooth
     Newton method: the cases those projections pick (a corner pressed or free, a joint sticking
     or sliding either way) fix a linear system in ``P`` (sliding: ``P_t = -+ mu N``, a
-    non-symmetric row), solved densely; the step damped by halving until ``|Phi|^2`` decreases.
+    non-symmetric row, within the band of ``W``), solved by banded elimination (:func:`_band_solve`;
+    it was a dense solve, ``O(m^3)``: most of the frictional steps' time on 200 bodies); the step
+    damped by halving until ``|Phi|^2`` decreases.
     From the ``P`` given; returns ``(converged, iterations, residual)``."""
     m = c.size
     J = closed_joint.size
@@ -1123,6 +1163,7 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     new = np.zeros(m, np.int64)
     A = np.zeros((m, m))
     rhs = np.zeros(m)
+    d = np.zeros(m)
     res = np.inf
     for it in range(SSN_ITERATIONS):
         matvec(ab, P, w)
@@ -1149,7 +1190,7 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
         A[:, :] = 0.0
         for i in range(m):
             if case[i] == 1:                  # w_i = 0
-                for k in range(m):
+                for k in range(max(0, i - BAND), min(m, i + BAND + 1)):
                     A[i, k] = Wd[i, k]
                 A[i, i] += reg
                 rhs[i] = -c[i]
@@ -1162,7 +1203,9 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                 A[i, i - 1] = -s * mu
                 A[i, i - 2] = -s * mu
                 rhs[i] = 0.0
-        d = np.linalg.solve(A, rhs) - P   # the Newton step, damped on the merit |Phi|^2
+        if not _band_solve(A, rhs, BAND, BAND, d):
+            return False, it, res
+        d -= P                            # the Newton step, damped on the merit |Phi|^2
         f0 = _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, wt)
         alpha = 1.0
         for ls in range(20):
@@ -1190,8 +1233,6 @@ OVERTURNED, SLID_OUT = 1, 2
 RUNNING, FINISHED, STOPPED = 0, 1, 2
 SOLVER_FAILED = 3       # the contact problem of a step failed (ist[I_STATUS] the solver's code)
 HISTORY_COLUMNS = 13     # and the mean forces of the arch on the supports (x, y, left then right; N/m)
-LOOSE = 100.0           # a step's frictional problem accepted up to this many times the Coulomb tolerance
-                        # when every solver stalls above it (counted: SimulationResult.loose_steps)
 
 
 @njit(cache=True, error_model="numpy")
@@ -1488,7 +1529,7 @@ def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m,
                 return RUNNING, nh, ni
             hinges, separated = 0, 0
             for j in range(J):
-                k = int(gap[j, 0] > 1e-6 * thick[j]) + int(gap[j, 1] > 1e-6 * thick[j])
+                k = int(gap[j, 0] > OPEN_TOL * thick[j]) + int(gap[j, 1] > OPEN_TOL * thick[j])
                 hinges += k == 1
                 separated += k == 2
             hist[nh, 0] = t

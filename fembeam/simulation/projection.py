@@ -33,15 +33,11 @@ from scipy.linalg.lapack import dpbsv
 
 from ..analysis.banded_ipm import interior_point
 from ..errors import SolverError
-from .contacts import BAND, Contacts
+from .constants import BAND, BLOCK_PIVOTS, IPM_ITERATIONS, KKT_TOL, MAX_PIVOTS, REG
+from .contacts import Contacts
 
 __all__ = ["MLCPSolution", "solve_mlcp", "banded_solve", "REG", "KKT_TOL", "MAX_PIVOTS"]
 
-REG = 1e-12          # regularisation, relative to the largest diagonal entry of W
-KKT_TOL = 1e-8       # KKT residuals, relative to the scales of velocities and impulses
-MAX_PIVOTS = 1000    # linear solves of one projection
-BLOCK_PIVOTS = 8     # block principal pivots tried first
-IPM_ITERATIONS = 80  # interior-point iterations (one banded factorisation each) before the active set
 
 
 def banded_solve(ab: np.ndarray, b: np.ndarray) -> np.ndarray:

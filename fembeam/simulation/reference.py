@@ -11,10 +11,11 @@ import numpy as np
 
 from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import overturn_level
-from .contacts import BAND, OFF_FACE, Contacts
-from .projection import BLOCK_PIVOTS, REG, banded_solve, solve_mlcp
+from .constants import BAND, BLOCK_PIVOTS, GAP_TOL, IMPACT_PIVOTS, OFF_FACE, REG, REST_KINETIC
+from .contacts import Contacts
+from .projection import banded_solve, solve_mlcp
 from .result import SimulationResult
-from .stepper import GAP_TOL, IMPACT_PIVOTS, MIN_STEP, REST_KINETIC, checked_run, support_history, supported
+from .stepper import MIN_STEP, checked_run, support_history, supported
 
 
 def _roots(gap, vn, an):

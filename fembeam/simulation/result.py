@@ -10,6 +10,7 @@ from ..dynamics.ground import GroundMotion
 from ..dynamics.outcomes import friction_demand
 from ..geometry import MidCurve
 from .bodies import Bodies
+from .constants import OPEN_TOL
 
 __all__ = ["SimulationResult", "OUTCOMES", "HISTORY_COLUMNS"]
 
@@ -120,7 +121,7 @@ class SimulationResult:
 
     def record(self, t, q, v, K, V, W_ground, D, a_g, gap, thickness) -> None:
         """Append one history row (``gap`` ``(J, 2)`` and ``thickness`` ``(J, 1)``, m)."""
-        opened = gap > 1e-6 * thickness
+        opened = gap > OPEN_TOL * thickness
         k = opened.sum(axis=1)
         row = (t, K, V, W_ground, D, a_g, int(np.sum(k == 1)), int(np.sum(k == 2)), float(np.max(np.abs(q[:-1, 2]))))
         for key, x in zip(HISTORY_COLUMNS, row):

@@ -45,7 +45,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 
 import numpy as np
 
@@ -56,6 +55,7 @@ from ..errors import InputError, SolverError
 from ..geometry import MidCurve, StraightMember
 from ..limits import DT_RANGE, MAX_STEPS   # admitted time steps (s); (t_end - t_0) / dt above MAX_STEPS: InputError
 from .bodies import Bodies
+from .constants import BLOCK_PIVOTS, COULOMB_TOL, GAP_TOL, IMPACT_PIVOTS, KKT_TOL, OPEN_TOL, REST_KINETIC
 from .contacts import Contacts
 from .result import SimulationResult
 from .support_motion import SUPPORT_COLUMNS, SupportMotion
@@ -63,35 +63,16 @@ from .support_motion import SUPPORT_COLUMNS, SupportMotion
 __all__ = ["Simulator", "simulate", "DT_RANGE", "MAX_STEPS", "GAP_TOL", "MIN_STEP", "OPEN_TOL", "REST_KINETIC",
            "check_dt", "check_friction"]
 
-GAP_TOL = 1e-7              # corner closed: gap <= GAP_TOL * thickness
-OPEN_TOL = 1e-6             # hinge count: a corner open by more than OPEN_TOL * thickness
 MIN_STEP = 1e-6             # shortest step cut at a landing, relative to dt
-REST_KINETIC = 1e-12        # at rest: K / (m g L) below this (L: the member's length)
-IMPACT_PIVOTS = 2           # block pivots tried on an impact (its many locked joints at rest are degenerate
-                            # rows: the pivots seldom converge, the interior point does)
-BLOCK_PIVOTS = 8            # block pivots tried on a smooth step
 CHUNK_STEPS = 4096          # steps between two returns of the compiled loop (progress, interrupts)
 CHUNK_ROWS = 512            # history rows and impacts buffered per return
 MU_RANGE = (1e-3, 1e3)      # admitted friction coefficients
 PEAK_TOL = 1e-12            # rad: a smaller peak rotation is round-off (no time reported for it)
-KKT_TOL = 1e-8              # KKT residual of a step's contact problem, relative to its scales
-COULOMB_TOL = 1e-5          # residual of Coulomb's law at a step with sliding (same scales)
 
 
 _SOLVER_STATUS = {1: "did not converge", 2: "failed its KKT check", 3: "has a Delassus matrix that is not positive definite",
                   4: "with friction was not solved (Tresca fixed point, semi-smooth Newton, non-smooth "
                      "Gauss-Seidel, Lemke's pivots; smallest Coulomb residual reached)"}
-
-
-def __getattr__(name: str):
-    """``REST_ENERGY``, the former name of :data:`REST_KINETIC`, still answers (with a
-    DeprecationWarning): ``fembeam.dynamics.rocking.REST_ENERGY`` is another threshold, a
-    fraction of the energy barrier."""
-    if name == "REST_ENERGY":
-        warnings.warn("fembeam.simulation.stepper.REST_ENERGY is now REST_KINETIC (a fraction of m g L)",
-                      DeprecationWarning, stacklevel=2)
-        return REST_KINETIC
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 class Simulator:
@@ -326,7 +307,9 @@ def compiled_kernel():
     the run (``timings_s.compile_or_load``)."""
     global _KERNEL
     if _KERNEL is None:
-        from . import kernel
+        from . import constants, kernel
+        if kernel.compiled_constants() != constants.values():
+            _rebuild(kernel)              # a cache compiled with other constants (see .constants)
         _KERNEL = kernel                  # (set first: the warm-up below runs through _run)
         sim = Simulator(StraightMember(height=1.0, width=0.5), voussoirs=1)
         _run(sim, GroundMotion.rectangular(0.0, 0.1), 1e-3, 1e-3, None, None, None, True, None)
@@ -334,6 +317,17 @@ def compiled_kernel():
 
 
 _KERNEL = None
+
+
+def _rebuild(kernel) -> None:
+    """Drop numba's cache of every compiled function of ``kernel`` and recompile those already
+    loaded: their cache was built with other values of :mod:`.constants` (the cache is keyed on
+    the kernel's source file, not on the modules whose globals it froze)."""
+    from numba.core.dispatcher import Dispatcher
+    for f in vars(kernel).values():
+        if isinstance(f, Dispatcher):
+            f._cache.flush()
+            f.recompile()
 
 
 def _ground_args(ground: GroundMotion):
