@@ -3,9 +3,7 @@ top of a module, never a private name, and without a cycle; the other import pat
 names still answer."""
 import ast
 import pathlib
-import warnings
 
-import pytest
 
 ANALYSIS = pathlib.Path(__file__).resolve().parents[1] / "fembeam" / "analysis"
 

