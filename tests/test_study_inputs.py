@@ -122,6 +122,31 @@ def test_the_friction_range_message_is_the_range_checked(capsys):
             assert e.value.code == 2 and "[0.001, 1000]" in err and f"got '{mu}'" in err
 
 
+def test_infinite_friction_is_joints_that_never_slide(capsys):
+    """``--friction inf`` (``math.inf`` in Python) is unlimited friction: the same answer as
+    without the option, bit for bit, in the simulation and in the studies."""
+    import json
+    import math
+
+    from fembeam.dynamics.ground import GroundMotion
+    from fembeam.geometry import CircularArch
+    from fembeam.simulation import Simulator
+
+    g = GroundMotion.sine(0.6, 0.5)
+    a = Simulator(CircularArch(), voussoirs=5, friction=math.inf).run(g, dt=2e-3, t_end=1.0)
+    b = Simulator(CircularArch(), voussoirs=5).run(g, dt=2e-3, t_end=1.0)
+    assert a.friction is None and (a.outcome, a.t_collapse, a.steps) == (b.outcome, b.t_collapse, b.steps)
+    assert a.to_dict()["t_collapse"] == a.to_dict()["t_overturn"] == a.t_overturn
+    base = ["collapse-scale", "--voussoirs", "5", "--record", "elcentro", "--model", "simulate",
+            "--dt", "0.002", "--resolution", "0.2", "--json"]
+    out = []
+    for extra in ([], ["--friction", "inf"]):
+        assert main(base + extra) == 0
+        d = json.loads(capsys.readouterr().out)
+        out.append((d["first_collapse"], d["friction"]))
+    assert out[0] == out[1] and out[0][1] is None
+
+
 @pytest.mark.parametrize("extra, words", [
     (["--plot", "same.png", "--ida-plot", "same.png"], "same"),
     (["--out-dir", "D", "--plot", "D/ida.png"], "ida.png"),

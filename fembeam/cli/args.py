@@ -498,22 +498,25 @@ def ground_from(args) -> GroundMotion:
 
 
 
-def coulomb(text: str) -> float:
+def coulomb(text: str) -> float | None:
     """A Coulomb coefficient of the motion models, in
-    :data:`~fembeam.simulation.stepper.MU_RANGE` (argparse type: exit 2 with one line otherwise)."""
+    :data:`~fembeam.simulation.stepper.MU_RANGE`; ``inf`` is unlimited friction (the joints
+    never slide), returned as None, as without the option; argparse type: exit 2 with one line
+    otherwise."""
     from ..simulation.stepper import MU_RANGE
 
     lo, hi = MU_RANGE
     try:
         mu = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number in [{lo:g}, {hi:g}]), "
-                                         f"got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a friction coefficient (a number in [{lo:g}, {hi:g}] "
+                                         f"or inf), got {text!r}") from None
+    if mu == math.inf:
+        return None
     if not (math.isfinite(mu) and lo <= mu <= hi):
         raise argparse.ArgumentTypeError(f"the friction coefficient of the motion must be in [{lo:g}, {hi:g}] "
-                                         f"(omit --friction for joints that never slide), got {text!r}")
+                                         f"or inf (joints that never slide), got {text!r}")
     return mu
-
 
 
 def friction_line(res: RockingResult) -> str | None:
@@ -673,9 +676,9 @@ def add_model(p) -> None:
     g.add_argument("--dt", type=finite_float, default=None, metavar="S",
                    help=f"--model simulate or auto: time step (s; default {DT:g}, in [1e-6, 0.05], at most 1e7 steps "
                         f"a run)")
-    g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
+    g.add_argument("--friction", type=coulomb, default=None, metavar="MU",
                    help="--model simulate or auto: Coulomb coefficient at every joint, the springings included (default: "
-                        "joints never slide); collapse by sliding then counts as overturning, and amplitudes "
+                        "joints never slide; inf says so); collapse by sliding then counts as overturning, and amplitudes "
                         "(factors) below the onset at A_L are run too")
 
 

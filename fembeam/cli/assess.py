@@ -39,7 +39,7 @@ def register(sub) -> None:
     a = p.add_argument_group("auto model and margin")
     a.add_argument("--friction", type=coulomb, default=None, metavar="MU",
                    help="Coulomb coefficient of the joints in the auto model's simulation and admissibility "
-                        "(default: joints never slide); the statics flag it against the friction needed")
+                        "(default, or inf: joints never slide); the statics flag it against the friction needed")
     a.add_argument("--dt", type=finite_float, default=None, metavar="S",
                    help="time step of the multi-block simulation (s; default 1e-3)")
     a.add_argument("--t-end", type=finite_float, default=None, metavar="S",

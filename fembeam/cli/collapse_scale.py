@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..studies.collapse import MAX_RUNS, RESOLUTION, SPAN, collapse_scale
 from ..studies.models import MODELS, check_model
 from ..studies.runs import DT
-from .args import add_member, finite_float, member_from, MODEL_HELP, model_line, note_records
+from .args import add_member, coulomb, finite_float, member_from, MODEL_HELP, model_line, note_records
 
 
 def register(sub) -> None:
@@ -35,8 +35,8 @@ def register(sub) -> None:
     g.add_argument("--model", choices=MODELS, default="rock", help=MODEL_HELP)
     g.add_argument("--dt", type=finite_float, default=None, metavar="S",
                    help=f"--model simulate or auto: time step (s; default {DT:g})")
-    g.add_argument("--friction", type=finite_float, default=None, metavar="MU",
-                   help="--model simulate or auto: Coulomb coefficient at every joint (default: joints never slide); a "
+    g.add_argument("--friction", type=coulomb, default=None, metavar="MU",
+                   help="--model simulate or auto: Coulomb coefficient at every joint (default, or inf: joints never slide); a "
                         "joint may then slide below A_L, where the search does not look, so no factor is called "
                         "the smallest")
     g = p.add_argument_group("record and search")

@@ -55,7 +55,7 @@ def register(sub) -> None:
                    help="sampling step of the history (s; default max(dt, duration/4000); at most 1e6 rows and "
                         "2e7 rows x bodies)")
     t.add_argument("--friction", type=coulomb, default=None, metavar="MU",
-                   help="Coulomb friction at the joints, MU in [1e-3, 1e3] (default: no sliding); the slip is "
+                   help="Coulomb friction at the joints, MU in [1e-3, 1e3], or inf (the default: no sliding); the slip is "
                         "reported, a joint that slid has a friction demand of at least MU (sliding_risk), and "
                         "the member has collapsed by sliding when a joint's faces no longer overlap or when it "
                         "falls to the overturning level with its joints slid more than opened")

@@ -50,8 +50,10 @@ class SimulationResult:
         What happened, as above.
     t_end : float
         End of the run (s).
+    t_collapse : float or None
+        Time of the collapse, by overturning or by sliding (s); None without one.
     t_overturn : float or None
-        Time of overturning or collapse by sliding (s).
+        The former name of ``t_collapse`` (the field it reads), kept one release.
     peak_rotation : float
         Largest ``|phi|`` of any body (rad), at ``t_peak`` (s).
     max_hinges : int
@@ -135,6 +137,11 @@ class SimulationResult:
         self.max_hinges = int(np.max(self.history["hinges"], initial=0))
 
     @property
+    def t_collapse(self) -> float | None:
+        """The time of the collapse, by overturning or by sliding (s); None without one."""
+        return self.t_overturn
+
+    @property
     def friction_demand(self) -> dict:
         """The JSON block of :func:`fembeam.dynamics.outcomes.friction_demand`: ``sliding_risk`` is
         ``max_ratio >= mu``.  With friction modelled, a joint that slid (sliding rate above the
@@ -167,6 +174,7 @@ class SimulationResult:
             "ground_motion": {"name": self.ground.name, "duration_s": self.ground.duration, "pga_g": self.ground.pga},
             "dt": self.dt,
             "t_end": self.t_end,
+            "t_collapse": num(self.t_overturn),
             "t_overturn": num(self.t_overturn),
             "overturn_reason": ("below_rest" if self.outcome == "overturned" else
                                 "slid_out" if self.outcome == "collapsed_by_sliding" else None),

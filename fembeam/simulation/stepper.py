@@ -95,8 +95,8 @@ class Simulator:
     g : float, optional
         Acceleration of gravity (m/s^2).
     friction : float, optional
-        Coulomb coefficient ``mu`` of every joint, in ``MU_RANGE`` (None, the default:
-        no sliding, the joints stick whatever their tangential force).
+        Coulomb coefficient ``mu`` of every joint, in ``MU_RANGE``; ``math.inf`` or None (the
+        default): unlimited friction, the joints stick whatever their tangential force.
     nodes : array_like, optional
         The cuts instead: arc lengths (m) from 0 to the member's length.
 
@@ -273,16 +273,20 @@ def simulate(curve: MidCurve, ground: GroundMotion, *, voussoirs: int | None = N
 
 
 def check_friction(mu) -> float | None:
-    """``mu`` as a float in :data:`MU_RANGE`, or None (no sliding); InputError otherwise."""
+    """``mu`` as a float in :data:`MU_RANGE`, or None for unlimited friction (``None`` or
+    ``math.inf``: the joints never slide); InputError otherwise."""
     if mu is None:
         return None
     try:
         mu = float(mu)
     except (TypeError, ValueError):
         raise InputError(f"the friction coefficient must be a number, got {mu!r}") from None
+    if mu == math.inf:
+        return None
     lo, hi = MU_RANGE
     if not (math.isfinite(mu) and lo <= mu <= hi):
-        raise InputError(f"the friction coefficient must be in [{lo:g}, {hi:g}], got {mu!r}")
+        raise InputError(f"the friction coefficient must be in [{lo:g}, {hi:g}] or inf (no sliding), "
+                         f"got {mu!r}")
     return mu
 
 
