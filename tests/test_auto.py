@@ -165,6 +165,31 @@ def test_record_hands_back_on_a_mechanism():
             assert seg.dropped <= VELOCITY_TOL * K_sim
 
 
+def test_a_rest_that_cannot_be_handed_back_stays_and_says_why():
+    """El Centro x 1.5 with a coarse step (0.05 s): the simulation brings the arch to rest with a
+    joint slid beyond the hand-back's tolerance, so it is never handed back.  After the ground
+    motion the member stays at rest (checked here by simulating on from that state), so the run to
+    1e4 s stops there with the answer of a run to the end of the record plus a few seconds, and
+    says which joint holds the hand-back back."""
+    ground = GroundMotion.record("elcentro").scaled(1.5)
+    am = AutoModel(ARCH, voussoirs=7, dt=0.05)
+    long = am.run(ground, t_end=1e4)
+    short = am.run(ground, t_end=float(ground.t[-1]) + 5.0, history=False)
+    assert long.outcome == short.outcome == "rest" and long.t_end == 1e4
+    assert long.segments[-1].end == "settled" and long.segments[-1].t_end == 1e4
+    assert long.peak_rotation == short.peak_rotation and long.t_peak == short.t_peak
+    t, why = long.no_handback
+    assert ground.t[-1] <= t < ground.t[-1] + 1.0 and "slid" in why and "tolerance 1e-05" in why
+    assert long.to_dict()["no_handback"] == {"t": t, "why": why}
+    # independent: the state left at rest stays at rest under gravity alone, to the same end
+    sim_res = [r for kind, r in long.runs if kind == "simulate"][-1]
+    sim = am.simulator()
+    on = sim.run(GroundMotion.sine(0.0, 1.0), dt=0.05, t_end=20.0, q0=sim_res.q_end, v0=sim_res.v_end)
+    assert on.outcome == "rest" and on.peak_rotation <= sim_res.peak_rotation + 1e-9
+    assert np.max(np.abs(on.q_end - sim_res.q_end)) < 1e-9
+    assert long.history["t"][-1] == 1e4
+
+
 def _cli(*args):
     return subprocess.run([sys.executable, "-m", "fembeam", *args], capture_output=True, text=True, timeout=600)
 

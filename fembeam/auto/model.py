@@ -59,6 +59,8 @@ REASONS = {
     "friction_impact": "an impact's |P_t|/P_n exceeded the friction coefficient",
     "friction_rest": "at rest, the ground exceeded the load the joints carry by friction (A_L with Coulomb rows)",
     "rest": "the member came to rest",
+    "settled": "at rest after the ground motion in a state the one-mechanism model cannot take back "
+               "(see no_handback): it stays there",
     "mechanism": "the bodies moved on one mechanism of the member again",
     "overturned": "overturned",
     "collapsed_by_sliding": "a joint slid out",
@@ -144,6 +146,12 @@ class AutoResult:
     history : dict
         Columns ``t`` (s), ``model`` (0 rock, 1 simulate), ``K``, ``V`` (J/m), ``a_g``
         (g), ``max_rotation`` (rad).
+    no_handback : tuple or None
+        ``(t, why)``: the last time (s) the simulation's member was at rest but could not be
+        handed back to the one-mechanism model, and why (a joint open or slid beyond the
+        hand-back's tolerance of the thickness, its size said); None when every rest was handed
+        back.  A member at rest after the end of the ground motion stays there: the simulation
+        stops at the second such check (a :data:`WINDOW` apart) and the run ends at ``t_end``.
     """
 
     curve: MidCurve
@@ -164,6 +172,7 @@ class AutoResult:
     impacts: list = field(default_factory=list)        # (t, model) of every impact
     friction_ratio: tuple = (0.0, None, None, None)    # (largest |S|/N or |P_t|/P_n, t, s, at)
     history: dict = field(default_factory=dict)
+    no_handback: tuple | None = None
     timings: dict = field(default_factory=dict)
     runs: list = field(default_factory=list)           # with the history: ("rock" | "simulate", result) of
                                                        # every run made, in order (to draw the member at any time)
@@ -209,6 +218,8 @@ class AutoResult:
             "n_impacts": len(self.impacts),
             "impacts_by_model": {m: sum(1 for _, k in self.impacts if k == m) for m in ("rock", "simulate")},
             "friction_demand": friction_demand(ratio, t, s, at, self.friction),
+            "no_handback": None if self.no_handback is None else
+            {"t": self.no_handback[0], "why": self.no_handback[1]},
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
             "units": {"A_L": "g", "density": "kg/m^3", "t": "s", "dt": "s", "peak_rotation": "rad",
                       "segments.handback_energy_dropped": "J/m", "history.K": "J/m", "history.V": "J/m",
@@ -452,7 +463,8 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
         end = "end"
         sim, q, v = sim_state
         E_unit = sim.bodies.mass * am.g * curve.length
-        handback = None
+        handback, rested = None, False
+        ground_end = float(ground.t[-1])
         while t < done:
             t1 = min(t + WINDOW, t_end)
             res = sim.run(ground, dt=am.dt, t_end=t1, dt_out=dt_out, q0=q, v0=v, t_start=t)
@@ -492,12 +504,24 @@ def _run(am: AutoModel, ground: GroundMotion, t_end, dt_out, progress, history=T
                 break
             if t >= done:
                 break
+            if sim.bodies.kinetic_energy(v) < REST_KINETIC * E_unit:
+                out.no_handback = (t, _why_not_back(sim, q))
+                if rested and t >= ground_end + WINDOW:     # at rest a window apart, the ground at rest
+                    end, t = "settled", t_end
+                    if keep:
+                        _settled_row(rows, t_end)
+                    break
+                rested = True
+            else:
+                rested = False
         timing["simulate"] += time.perf_counter() - tick
         out.segments.append(Segment("simulate", seg_start, t, end, peak, t_peak, n_imp, drop0))
         _peak(out, peak, t_peak)
         sim_state = (sim, q, v)
-        if end in ("overturned", "collapsed_by_sliding") or t >= done:
-            if end == "end":
+        if end in ("overturned", "collapsed_by_sliding", "settled") or t >= done:
+            if end == "settled":
+                out.outcome = "rest"
+            elif end == "end":
                 K = sim.bodies.kinetic_energy(v)
                 out.outcome = "rest" if K < REST_KINETIC * E_unit else "survived"
             break
@@ -527,6 +551,29 @@ def _handback(am: AutoModel, sim, q, v, E_unit):
         return None
     m, theta, rate, drop = on
     return "mechanism", (m, theta, rate), drop
+
+
+def _why_not_back(sim, q) -> str:
+    """Why the member at rest in the simulation's state ``q`` is not the one-mechanism model's
+    rest: its largest joint opening and slip against the hand-back's tolerance."""
+    geo = sim.contacts.evaluate(q)
+    t = sim.bodies.thickness
+    gap = np.max(geo.gap / t[:, None], axis=1)
+    slip = np.abs(geo.slip[np.arange(t.size), geo.contact]) / t
+    j, k = int(np.argmax(gap)), int(np.argmax(slip))
+    size, joint, what = (gap[j], j, "open") if gap[j] >= slip[k] else (slip[k], k, "slid")
+    return (f"joint {joint} is {what} by {size:.3g} of its thickness, above the hand-back's tolerance "
+            f"{POSITION_TOL:g}: the one-mechanism model has no such state")
+
+
+def _settled_row(rows: dict, t_end: float) -> None:
+    """The history's last row at ``t_end``: the member at rest where the simulation left it."""
+    if rows["t"] and rows["t"][-1] < t_end:
+        rows["t"].append(t_end)
+        rows["model"].append(1.0)
+        rows["a_g"].append(0.0)
+        for k in ("K", "V", "max_rotation"):
+            rows[k].append(rows[k][-1])
 
 
 def _peak(out: AutoResult, peak: float, t_peak) -> None:

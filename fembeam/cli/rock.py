@@ -224,6 +224,9 @@ def auto_summary(res) -> str:
         from ..auto.model import REASONS
         t, why = res.first_failure
         lines.append(f"  the one-mechanism model first failed at t = {t:.6g} s: {REASONS[why]}")
+    if res.no_handback is not None:
+        t, why = res.no_handback
+        lines.append(f"  not handed back at rest (t = {t:.6g} s): {why}")
     lines.append(f"  segments ({res.handovers} hand-overs):")
     for sg in res.segments[:20]:
         lines.append(f"    {sg.model:8s} {sg.t_start:10.5f} -> {sg.t_end:10.5f} s  ended: {sg.end}")
