@@ -94,7 +94,7 @@ def rock_amplitude(curve, kind: str, period: float) -> tuple[float, float]:
     amplitudes from the onset to 10 x it, bisection) and the top of its scan (g)."""
     res = spectrum(curve, kind, [period], voussoirs=VOUSSOIRS, workers=1, progress=False, bisect_tol=ROCK_TOL,
                    t_end_factor=FREE)
-    f = res.rows[0]["first_overturning"]
+    f = res.rows[0]["first_collapse"]
     return (float("nan") if f is None else float(f)), float(res.amplitudes[-1])
 
 
@@ -309,7 +309,7 @@ def run_elcentro(csv_path: Path, fig_path: Path, scan_path: Path, below=(0.5, 0.
     t_end = float(rec.t[-1]) + free_time(curve)
     clock = time.perf_counter()
     cs = rock_collapse_scale(curve, rec, t_end)
-    f_rock = float(cs["first_overturning"])
+    f_rock = float(cs["first_collapse"])
     t_rock = time.perf_counter() - clock
     lo0, hi0 = BRACKET[0] * f_rock, BRACKET[1] * f_rock
     sim = Simulator(curve, voussoirs=VOUSSOIRS)

@@ -199,8 +199,8 @@ for model in ("rock", "simulate"):
     margins[model] = collapse_scale(arch, elcentro, voussoirs=VOUSSOIRS, model=model)
     m = margins[model]
     above = ", ".join(f"{f:.3g}" for f in m["safe_factors_above"]) or "none"
-    print(f"{model}: first overturning at factor {m['first_overturning']:.4g}, "
-          f"PGA {m['pga_at_first_overturning']:.3f} g; safe above it: {above}")
+    print(f"{model}: first collapse at factor {m['first_collapse']:.4g}, "
+          f"PGA {m['pga_at_first_collapse']:.3f} g; safe above it: {above}")
     save(f"collapse_scale_{model}.json", m)
 
 # %%
@@ -208,7 +208,7 @@ for model in ("rock", "simulate"):
 # --------------
 # The answers of steps 2 to 4 in one table. The margin is the smaller of the two models' peak
 # ground accelerations at the first overturning, over the design one.
-governing = min(margins, key=lambda m: margins[m]["pga_at_first_overturning"])
+governing = min(margins, key=lambda m: margins[m]["pga_at_first_collapse"])
 rows = [
     ("incipient rocking acceleration A_L",
      f"{static.A_L:.4f} g (+x), {mirror.A_L:.4f} g (-x)"),
@@ -221,9 +221,9 @@ rows = [
      f"{slide.outcome}, largest slip {slide.max_slip * 1e3:.2f} mm"),
 ]
 rows += [(f"PGA that first overturns it, {m}",
-          f"{margins[m]['pga_at_first_overturning']:.3f} g") for m in margins]
+          f"{margins[m]['pga_at_first_collapse']:.3f} g") for m in margins]
 rows.append(("margin on the design PGA",
-             f"{margins[governing]['pga_at_first_overturning'] / DESIGN_PGA:.2f} "
+             f"{margins[governing]['pga_at_first_collapse'] / DESIGN_PGA:.2f} "
              f"({governing} governs)"))
 width = max(len(a) for a, _ in rows)
 for a, b in rows:

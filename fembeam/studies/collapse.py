@@ -144,8 +144,8 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     -------
     dict
         JSON-safe: ``outcome`` (``"computed"``, or ``"cannot_stand"``: no run, no
-        factor), ``first_overturning`` (the factor, or None), its ``bracket``,
-        ``pga_at_first_overturning`` (g), the member's ``A_L`` both ways (g), each run
+        factor), ``first_collapse`` (the factor, or None), its ``bracket``,
+        ``pga_at_first_collapse`` (g), the member's ``A_L`` both ways (g), each run
         (``scan``: factor, outcome, peak rotation in rad) and the settings.
 
     Raises
@@ -161,8 +161,8 @@ def collapse_scale(curve: MidCurve, ground: GroundMotion, voussoirs: int | None 
     >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
     >>> out = collapse_scale(arch, GroundMotion.sine(0.2, 0.5), voussoirs=12,
     ...                      resolution=0.1, t_end=2.0)
-    >>> print(f"factor {out['first_overturning']:.2f},",
-    ...       f"PGA {out['pga_at_first_overturning']:.2f} g")
+    >>> print(f"factor {out['first_collapse']:.2f},",
+    ...       f"PGA {out['pga_at_first_collapse']:.2f} g")
     factor 2.59, PGA 0.52 g
     """
     dt, friction = check_model(model, dt, friction)
