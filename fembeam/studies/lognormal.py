@@ -321,7 +321,7 @@ def _newton_interval(lo: np.ndarray, up: np.ndarray, start: tuple[float, float] 
 
 def bootstrap(samples: list[tuple[str, float, float]], n: int = 1000, seed: int = 0, level: float = 0.9,
               design: float | None = None) -> dict:
-    """Bootstrap percentile intervals of a lognormal fragility, resampling groups of samples.
+    """Bootstrap percentile intervals of a lognormal fragility, resampling groups.
 
     Each of ``n`` resamples draws the groups (e.g. the components of one recording, with
     both signs) with replacement, so that correlated samples leave or enter together, and

@@ -288,11 +288,11 @@ def check_model(model: str, dt: float | None = None, friction: float | None = No
 
 def runner(model: str, curve: MidCurve, *, voussoirs: int | None, elements: int, thresholds, dt: float | None,
            friction: float | None = None, backend: str = "clarabel") -> Callable[[GroundMotion, float | None], dict]:
-    """The function that runs a member under a ground motion with ``model``, for a collapse search.
+    """The function that runs a member under a ground motion with ``model``, for a search.
 
-    The model is built once (a :class:`~fembeam.dynamics.Rocker`, or this worker thread's
-    :class:`~fembeam.simulation.Simulator` or :class:`~fembeam.auto.AutoModel`) and reused by
-    every call. The models and what their runners return are described in
+    The model is built once (a :class:`~fembeam.dynamics.Rocker`, or this worker
+    thread's :class:`~fembeam.simulation.Simulator` or :class:`~fembeam.auto.AutoModel`)
+    and reused by every call. The models and what their runners return are described in
     :mod:`fembeam.studies.models`.
 
     Parameters
@@ -342,7 +342,8 @@ def runner(model: str, curve: MidCurve, *, voussoirs: int | None, elements: int,
     >>> from fembeam.studies.models import runner
     >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
     >>> A_L = fembeam.analyze(arch, voussoirs=12).A_L        # g, the same both ways
-    >>> run = runner("rock", arch, voussoirs=12, elements=200, thresholds=[A_L, A_L], dt=None)
+    >>> run = runner("rock", arch, voussoirs=12, elements=200, thresholds=[A_L, A_L],
+    ...              dt=None)
     >>> for amplitude in (0.4, 0.8):
     ...     out = run(GroundMotion.sine(amplitude, 0.5), 3.0)
     ...     print(f"{amplitude} g:", out["outcome"], f"{out['peak_rotation']:.4f} rad")

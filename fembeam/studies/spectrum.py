@@ -277,6 +277,28 @@ class SpectrumResult:
     outcome : {"computed", "cannot_stand"}
         ``"cannot_stand"``: the member does not stand under its own weight (rows without
         runs).
+
+    Examples
+    --------
+    One period, three amplitudes (g) given, a coarse bisection:
+
+    >>> import fembeam
+    >>> from fembeam.studies.spectrum import spectrum
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = spectrum(arch, "sine", [0.5], voussoirs=12, amplitudes=[0.4, 0.5, 0.6],
+    ...                bisect_tol=0.05, t_end_factor=5.0, workers=1, progress=False)
+    >>> row = res.rows[0]
+    >>> for step in row["scan"] + row["bisection"]:
+    ...     print(f"{step['amplitude']:.4f} g: {step['outcome']}")
+    0.4000 g: below_barrier
+    0.5000 g: overturned
+    0.6000 g: overturned
+    0.4500 g: below_barrier
+    0.4750 g: overturned
+    0.4625 g: below_barrier
+    >>> csv = res.csv_rows()[0]
+    >>> print(csv["period_s"], csv["first_collapse_g"], csv["outcome"])
+    0.5 0.475 overturns
     """
 
     kind: str
@@ -368,7 +390,7 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
              *, sign: int = 1, backend: str = "clarabel", n_amplitudes: int = N_GRID,
              span: float = AMPLITUDE_SPAN, journal: Journal | None = None, model: str = "rock",
              dt: float | None = None, friction: float | None = None) -> SpectrumResult:
-    """Overturning spectrum: the smallest pulse amplitude that overturns a member, per period.
+    """Overturning spectrum: the smallest pulse amplitude that overturns, per period.
 
     For each period the whole amplitude grid is scanned (the safe set is not an interval in
     general: a larger pulse can reverse the motion in time), the first amplitude that

@@ -237,6 +237,19 @@ class SweepResult:
         ``"catenary"``.
     family : Family
         The arches of the sweep: the keys and labels of ``a`` and ``b``.
+
+    Examples
+    --------
+    >>> from fembeam.studies import sweep
+    >>> res = sweep([160.0], [0.12, 0.15], elements=40, envelope=False, workers=1,
+    ...             progress=False)
+    >>> print(res.outcomes(), res.family.a_label, res.family.b_label)
+    {'rocking': 2} beta t/R
+    >>> print(f"r = {res.case(160.0, 0.15)['r']:.4f}")
+    r = 0.6217
+    >>> row = res.csv_rows()[0]
+    >>> print(row["kind"], row["embrace_deg"], row["t_over_R"], row["hinges_before_side"])
+    case 160.0 0.12 intrados;extrados;intrados;extrados
     """
 
     embrace: list[float]
@@ -299,7 +312,7 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
           tmin_elements: int = 400, tmin_tol: float = 1e-6, above: float = 1e-3, workers: int | None = None,
           scheduler=None, progress: bool = True, shape: str = "circular", journal: Journal | None = None,
           fill=None) -> SweepResult:
-    """Parametric study over a grid of arches (the paper's Fig. 13): ``r`` against the thickness.
+    """Parametric study of arches (the paper's Fig. 13): ``r`` against the thickness.
 
     Every ``(beta, t/R)`` case is one :func:`~fembeam.analyze` run of the continuous arch
     (hinges refined) whose outcome is always reported; per beta of ``envelope_embrace`` the
@@ -380,7 +393,8 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
     beta 140 deg, t/R 0.12: rocking A_L = 0.4213 g, r = 0.5843
     beta 140 deg, t/R 0.15: rocking A_L = 0.5532 g, r = 0.4209
     >>> e = res.envelope[0]
-    >>> print(f"beta 160 deg: t_min/R = {e['t_min_over_R']:.4f}, r just above = {e['r']:.4f}")
+    >>> print(f"beta 160 deg: t_min/R = {e['t_min_over_R']:.4f},",
+    ...       f"r just above = {e['r']:.4f}")
     beta 160 deg: t_min/R = 0.0687, r just above = 0.8067
     """
     fam = family(shape)
