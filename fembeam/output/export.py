@@ -3,18 +3,19 @@
 :func:`write_fields` takes the raw ingredients (discretisation, pre-impact field
 ``d0``, post-impact field ``d``, hinges before/after, impulse line, thrust line) so
 that any result type can use it; :func:`write_vtk` feeds it an :class:`AnalysisResult`.
-One call writes five unstructured grids and a ParaView multiblock index::
+One call writes an unstructured grid per part and a ParaView multiblock index::
 
     out.vtu           arch body: quads across the thickness, rigid velocity fields
     out_joints.vtu    joint sections (extrados -> intrados segments): impulses, thrust
     out_impulse.vtu   impulse line, polyline through X_j + e_j n_j
     out_thrust.vtu    thrust line (limit analysis), polyline through X_j + e_j n_j
     out_hinges.vtu    hinges before/after as vertex cells on the edge they pivot on
-    out_fill.vtu      (an arch with fill) the fill columns, cell data ``piece``: the element or
-                      voussoir each column moves with
+    out_fill.vtu      (an arch with fill) the fill columns, cell data ``piece``: the
+                      element or voussoir each column moves with
     out_thrust_min.vtu, out_thrust_max.vtu   (an arch on two abutments) the thrust lines of
                       the minimum and maximum thrust under the dead loads
-    out.vtm           multiblock index of the parts written (ParaView / pyvista open it at once)
+    out.vtm           multiblock index of the parts written (ParaView and pyvista open
+                      it at once)
 
 Conventions (docs/theory.md, Sect. 1): ``y`` is the offset along the inward normal ``n``, intrados at
 ``y = +t/2``; eccentricities are ``y`` of the line (m); velocities in m/s for the

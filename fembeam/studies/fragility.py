@@ -279,26 +279,56 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
 
     Parameters
     ----------
-    curve, voussoirs, elements
-        The member and its pieces (``voussoirs``, else ``elements`` rigid elements).
-    suite
-        The records (:func:`~fembeam.studies.suites.load_suite`).
-    model, dt, backend
-        The model of each run and its time step (s; simulate and auto).
-    im
-        ``pga``, ``pgv`` or ``sa:T``.
-    resolution, span, max_runs, t_end_factor
-        The search: relative step below a collapse, largest factor over the onset factor, runs
-        per record-sign; each run lasts to the end of the record plus ``t_end_factor sqrt(L/g)``.
-    design
-        A design intensity in the measure's unit (g, or m/s for PGV): margin and probability.
-    bootstrap, seed, level
-        Resamples of the groups, their seed and the intervals' confidence level.
-    workers, scheduler, progress, journal
-        Execution (:func:`~fembeam.studies.parallel.run_tasks`).
-    mirror
-        For a symmetric member (:func:`symmetric_model`) run sign +1 only and give sign -1 as its
-        mirror image (default); False runs both signs whatever the member.
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    suite : Suite
+        The records (:func:`~fembeam.studies.suites.load_suite`), accelerations in g.
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs; otherwise the continuous member on
+        ``elements`` rigid elements (default 200).
+    elements : int, optional
+        See ``voussoirs``.
+    model : {"simulate", "rock", "auto"}, optional
+        The model of each run (default ``"simulate"``; :mod:`fembeam.studies.models`).
+    dt : float, optional
+        Time step of ``simulate`` and ``auto`` (s, default 1e-3); none with ``rock``.
+    im : str, optional
+        The intensity measure: ``"pga"`` (g, the default), ``"pgv"`` (m/s) or ``"sa:T"``
+        (g, the 5 %-damped pseudo-spectral acceleration at the period ``T`` in s).
+    resolution : float, optional
+        Relative step between factors the search must reach below a collapse to call it the
+        smallest, in [1e-4, 1] (default 0.05).
+    span : float, optional
+        Largest factor searched, in onset factors (default 20).
+    max_runs : int, optional
+        Most runs of each record-sign's search (default 200).
+    t_end_factor : float, optional
+        Each run lasts to the end of the record plus ``t_end_factor sqrt(L/g)`` (default
+        20), in (0, 1000].
+    design : float, optional
+        A design intensity in the measure's unit (g, or m/s for PGV): the collapse margin
+        ratio and the probability of collapse there.
+    bootstrap : int, optional
+        Resamples of the records' groups for the intervals, in [10, 100000] (default 1000).
+    seed : int, optional
+        Seed of the resampling (default 0).
+    level : float, optional
+        Confidence level of the intervals, in [0.5, 1) (default 0.9).
+    backend : str, optional
+        Solver of the impact QP (default ``"clarabel"``).
+    workers : int, optional
+        Local worker processes (default: the cores this process may use; 1 runs in this
+        process).
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address or client, instead of local processes.
+    progress : bool, optional
+        A progress bar on stderr, when it is a terminal (default True).
+    journal : Journal, optional
+        Finished record-signs are kept there and taken from there
+        (:class:`~fembeam.studies.parallel.Journal`): an interrupted study resumes.
+    mirror : bool, optional
+        For a symmetric member (:func:`symmetric_model`) run sign +1 only and give sign -1
+        as its mirror image (default True); False runs both signs whatever the member.
 
     Returns
     -------

@@ -5,7 +5,7 @@ dt, friction, backend)`` of a runner: a callable ``runner(ground, t_end)`` retur
 
 * ``outcome``: the model's own (``rest``, ``survived``, ``overturned``, ``collapsed_by_sliding``, or
   ``solver_error`` with the message in ``error`` when a solve fails its check);
-* ``peak_rotation``: the largest |rotation| of any piece over the run (rad), the damage measure of
+* ``peak_rotation``: the largest ``|rotation|`` of any piece over the run (rad), the damage measure of
   the IDA curves (at overturning, the rotation reached when the run stopped);
 * ``steps``: time steps taken (0 for ``rock``, which integrates its one degree of freedom with
   adaptive steps).

@@ -316,9 +316,9 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
 
     Every ``(beta, t/R)`` case is one :func:`~fembeam.analyze` run of the continuous arch
     (hinges refined) whose outcome is always reported; per beta of ``envelope_embrace`` the
-    minimum thickness ``t_min`` and the case just above it form the envelope. A_L, r and
-    the ratios do not depend on the scale: the arches have a radius (or a span) of 1 m.
-    The cases run in parallel, the envelope first; see :mod:`fembeam.studies.sweep`.
+    minimum thickness ``t_min`` and the case just above it form the envelope. A_L, r and the
+    ratios do not depend on the scale: the arches have a radius (or a span) of 1 m. The
+    cases run in parallel, the envelope first; see :ref:`the sweep module <module-sweep>`.
 
     Parameters
     ----------
