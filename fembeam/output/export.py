@@ -3,18 +3,19 @@
 :func:`write_fields` takes the raw ingredients (discretisation, pre-impact field
 ``d0``, post-impact field ``d``, hinges before/after, impulse line, thrust line) so
 that any result type can use it; :func:`write_vtk` feeds it an :class:`AnalysisResult`.
-One call writes five unstructured grids and a ParaView multiblock index::
+One call writes an unstructured grid per part and a ParaView multiblock index::
 
     out.vtu           arch body: quads across the thickness, rigid velocity fields
     out_joints.vtu    joint sections (extrados -> intrados segments): impulses, thrust
     out_impulse.vtu   impulse line, polyline through X_j + e_j n_j
     out_thrust.vtu    thrust line (limit analysis), polyline through X_j + e_j n_j
     out_hinges.vtu    hinges before/after as vertex cells on the edge they pivot on
-    out_fill.vtu      (an arch with fill) the fill columns, cell data ``piece``: the element or
-                      voussoir each column moves with
+    out_fill.vtu      (an arch with fill) the fill columns, cell data ``piece``: the
+                      element or voussoir each column moves with
     out_thrust_min.vtu, out_thrust_max.vtu   (an arch on two abutments) the thrust lines of
                       the minimum and maximum thrust under the dead loads
-    out.vtm           multiblock index of the parts written (ParaView / pyvista open it at once)
+    out.vtm           multiblock index of the parts written (ParaView and pyvista open
+                      it at once)
 
 Conventions (docs/theory.md, Sect. 1): ``y`` is the offset along the inward normal ``n``, intrados at
 ``y = +t/2``; eccentricities are ``y`` of the line (m); velocities in m/s for the
@@ -284,8 +285,58 @@ def fields_of(result, what: str = "export") -> tuple:
 
 
 def write_vtk(result, path: str | Path, layers: int = 2) -> dict[str, Path]:
-    """Export an :class:`~fembeam.analysis.AnalysisResult` (needs a limit-analysis mechanism;
-    the impact fields are zero/absent when it has none). Returns the files written."""
+    """Write an analysis to VTK files for ParaView: arch, joints, lines and hinges.
+
+    One unstructured grid per part next to ``path`` (``out.vtu`` the body,
+    ``out_joints.vtu``, ``out_impulse.vtu``, ``out_thrust.vtu``, ``out_hinges.vtu``, and for
+    an arch as built ``out_fill.vtu``, ``out_thrust_min.vtu``, ``out_thrust_max.vtu``) and a
+    ParaView multiblock index ``out.vtm``; the parts and their fields are listed in
+    :mod:`fembeam.output.export`. Points are ``(x, y, 0)`` in m; velocities in m/s for the
+    normalised mechanism (unit mean horizontal speed of ``u = -d0``), impulses in N s/m
+    (``I_t < 0`` is compression), thrust forces in kN/m, eccentricities in m along the
+    inward normal (intrados at ``+t/2``). A part with nothing in it is not written.
+
+    Parameters
+    ----------
+    result : AnalysisResult
+        An analysis with a limit-analysis mechanism (:func:`fembeam.analyze`); without an
+        impact the post-impact fields are zero and there is no impulse line.
+    path : str or pathlib.Path
+        The body's file; ``.vtu`` is added if missing, the other parts are named after it.
+    layers : int, optional
+        Cells of the body through the thickness (default 2).
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        The files written by part: ``"body"``, ``"joints"``, ``"impulse"``, ``"thrust"``,
+        ``"hinges"``, ``"fill"``, ``"thrust_min"``, ``"thrust_max"`` (those written), and
+        ``"multiblock"`` (the ``.vtm`` index).
+
+    Raises
+    ------
+    InputError
+        The analysis found no mechanism (nothing to export).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> from fembeam.output.export import write_vtk
+    >>> res = fembeam.analyze(arch, voussoirs=12)
+    >>> files = write_vtk(res, pathlib.Path(tempfile.mkdtemp()) / "arch.vtu")
+    >>> for part, path in files.items():
+    ...     print(f"{part:10s} {path.name}")
+    body       arch.vtu
+    joints     arch_joints.vtu
+    impulse    arch_impulse.vtu
+    thrust     arch_thrust.vtu
+    hinges     arch_hinges.vtu
+    thrust_min arch_thrust_min.vtu
+    thrust_max arch_thrust_max.vtu
+    multiblock arch.vtm
+    """
     return write_fields(path, *fields_of(result), layers, extra=as_built_parts(result))
 
 

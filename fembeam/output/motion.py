@@ -170,10 +170,48 @@ def outline(result_or_curve, mechanism: Mechanism | int | None = None, theta: fl
 
 # --------------------------------------------------------------------------- history figure
 def history_figure(result: "RockingResult"):
-    """matplotlib Figure of the time history (3 panels sharing ``t``, s): ground acceleration
-    ``a_g`` (g); rotation ``theta`` (rad) with the impacts (markers at ``theta = 0``), the
-    overturning and the first exit of the thrust line (vertical lines); energies ``K``, ``V``
-    and ``K + V`` (J/m).  The caller closes it (``plt.close(fig)``)."""
+    """The matplotlib figure of a rocking time history: ground, rotation and energies.
+
+    Three panels sharing the time axis ``t`` (s): the ground acceleration ``a_g`` (g,
+    positive along ``+x``); the rotation ``theta`` (rad) of the mechanism's free parameter
+    with the impacts (markers at ``theta = 0``), the overturning and the first exit of the
+    thrust line (vertical lines); the energies ``K``, ``V`` and ``K + V`` (J/m).
+
+    Parameters
+    ----------
+    result : RockingResult
+        A time history (:func:`fembeam.dynamics.rock`, with its history).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (on the Agg backend); the caller closes it (``plt.close(fig)``).
+
+    Raises
+    ------
+    InputError
+        The history is empty.
+
+    See Also
+    --------
+    plot_history : the figure saved to a file.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> import matplotlib.pyplot as plt
+    >>> from fembeam.dynamics import GroundMotion, rock
+    >>> from fembeam.output.motion import history_figure
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = rock(arch, GroundMotion.sine(0.4, 0.5), voussoirs=12)
+    >>> fig = history_figure(res)
+    >>> for ax in fig.axes:
+    ...     print(ax.get_ylabel())
+    ground acceleration $a_g$ (g)
+    rotation $\\theta$ (rad)
+    energy (J/m)
+    >>> plt.close(fig)
+    """
     h = _history(result)
     plt = _pyplot()
     fig, (ax_a, ax_th, ax_e) = plt.subplots(3, 1, sharex=True, figsize=(8.0, 7.5))
@@ -220,9 +258,42 @@ def _energy_panel(fig, axes, t, K, V, title: str, total: bool = False) -> None:
 
 
 def plot_history(result: "RockingResult", path: str | Path, dpi: int = 150) -> None:
-    """:func:`history_figure` saved to ``path`` (format from the suffix: .png, .pdf or .svg),
-    written atomically.  Raises :class:`~fembeam.errors.InputError` for another suffix or a
-    missing directory, and for an empty history."""
+    """Save the figure of a rocking time history (:func:`history_figure`) to a file.
+
+    Parameters
+    ----------
+    result : RockingResult
+        A time history (:func:`fembeam.dynamics.rock`, with its history).
+    path : str or pathlib.Path
+        The file, ending in ``.png``, ``.pdf`` or ``.svg`` (the format); written
+        atomically, in a directory that exists.
+    dpi : int, optional
+        Resolution of a PNG (dots per inch, default 150).
+
+    Returns
+    -------
+    None
+        The figure is written to ``path``.
+
+    Raises
+    ------
+    InputError
+        Another suffix, a directory that does not exist or cannot be written, or an empty
+        history.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion, rock
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = rock(arch, GroundMotion.sine(0.4, 0.5), voussoirs=12)
+    >>> from fembeam.output.motion import plot_history
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "history.png"
+    >>> plot_history(res, path, dpi=50)
+    >>> print(path.name, path.stat().st_size > 0)
+    history.png True
+    """
     _save(history_figure, result, path, "plot_history", dpi)
 
 
@@ -314,19 +385,54 @@ def _pvd_text(entries) -> str:
 
 def write_pvd(result: "RockingResult", path: str | Path, frames: int = 200,
               sections: int = SECTIONS) -> list[Path]:
-    """ParaView time series of the motion: ``path`` (ending in ``.pvd``) and, next to it,
-    one ``<stem>_0000.vtu`` per frame (the history subsampled to at most ``frames`` rows by
-    :func:`frame_rows`, the last one always included).
+    """Write a rocking motion as a ParaView time series: ``.vtu`` frames, a ``.pvd`` index.
 
     Every frame is an unstructured grid of quads between extrados and intrados (see
     :func:`frame_mesh`) on one section layout for the whole run: ``sections`` evenly spaced
     sections plus the hinges of every mechanism of the result, each sampled on both sides,
-    so all frames have the same points and cells.  Point data ``displacement`` (m), cell
-    data ``piece`` (-1 at rest).  The ``.pvd`` (``timestep`` = history time, s) is written
-    last.  The series replaces the one there as a whole (:func:`~.files.atomic_group`): on a
-    failure or an interrupt nothing is touched; after it, frames of the previous series that
-    this one lacks are removed.  Returns the files written (the ``.vtu`` files in time
-    order, then the ``.pvd``)."""
+    so all frames have the same points and cells. Point data ``displacement`` (m, moved
+    minus rest position), cell data ``piece`` (the rigid piece, -1 at rest). The ``.pvd``
+    (``timestep``: the history's time, s) is written last. The series replaces the one
+    there as a whole (:func:`~fembeam.output.files.atomic_group`): on a failure or an
+    interrupt nothing is touched; after it, frames of the previous series that this one
+    lacks are removed.
+
+    Parameters
+    ----------
+    result : RockingResult
+        A time history (:func:`fembeam.dynamics.rock`, with its history).
+    path : str or pathlib.Path
+        The index, ending in ``.pvd``; the frames ``<stem>_0000.vtu``, ... are written
+        next to it.
+    frames : int, optional
+        Most frames (default 200): the history subsampled evenly by :func:`frame_rows`,
+        the first and the last row always included.
+    sections : int, optional
+        Evenly spaced sections over the length (default 101), the hinges added.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written: the ``.vtu`` frames in time order, then the ``.pvd``.
+
+    Raises
+    ------
+    InputError
+        A ``path`` not ending in ``.pvd`` or that cannot be written, ``frames`` or
+        ``sections`` out of range, or an empty history.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion, rock
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = rock(arch, GroundMotion.sine(0.4, 0.5), voussoirs=12)
+    >>> from fembeam.output.motion import write_pvd
+    >>> files = write_pvd(res, pathlib.Path(tempfile.mkdtemp()) / "motion.pvd", frames=5)
+    >>> print(len(files), "files:", files[0].name, "...", files[-2].name, files[-1].name)
+    6 files: motion_0000.vtu ... motion_0004.vtu motion.pvd
+    """
     import meshio
 
     p = check_output(path, "write_pvd", (".pvd",))
@@ -366,13 +472,55 @@ def previous_series(path) -> list[Path]:
 # --------------------------------------------------------------------------- animation
 def write_gif(result: "RockingResult", path: str | Path, frames: int = 120, fps: int = 20,
               sections: int = 61, dpi: int = 80) -> None:
-    """GIF animation (``path`` ending in ``.gif``) of the moving outline: at most ``frames``
-    history rows (:func:`frame_rows`, the last one included) shown at ``fps`` frames per
-    second, equal aspect, fixed axis limits covering every frame, the rest outline dashed,
-    the ground line at the lowest point of the member at rest, the hinges of the current
-    mechanism as dots, the fill of an arch as built moving with its pieces, a scale bar (m) in place of the axes (tick labels would dominate the
-    drawing time), and a text with ``t`` (s) and ``a_g`` (g).  ``dpi``: pixels per inch of
-    the 6 x 4.5 in frames.  Written atomically."""
+    """Write a GIF animation of a rocking motion: the outline moving over the ground.
+
+    Equal aspect, fixed axis limits covering every frame, the rest outline dashed, the
+    ground line at the lowest point of the member at rest, the hinges of the current
+    mechanism as dots, the fill of an arch as built moving with its pieces, a scale bar (m)
+    in place of the axes (tick labels would dominate the drawing time), and a text with
+    ``t`` (s) and ``a_g`` (g). Written atomically.
+
+    Parameters
+    ----------
+    result : RockingResult
+        A time history (:func:`fembeam.dynamics.rock`, with its history).
+    path : str or pathlib.Path
+        The file, ending in ``.gif``.
+    frames : int, optional
+        Most frames (default 120): the history subsampled evenly by :func:`frame_rows`,
+        the first and the last row always included.
+    fps : float, optional
+        Frames per second of the animation (default 20).
+    sections : int, optional
+        Evenly spaced sections of the outline over the length (default 61), the hinges
+        added.
+    dpi : int, optional
+        Pixels per inch of the 6 x 4.5 in frames (default 80).
+
+    Returns
+    -------
+    None
+        The animation is written to ``path``.
+
+    Raises
+    ------
+    InputError
+        A ``path`` not ending in ``.gif`` or that cannot be written, ``frames``, ``fps``
+        or ``sections`` out of range, or an empty history.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion, rock
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = rock(arch, GroundMotion.sine(0.4, 0.5), voussoirs=12)
+    >>> from fembeam.output.motion import write_gif
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "motion.gif"
+    >>> write_gif(res, path, frames=5, dpi=40)
+    >>> print(path.name, path.stat().st_size > 0)
+    motion.gif True
+    """
     p = check_output(path, "write_gif", (".gif",))
     try:
         fps = float(fps)

@@ -98,8 +98,44 @@ def save_paper_figure(path: str | Path, disc: Discretization, hinges_before: Seq
 
 
 def plot_paper_figure(result, path: str | Path, dpi: int = 150) -> Path:
-    """Paper-style figure of an :class:`~fembeam.analysis.AnalysisResult` saved to ``path``
-    (format from the suffix: png, pdf, svg ...)."""
+    """Save the paper-style figure of an analysis (Figs. 10-12): hinges, impulse, thrust.
+
+    The arch outline (every joint of a voussoir arch), the hinges before the impact (grey
+    circles) and after it (blue dots) on the edge they pivot on, the impulse line (red), the
+    thrust line of the limit analysis (dashed), equal aspect (m), and a title with ``r`` and
+    ``A_L`` (g); an arch as built with its fill and point masses, and its live loads.
+
+    Parameters
+    ----------
+    result : AnalysisResult
+        An analysis with a limit-analysis mechanism (:func:`fembeam.analyze`).
+    path : str or pathlib.Path
+        The file; the format comes from its suffix (``.png``, ``.pdf``, ``.svg``, ...).
+        Its directory is created if needed; the file is written atomically.
+    dpi : int, optional
+        Resolution of a raster format (dots per inch, default 150).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Raises
+    ------
+    InputError
+        The analysis found no mechanism (nothing to plot).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> from fembeam.output.plotting import plot_paper_figure
+    >>> res = fembeam.analyze(arch, voussoirs=12)
+    >>> path = plot_paper_figure(res, pathlib.Path(tempfile.mkdtemp()) / "arch.png", dpi=60)
+    >>> print(path.name, path.stat().st_size > 0)
+    arch.png True
+    """
     from ..errors import InputError
     from .render import title_of
 

@@ -136,7 +136,47 @@ def render_fields(meshes: dict, path: str | Path, title: str = "", size=(1600, 9
 
 
 def render_png(result, path: str | Path, size=(1600, 900)) -> Path:
-    """Render an :class:`~fembeam.analysis.AnalysisResult` off-screen to ``path`` (PNG)."""
+    """Render an analysis off-screen with pyvista (VTK) to a PNG picture.
+
+    The meshes of :func:`~fembeam.output.export.write_vtk`: the arch body coloured by the
+    speed after the impact (m/s, normalised mechanism), the impulse line (red), the thrust
+    line (dashed black), the hinges before the impact (grey) and after it (blue), in the
+    x-y plane (m) with a parallel projection and a title with ``r`` and ``A_L`` (g). On a
+    machine without a display it renders through EGL (see :mod:`fembeam.output.render`).
+
+    Parameters
+    ----------
+    result : AnalysisResult
+        An analysis with a limit-analysis mechanism (:func:`fembeam.analyze`).
+    path : str or pathlib.Path
+        The PNG file; its directory is created if needed; written atomically.
+    size : tuple of (int, int), optional
+        Width and height of the picture in pixels (default ``(1600, 900)``).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Raises
+    ------
+    InputError
+        The analysis found no mechanism (nothing to render).
+    FembeamError
+        No display and neither libEGL nor libOSMesa on the machine.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> from fembeam.output.render import render_png
+    >>> res = fembeam.analyze(arch, voussoirs=12)
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "arch.png"
+    >>> path = render_png(res, path, size=(320, 180))
+    >>> print(path.name, path.stat().st_size > 0)
+    arch.png True
+    """
     from .export import fields_of, meshes_of
 
     meshes = meshes_of(*fields_of(result, "render"))

@@ -128,7 +128,57 @@ def _num(x):
 
 @dataclass
 class ConvergenceStudy:
-    """Rows (one per mesh) and, per scalar quantity, its limit, errors and rates."""
+    """What :func:`convergence_study` found: one row per mesh and, per quantity, its limit,
+    errors and rates.
+
+    :meth:`to_dict` is its JSON, :meth:`csv_rows` its CSV table.
+
+    Attributes
+    ----------
+    geometry : dict
+        The member's description (its ``describe()``: shape and dimensions in m).
+    mode : {"continuous", "voussoirs"}
+        Meshes of rigid elements of the continuous arch, or discrete arches of voussoirs.
+    levels : list of int
+        The meshes: elements or voussoirs, increasing.
+    assumed_order : float
+        Order ``p`` of the Richardson extrapolation (continuous arch).
+    rows : list of dict
+        One per mesh: ``n``, the element size ``h_over_R`` (``beta / N``) and ``h_deg``
+        (deg) on a circular arch (``h_over_span`` on another shape), ``outcome``, ``A_L``
+        (g, hinge-refined), ``A_L_mesh`` (g, the uniform mesh's LP), ``r``, the hinges
+        before and after the impact (deg from the left springing), the verification figures
+        and the solve times (s).
+    quantities : dict
+        Per quantity (``A_L``, ``A_L_mesh``, ``r``, ``t_min_factor``, the angle of each
+        hinge ``hinges_before_k_deg``): its ``values``, its limit (``extrapolated``, or the
+        ``reference`` of discrete arches), ``errors`` against it, the observed ``rate``
+        (slope of ``log err`` over ``log h``), ``fitted_order``, ``observed_order_3``, and
+        ``exact`` (equal at every level to round-off: no rate).
+    reference : dict or None
+        Discrete arches: the continuous arch's values on ``reference_elements`` elements.
+    wall_time : float
+        Wall time of the study (s).
+    h : numpy.ndarray
+        Element size of each row over R (over the span for another shape than the circle).
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> from fembeam.studies import convergence_study
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> st = convergence_study(arch, elements=[20, 40], progress=False)
+    >>> print(st.mode, st.levels, st.h.round(4))
+    continuous [20, 40] [0.1374 0.0687]
+    >>> for h in st.rows[-1]["hinges_before"]:
+    ...     print(f"{h['angle_deg']:6.1f} deg  {h['side']}")
+       1.5 deg  intrados
+      59.3 deg  extrados
+     117.1 deg  intrados
+     157.5 deg  extrados
+    >>> print(st.to_dict()["study"], len(st.csv_rows()), "CSV rows")
+    convergence 2 CSV rows
+    """
 
     geometry: dict
     mode: str                      # "continuous" (elements) or "voussoirs"
@@ -141,9 +191,11 @@ class ConvergenceStudy:
 
     @property
     def h(self) -> np.ndarray:
+        """Element size of each row over R (over the span for another shape)."""
         return np.array([_h(r) for r in self.rows])
 
     def to_dict(self) -> dict:
+        """The study as JSON: settings, reference, quantities and rows."""
         return {"study": "convergence", "mode": self.mode, "geometry": self.geometry,
                 "levels": self.levels, "assumed_order": self.assumed_order,
                 "reference": self.reference, "quantities": self.quantities,
@@ -237,13 +289,76 @@ def convergence_study(curve: MidCurve, elements: list[int] | None = None, vousso
                       order: float = 2.0, reference_elements: int = 1600, direction: int = 1,
                       backend: str = "auto", refine_hinges: bool = True, progress: bool = True,
                       tmin: bool = False) -> ConvergenceStudy:
-    """Run ``analyze`` on each mesh and fit the convergence (see module docstring).
+    """Mesh-refinement convergence of :func:`~fembeam.analyze`: errors and observed rates.
 
-    ``elements``: continuous arch, errors against Richardson with ``order``;
-    ``voussoirs``: discrete arches, errors against the continuous arch on
-    ``reference_elements`` elements.  ``progress`` writes one line per mesh to stderr.
-    ``tmin``: also the minimum thickness (factor of the thickness law, to ``TMIN_TOL``) on
-    each mesh: every section checked on the continuous arch, the joints of the voussoirs.
+    :func:`~fembeam.analyze` runs on each mesh; the errors of each quantity are measured
+    against a Richardson extrapolation of the two finest meshes (continuous arch) or against
+    the continuous arch (discrete arches), and its observed rate is the least-squares slope
+    of ``log err`` over ``log h``, ``h`` the element (voussoir) length over R. The method is
+    that of :mod:`fembeam.studies.convergence`.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    elements : list of int, optional
+        Meshes of the continuous arch (rigid elements, hinges refined); errors against the
+        Richardson extrapolation with ``order``. Give ``elements`` or ``voussoirs``.
+    voussoirs : list of int, optional
+        Discrete arches of these numbers of voussoirs; errors against the continuous arch
+        on ``reference_elements`` elements.
+    order : float, optional
+        Assumed order ``p`` of ``x(h) = x0 + C h^p`` in the extrapolation (default 2; the
+        order fitted to all levels is reported beside it).
+    reference_elements : int, optional
+        Elements of the continuous reference of discrete arches (default 1600).
+    direction : {1, -1}, optional
+        Direction of the inertia load (+1: along ``+x``, a ground acceleration towards
+        ``-x``).
+    backend : str, optional
+        Solver of the impact QP.
+    refine_hinges : bool, optional
+        Locate the hinges of the continuous arch between the joints (default True).
+    progress : bool, optional
+        One line per mesh on stderr (default True).
+    tmin : bool, optional
+        Also the minimum thickness on each mesh (``t_min_factor``, the factor of the
+        thickness; every section checked on the continuous arch, the joints of the
+        voussoirs).
+
+    Returns
+    -------
+    ConvergenceStudy
+        The rows (one per mesh) and, per quantity, its limit, errors and rates.
+
+    Raises
+    ------
+    InputError
+        Neither or both of ``elements`` and ``voussoirs``, fewer than two distinct meshes,
+        or an order that is not a positive number.
+    SolverError
+        A solve failed its check.
+
+    Examples
+    --------
+    The paper's arch on 20, 40 and 80 elements: ``A_L`` of the continuum is the same on
+    every mesh, ``r`` converges:
+
+    >>> import fembeam
+    >>> from fembeam.studies import convergence_study
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> st = convergence_study(arch, elements=[20, 40, 80], progress=False)
+    >>> for row in st.rows:
+    ...     print(row["n"], f"h/R = {row['h_over_R']:.4f}: A_L = {row['A_L']:.6f} g,",
+    ...           f"r = {row['r']:.6f}")
+    20 h/R = 0.1374: A_L = 0.353384 g, r = 0.605649
+    40 h/R = 0.0687: A_L = 0.353384 g, r = 0.606187
+    80 h/R = 0.0344: A_L = 0.353384 g, r = 0.606465
+    >>> print(st.quantities["A_L"]["exact"])
+    True
+    >>> q = st.quantities["r"]
+    >>> print(f"r -> {q['extrapolated']:.5f}, observed rate {q['rate']:.2f}")
+    r -> 0.60656, observed rate 1.65
     """
     if (elements is None) == (voussoirs is None):
         raise InputError("give either a list of elements (continuous arch) or of voussoirs (discrete arches)")

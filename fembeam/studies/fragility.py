@@ -112,12 +112,81 @@ def symmetric_model(curve: MidCurve, voussoirs: int | None, elements: int, A_L: 
 
 @dataclass
 class FragilityResult:
-    """Rows per record-sign (the search's dict, the record's metadata, ``im_record`` the record's
-    own intensity, ``im_at_collapse`` (the first collapse found), ``im_interval`` (what the fit
-    takes: ``[lower, upper]``, upper None when censored), ``censored_at``, ``status``: collapsed,
-    censored or error, ``mirrored``), the ``fit`` (``theta`` in the intensity's unit, ``beta``,
-    ``method``; None when it does not exist, ``fit_error`` says why), the ``bootstrap`` intervals
-    (or its ``error``), the ``design`` margin, and the settings (``symmetric``, ``signs_run``)."""
+    """The record-signs' searches, the lognormal fit, its intervals and the design margin.
+
+    What :func:`fragility` found: the collapse search of each record-sign and the lognormal
+    fit of the intensities at collapse. :meth:`to_dict` is its JSON, :meth:`csv_rows` its
+    table (one row per record-sign), :meth:`ida_rows` the runs of the IDA curves.
+    Intensities are in the measure's unit (``im.unit``: g, or m/s for PGV).
+
+    Attributes
+    ----------
+    suite : str
+        The suite's name.
+    im : IntensityMeasure
+        The intensity measure (:func:`~fembeam.studies.intensity.parse_im`).
+    rows : list of dict
+        One per record-sign: the search's dict (``first_collapse`` factor, ``bracket``,
+        ``smallest``, ``scan``, ``runs``, ...), the record's metadata, ``im_record`` (the
+        record's own intensity), ``im_at_collapse`` (the first collapse found),
+        ``im_interval`` (``[lower, upper]``, what the fit takes; upper None when
+        censored), ``censored_at``, ``status`` (``"collapsed"``, ``"censored"`` or
+        ``"error"``) and ``mirrored`` (the row of sign -1 given by the mirror image of
+        sign +1's, for a symmetric member).
+    fit : dict or None
+        The interval-censored lognormal fit: ``theta`` (median, the measure's unit),
+        ``beta`` (dispersion), ``n_collapsed``, ``n_censored``, ``method``; None when it
+        does not exist.
+    fit_error : str or None
+        Why there is no fit.
+    bootstrap : dict or None
+        Percentile intervals of ``theta`` and ``beta`` (and of the margin and probability
+        with a design intensity) over resamples of the records' groups
+        (:func:`~fembeam.studies.lognormal.bootstrap`), or its ``error``.
+    design : dict or None
+        At the design intensity: ``intensity``, ``margin_ratio`` (``theta / intensity``)
+        and ``probability_of_collapse``.
+    A_L : dict
+        ``A_L`` of the member (g), keys ``"+1"`` and ``"-1"``.
+    geometry : dict
+        The member's description (its ``describe()``: shape and dimensions in m).
+    settings : dict
+        Model, time step (s), search, mesh, bootstrap, ``symmetric`` and ``signs_run``.
+    timing : dict
+        Wall and CPU time (s), runs and time steps.
+    outcome : {"computed", "cannot_stand"}
+        ``"cannot_stand"``: the member does not stand under its own weight (no rows).
+
+    Examples
+    --------
+    Two short records (sine cycles of periods 0.5 s and 0.25 s, 0.2 g), a coarse search:
+    the arch is symmetric, so sign -1 is the mirror image of sign +1.
+
+    >>> import pathlib, tempfile
+    >>> import numpy as np
+    >>> import fembeam
+    >>> from fembeam.studies.fragility import fragility
+    >>> from fembeam.studies.suites import load_suite
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> t = np.linspace(0.0, 0.5, 101)                   # s
+    >>> for k, period in enumerate((0.5, 0.25)):         # s
+    ...     a = 0.2 * np.sin(2.0 * np.pi * t / period)    # g
+    ...     np.savetxt(folder / f"rec{k}.csv", np.c_[t, a], delimiter=",",
+    ...                header="time,acceleration", comments="")
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = fragility(arch, load_suite(str(folder)), voussoirs=12, model="rock",
+    ...                 resolution=0.25, t_end_factor=1.0, bootstrap=10, design=0.5,
+    ...                 workers=1, progress=False)
+    >>> for row in res.rows:
+    ...     lo, hi = row["im_interval"]
+    ...     print(row["record"], f"{row['sign']:+d}", row["status"],
+    ...           f"PGA at collapse in [{lo:.3f}, {hi:.3f}] g",
+    ...           "(mirrored)" * row["mirrored"])
+    rec0.csv +1 collapsed PGA at collapse in [0.474, 0.541] g
+    rec0.csv -1 collapsed PGA at collapse in [0.474, 0.541] g (mirrored)
+    rec1.csv +1 collapsed PGA at collapse in [1.057, 1.295] g
+    rec1.csv -1 collapsed PGA at collapse in [1.057, 1.295] g (mirrored)
+    """
 
     suite: str
     im: IntensityMeasure
@@ -138,6 +207,7 @@ class FragilityResult:
         return self.im.unit.replace("/", "_")
 
     def counts(self) -> dict:
+        """The number of record-signs of each status, ``smallest`` and ``mirrored``."""
         out = {"collapsed": 0, "censored": 0, "error": 0}
         for r in self.rows:
             out[r["status"]] += 1
@@ -146,6 +216,7 @@ class FragilityResult:
         return out
 
     def to_dict(self) -> dict:
+        """Strict JSON (null for undefined or non-finite numbers)."""
         return json_safe({"study": "fragility", "outcome": self.outcome, "suite": self.suite, "im": self.im.name, "im_unit": self.im.unit,
                            "geometry": self.geometry, "A_L": self.A_L, "settings": self.settings,
                            "counts": self.counts(), "method": "interval_censored", "fit": self.fit,
@@ -197,36 +268,106 @@ def fragility(curve: MidCurve, suite: Suite, *, voussoirs: int | None = None, el
               design: float | None = None, bootstrap: int = BOOTSTRAP, seed: int = 0, level: float = LEVEL,
               backend: str = "clarabel", workers: int | None = None, scheduler=None, progress: bool = True,
               journal: Journal | None = None, mirror: bool = True) -> FragilityResult:
-    """The study of the module docstring.
+    """Collapse fragility of a member over a record suite: IDA, lognormal fit, margin.
+
+    Every record, with both signs, is one task: the hunt-and-fill search of its collapse
+    scale factor with the runner of ``model``. The intensities at collapse are fitted by an
+    interval-censored lognormal, with bootstrap intervals over the records' groups and,
+    given a design intensity, the collapse margin ratio and the probability of collapse
+    there. For a symmetric member sign -1 is the mirror image of sign +1, not run. The
+    method is described in :mod:`fembeam.studies.fragility`.
 
     Parameters
     ----------
-    curve, voussoirs, elements
-        The member and its pieces (``voussoirs``, else ``elements`` rigid elements).
-    suite
-        The records (:func:`~fembeam.studies.suites.load_suite`).
-    model, dt, backend
-        The model of each run and its time step (s; simulate and auto).
-    im
-        ``pga``, ``pgv`` or ``sa:T``.
-    resolution, span, max_runs, t_end_factor
-        The search: relative step below a collapse, largest factor over the onset factor, runs
-        per record-sign; each run lasts to the end of the record plus ``t_end_factor sqrt(L/g)``.
-    design
-        A design intensity in the measure's unit (g, or m/s for PGV): margin and probability.
-    bootstrap, seed, level
-        Resamples of the groups, their seed and the intervals' confidence level.
-    workers, scheduler, progress, journal
-        Execution (:func:`~fembeam.studies.parallel.run_tasks`).
-    mirror
-        For a symmetric member (:func:`symmetric_model`) run sign +1 only and give sign -1 as its
-        mirror image (default); False runs both signs whatever the member.
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    suite : Suite
+        The records (:func:`~fembeam.studies.suites.load_suite`), accelerations in g.
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs; otherwise the continuous member on
+        ``elements`` rigid elements (default 200).
+    elements : int, optional
+        See ``voussoirs``.
+    model : {"simulate", "rock", "auto"}, optional
+        The model of each run (default ``"simulate"``; :mod:`fembeam.studies.models`).
+    dt : float, optional
+        Time step of ``simulate`` and ``auto`` (s, default 1e-3); none with ``rock``.
+    im : str, optional
+        The intensity measure: ``"pga"`` (g, the default), ``"pgv"`` (m/s) or ``"sa:T"``
+        (g, the 5 %-damped pseudo-spectral acceleration at the period ``T`` in s).
+    resolution : float, optional
+        Relative step between factors the search must reach below a collapse to call it the
+        smallest, in [1e-4, 1] (default 0.05).
+    span : float, optional
+        Largest factor searched, in onset factors (default 20).
+    max_runs : int, optional
+        Most runs of each record-sign's search (default 200).
+    t_end_factor : float, optional
+        Each run lasts to the end of the record plus ``t_end_factor sqrt(L/g)`` (default
+        20), in (0, 1000].
+    design : float, optional
+        A design intensity in the measure's unit (g, or m/s for PGV): the collapse margin
+        ratio and the probability of collapse there.
+    bootstrap : int, optional
+        Resamples of the records' groups for the intervals, in [10, 100000] (default 1000).
+    seed : int, optional
+        Seed of the resampling (default 0).
+    level : float, optional
+        Confidence level of the intervals, in [0.5, 1) (default 0.9).
+    backend : str, optional
+        Solver of the impact QP (default ``"clarabel"``).
+    workers : int, optional
+        Local worker processes (default: the cores this process may use; 1 runs in this
+        process).
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address or client, instead of local processes.
+    progress : bool, optional
+        A progress bar on stderr, when it is a terminal (default True).
+    journal : Journal, optional
+        Finished record-signs are kept there and taken from there
+        (:class:`~fembeam.studies.parallel.Journal`): an interrupted study resumes.
+    mirror : bool, optional
+        For a symmetric member (:func:`symmetric_model`) run sign +1 only and give sign -1
+        as its mirror image (default True); False runs both signs whatever the member.
 
     Returns
     -------
     FragilityResult
+        The rows of the record-signs, the fit, its intervals and the margin; a member that
+        cannot stand is an answer (``outcome`` ``"cannot_stand"``), not an exception.
 
-    Bad input raises :class:`InputError` before any run."""
+    Raises
+    ------
+    InputError
+        Bad input, before any run.
+
+    Examples
+    --------
+    Two short records (sine cycles of 0.2 g), a coarse search and few resamples:
+
+    >>> import pathlib, tempfile
+    >>> import numpy as np
+    >>> import fembeam
+    >>> from fembeam.studies.fragility import fragility
+    >>> from fembeam.studies.suites import load_suite
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> t = np.linspace(0.0, 0.5, 101)                   # s
+    >>> for k, period in enumerate((0.5, 0.25)):         # s
+    ...     a = 0.2 * np.sin(2.0 * np.pi * t / period)    # g
+    ...     np.savetxt(folder / f"rec{k}.csv", np.c_[t, a], delimiter=",",
+    ...                header="time,acceleration", comments="")
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = fragility(arch, load_suite(str(folder)), voussoirs=12, model="rock",
+    ...                 resolution=0.25, t_end_factor=1.0, bootstrap=10, design=0.5,
+    ...                 workers=1, progress=False)
+    >>> fit = res.fit
+    >>> print(f"median PGA at collapse {fit['theta']:.3f} g, beta {fit['beta']:.3f}")
+    median PGA at collapse 0.768 g, beta 0.416
+    >>> d = res.design
+    >>> print(f"at 0.5 g: margin ratio {d['margin_ratio']:.2f},",
+    ...       f"P(collapse) {d['probability_of_collapse']:.3f}")
+    at 0.5 g: margin ratio 1.54, P(collapse) 0.151
+    """
     dt = check_model(model, dt)[0]
     check_search(resolution, span, max_runs)
     measure = parse_im(im)

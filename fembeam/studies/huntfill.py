@@ -84,12 +84,75 @@ def _gaps(onset: float, done: dict, top: float, resolution: float) -> list[tuple
 
 def hunt_and_fill(run: Callable[[float], dict], onset: float, *, resolution: float, max_factor: float,
                   max_runs: int = 200, onset_safe: bool = True) -> dict:
-    """The search of the module docstring.  ``run(f)`` runs the member under the record scaled
-    by ``f`` and returns a dict with at least ``outcome`` (:data:`SAFE`, :data:`COLLAPSE` or
-    anything else: undecided); every dict is kept, with ``factor`` and ``order`` (the run's
-    rank) added, in ``scan`` (sorted by factor).  ``onset_safe=False`` (joints that may slide
-    below ``A_L``): the onset factor is run first, nothing below it is searched, and no factor
-    is called the smallest."""
+    """The smallest scale factor of a record that collapses a member, by hunt and fill.
+
+    The hunt steps up from the onset factor by growing ratios until a run collapses; the
+    fill then splits the widest gap between the decided factors below the lowest collapse
+    until every gap is at most ``1 + resolution``. The steps, and what each claim of the
+    result means, are those of :mod:`fembeam.studies.huntfill`.
+
+    Parameters
+    ----------
+    run : callable
+        ``run(f)`` runs the member under the record scaled by ``f`` (dimensionless) and
+        returns a dict with at least ``outcome``: one of :data:`SAFE` (``"no_motion"``,
+        ``"rest"``, ``"survived"``, ``"below_barrier"``), one of :data:`COLLAPSE`
+        (``"overturned"``, ``"collapsed_by_sliding"``), or anything else (undecided: the
+        search stops).
+    onset : float
+        The onset factor ``f0 > 0``: below it the ground never exceeds ``A_L`` either way
+        and nothing moves, so it is safe without a run.
+    resolution : float
+        Relative step between factors that the fill must reach below a collapse to call it
+        the smallest, in [1e-4, 1].
+    max_factor : float
+        Largest factor run (> 0); the hunt runs it last.
+    max_runs : int, optional
+        Run budget, in [1, 100000] (default 200); the search stops there with ``smallest``
+        False.
+    onset_safe : bool, optional
+        False for joints that may slide below ``A_L``: the onset factor is run first,
+        nothing below it is searched, and no factor is called the smallest.
+
+    Returns
+    -------
+    dict
+        ``first_collapse`` (the lowest collapsing factor found, None if none up to
+        ``max_factor``; ``first_overturning``: a deprecated alias with the same value),
+        ``smallest`` (no collapsing window wider than ``resolution`` lies below it),
+        ``collapse`` (its outcome), ``bracket`` ``[last safe factor below, first
+        collapse]``, ``safe_above`` and ``safe_factors_above`` (safe factors run above
+        it), ``resolution`` and ``resolution_reached`` (widest relative gap left below
+        it), ``none_up_to_max``, ``budget_exhausted``, ``errors`` (the undecided runs),
+        ``onset_factor``, ``max_factor``, ``runs`` and ``scan`` (every run's dict, sorted by
+        factor, with ``factor`` and ``order``, its rank in time, added).
+
+    Raises
+    ------
+    InputError
+        ``onset``, ``resolution``, ``max_factor`` or ``max_runs`` out of range.
+
+    See Also
+    --------
+    fembeam.studies.collapse.collapse_scale : the search for a member and a ground motion.
+
+    Examples
+    --------
+    A stand-in for the member that collapses between factors 1.9 and 2.1 and from 3 up
+    (a rocking member's safe set can have such gaps):
+
+    >>> from fembeam.studies.huntfill import hunt_and_fill
+    >>> def run(f):
+    ...     return {"outcome": "overturned" if 1.9 <= f < 2.1 or f >= 3.0 else "rest"}
+    >>> out = hunt_and_fill(run, 1.0, resolution=0.05, max_factor=20.0)
+    >>> print(f"first collapse {out['first_collapse']:.4f}, smallest: {out['smallest']},",
+    ...       f"{out['runs']} runs")
+    first collapse 1.9822, smallest: True, 18 runs
+    >>> print("bracket", [round(f, 4) for f in out["bracket"]])
+    bracket [1.8892, 1.9822]
+    >>> print("safe above it:", [round(f, 4) for f in out["safe_factors_above"]])
+    safe above it: [2.4024, 2.8768]
+    """
     _check(onset, resolution, max_factor, max_runs)
     done: dict[float, dict] = {}
     undecided: list[dict] = []

@@ -3,8 +3,8 @@
 The record is the piecewise-linear signal of :class:`~fembeam.dynamics.GroundMotion` (accelerations
 in g, zero outside the samples), and each measure is exact for it:
 
-* ``pga`` (g): the largest |a| of the samples;
-* ``pgv`` (m/s): the largest |v| of ``v(t) = g * integral of a`` from rest at the first sample
+* ``pga`` (g): the largest ``|a|`` of the samples;
+* ``pgv`` (m/s): the largest ``|v|`` of ``v(t) = g * integral of a`` from rest at the first sample
   (``v`` is quadratic between samples: its values at the samples by the trapezoidal rule, and its
   extremum inside each interval where ``a`` changes sign);
 * ``sa:T`` (g): ``omega^2 max |u|`` of the linear oscillator ``u'' + 2 zeta omega u' + omega^2 u =

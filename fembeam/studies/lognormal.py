@@ -89,9 +89,57 @@ def _two_different(y: np.ndarray) -> None:
 
 
 def fit(collapsed, censored=()) -> LognormalFit:
-    """Maximum-likelihood fit of exact ``collapsed`` intensities and right-censored ones
-    (``censored``: lower bounds), in the intensity's unit (module docstring); :class:`InputError`
-    when it does not exist (fewer than two different collapsed intensities) or for bad input."""
+    """Maximum-likelihood lognormal fit of exact and right-censored collapse intensities.
+
+    ``P(collapse | IM = x) = Phi(ln(x / theta) / beta)``. Without censored samples the
+    maximum is closed-form (``ln theta`` the mean of ``ln x``, ``beta`` the 1/n standard
+    deviation); with them it is found by Newton's method (:func:`fit_censored`). The
+    likelihoods are those of :mod:`fembeam.studies.lognormal`.
+
+    Parameters
+    ----------
+    collapsed : array_like of float
+        Intensities at collapse, known exactly, in the intensity's unit (g, or m/s for
+        PGV); positive and finite, at least two different ones.
+    censored : array_like of float, optional
+        Right-censored samples: intensities (same unit) up to which no collapse was found,
+        i.e. lower bounds of the collapse intensity. None by default.
+
+    Returns
+    -------
+    LognormalFit
+        ``theta`` (median collapse intensity, the intensity's unit), ``beta`` (dispersion
+        of ``ln IM``, dimensionless), the counts of collapsed and censored samples and the
+        ``method`` (``"closed_form"`` or ``"newton"``).
+
+    Raises
+    ------
+    InputError
+        Fewer than two different collapsed intensities (the maximum does not exist), or
+        an intensity that is not a positive finite number.
+    SolverError
+        Newton's method did not converge (censored samples only).
+
+    See Also
+    --------
+    fit_interval : the fit of interval-censored samples, what a collapse search gives.
+    bootstrap : confidence intervals of ``theta`` and ``beta``.
+
+    Examples
+    --------
+    >>> from fembeam.studies.lognormal import fit
+    >>> f = fit([0.31, 0.42, 0.55, 0.38])
+    >>> print(f.method, f"theta = {f.theta:.3f} g, beta = {f.beta:.3f}")
+    closed_form theta = 0.406 g, beta = 0.206
+    >>> print(f"P(collapse at 0.4 g) = {f.probability(0.4):.3f}")
+    P(collapse at 0.4 g) = 0.471
+
+    One record that did not collapse up to 0.6 g raises the median:
+
+    >>> f = fit([0.31, 0.42, 0.55, 0.38], censored=[0.6])
+    >>> print(f.method, f"theta = {f.theta:.3f} g, beta = {f.beta:.3f}")
+    newton theta = 0.453 g, beta = 0.292
+    """
     y, c = _logs(collapsed, "collapse"), _logs(censored, "censored")
     _two_different(y)
     if c.size == 0:
@@ -273,13 +321,66 @@ def _newton_interval(lo: np.ndarray, up: np.ndarray, start: tuple[float, float] 
 
 def bootstrap(samples: list[tuple[str, float, float]], n: int = 1000, seed: int = 0, level: float = 0.9,
               design: float | None = None) -> dict:
-    """Percentile intervals at ``level`` of ``theta``, ``beta`` and, given a ``design``
-    intensity, of the margin ``theta / design`` and of the probability of collapse at it, from
-    ``n`` resamples of the groups of ``samples`` ``(group, lower, upper)`` (the intervals of
-    :func:`fit_interval`; ``upper`` inf or None: right-censored), each refitted by
-    :func:`fit_interval`.  Resamples without a fit (intervals that all share a point) are left
-    out and counted.  :class:`InputError` with fewer than two groups (every resample would be the
-    sample itself: an interval of zero width) or when no resample has a fit."""
+    """Bootstrap percentile intervals of a lognormal fragility, resampling groups.
+
+    Each of ``n`` resamples draws the groups (e.g. the components of one recording, with
+    both signs) with replacement, so that correlated samples leave or enter together, and
+    is refitted by :func:`fit_interval`. The intervals are Efron's percentile intervals of
+    the refitted values. Resamples without a fit (intervals that all share a point) are
+    left out and counted.
+
+    Parameters
+    ----------
+    samples : sequence of (str, float, float or None)
+        ``(group, lower, upper)``: the collapse intensity of each sample lies in
+        ``[lower, upper]`` (the intensity's unit: g, or m/s for PGV); ``upper`` inf or
+        None: right-censored at ``lower``; ``lower == upper``: known exactly.
+    n : int, optional
+        Resamples, in [10, 100000] (default 1000).
+    seed : int, optional
+        Seed of the resampling (default 0): the same seed gives the same intervals.
+    level : float, optional
+        Confidence level of the intervals, in [0.5, 1) (default 0.9: the 5 % and 95 %
+        percentiles).
+    design : float, optional
+        A design intensity (the intensity's unit, > 0): the intervals of the collapse
+        margin ratio ``theta / design`` and of the probability of collapse there are added.
+
+    Returns
+    -------
+    dict
+        ``theta`` and ``beta`` (each ``[low, high]``; ``theta`` in the intensity's unit,
+        ``beta`` dimensionless), with ``design`` also ``margin`` and ``probability``;
+        ``resamples``, ``fitted`` and ``left_out`` (resamples without a fit), ``level``,
+        ``seed`` and ``groups`` (the number of groups).
+
+    Raises
+    ------
+    InputError
+        Fewer than two groups (every resample would be the sample itself), no resample
+        with a fit, or bad input (``n``, ``level``, ``design`` or an interval out of range).
+
+    See Also
+    --------
+    fit_interval : the fit of each resample.
+
+    Examples
+    --------
+    Three recordings of two components each; one component did not collapse up to 0.48 g:
+
+    >>> from fembeam.studies.lognormal import bootstrap
+    >>> samples = [("A", 0.30, 0.33), ("A", 0.35, 0.38), ("B", 0.41, 0.45),
+    ...            ("B", 0.48, None), ("C", 0.25, 0.28), ("C", 0.36, 0.40)]
+    >>> out = bootstrap(samples, n=200, seed=1, design=0.3)
+    >>> print(out["groups"], out["fitted"], "of", out["resamples"], "resamples fitted")
+    3 200 of 200 resamples fitted
+    >>> lo, hi = out["theta"]
+    >>> print(f"theta in [{lo:.3f}, {hi:.3f}] g at 90 %")
+    theta in [0.324, 0.431] g at 90 %
+    >>> lo, hi = out["probability"]
+    >>> print(f"P(collapse at 0.3 g) in [{lo:.3f}, {hi:.3f}]")
+    P(collapse at 0.3 g) in [0.037, 0.306]
+    """
     if isinstance(n, bool) or not isinstance(n, int) or not 10 <= n <= 100_000:
         raise InputError(f"the bootstrap needs 10 to 100000 resamples, got {n!r}")
     if not (isinstance(level, (int, float)) and 0.5 <= level < 1):

@@ -5,7 +5,7 @@ dt, friction, backend)`` of a runner: a callable ``runner(ground, t_end)`` retur
 
 * ``outcome``: the model's own (``rest``, ``survived``, ``overturned``, ``collapsed_by_sliding``, or
   ``solver_error`` with the message in ``error`` when a solve fails its check);
-* ``peak_rotation``: the largest |rotation| of any piece over the run (rad), the damage measure of
+* ``peak_rotation``: the largest ``|rotation|`` of any piece over the run (rad), the damage measure of
   the IDA curves (at overturning, the rotation reached when the run stopped);
 * ``steps``: time steps taken (0 for ``rock``, which integrates its one degree of freedom with
   adaptive steps).
@@ -288,8 +288,68 @@ def check_model(model: str, dt: float | None = None, friction: float | None = No
 
 def runner(model: str, curve: MidCurve, *, voussoirs: int | None, elements: int, thresholds, dt: float | None,
            friction: float | None = None, backend: str = "clarabel") -> Callable[[GroundMotion, float | None], dict]:
-    """The runner of ``model`` (see the module docstring); a failed solve becomes the outcome
-    ``solver_error``, bad input still raises."""
+    """The function that runs a member under a ground motion with ``model``, for a search.
+
+    The model is built once (a :class:`~fembeam.dynamics.Rocker`, or this worker
+    thread's :class:`~fembeam.simulation.Simulator` or :class:`~fembeam.auto.AutoModel`)
+    and reused by every call. The models and what their runners return are described in
+    :mod:`fembeam.studies.models`.
+
+    Parameters
+    ----------
+    model : {"rock", "simulate", "auto"}
+        The model (a name of :data:`RUNNERS`): one mechanism between impacts, the
+        multi-block simulation, or the first until its mechanism fails, then the second.
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    voussoirs : int or None
+        Discrete arch of this many voussoirs; None: the continuous member on ``elements``.
+    elements : int
+        Rigid elements of the continuous member (with ``voussoirs`` None).
+    thresholds : sequence of float
+        ``[A_L(+1), A_L(-1)]`` (g), the onset thresholds of the limit analysis
+        (``simulate`` and ``auto``; ``rock`` finds its own).
+    dt : float or None
+        Time step of ``simulate`` and ``auto`` (s); None for ``rock``.
+    friction : float, optional
+        Coulomb coefficient of the joints (``simulate`` and ``auto``); None or ``math.inf``:
+        joints that never slide (default).
+    backend : str, optional
+        Solver of the impact QP of ``rock`` (default ``"clarabel"``).
+
+    Returns
+    -------
+    callable
+        ``run(ground, t_end)``: runs the member under ``ground`` (a
+        :class:`~fembeam.dynamics.GroundMotion`, g, positive along ``+x``) to ``t_end``
+        (s; None: the model's default) and returns a dict with ``outcome`` (``"rest"``,
+        ``"survived"``, ``"overturned"``, ``"collapsed_by_sliding"``, or
+        ``"solver_error"`` with the message in ``error``: a failed solve is an outcome,
+        not an exception), ``peak_rotation`` (rad, the largest of any piece) and
+        ``steps`` (time steps of ``simulate``; 0 for the others).
+
+    Raises
+    ------
+    KeyError
+        ``model`` is not a name of :data:`RUNNERS` (:func:`check_model` says so in words).
+    InputError
+        Bad input when the model is built; bad input of a run raises from ``run``.
+
+    Examples
+    --------
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.models import runner
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> A_L = fembeam.analyze(arch, voussoirs=12).A_L        # g, the same both ways
+    >>> run = runner("rock", arch, voussoirs=12, elements=200, thresholds=[A_L, A_L],
+    ...              dt=None)
+    >>> for amplitude in (0.4, 0.8):
+    ...     out = run(GroundMotion.sine(amplitude, 0.5), 3.0)
+    ...     print(f"{amplitude} g:", out["outcome"], f"{out['peak_rotation']:.4f} rad")
+    0.4 g: rest 0.0025 rad
+    0.8 g: overturned 0.4837 rad
+    """
     make = RUNNERS[model]
     run = make(curve, voussoirs=voussoirs, elements=elements, thresholds=thresholds, dt=dt, friction=friction,
                backend=backend)

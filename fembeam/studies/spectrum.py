@@ -237,10 +237,69 @@ def _pulse_of(kind: str, period: float, amplitude: float) -> GroundMotion:
 
 @dataclass
 class SpectrumResult:
-    """Rows per period (``period`` s: the duration for rect pulses; ``first_collapse`` (and its
-    deprecated alias ``first_overturning``),
-    ``bracket`` in g, ``safe_above``, ``runs``, the scan); ``A_L`` (g) both ways; ``onset`` (g):
-    the amplitude at which the pulse first moves the member."""
+    """What :func:`spectrum` found: the overturning amplitude of each pulse period.
+
+    :meth:`to_dict` is its JSON, :meth:`csv_rows` its CSV table. Amplitudes are in g,
+    positive along ``+x`` (see :mod:`fembeam.studies.spectrum` for the sign convention).
+
+    Attributes
+    ----------
+    kind : {"rect", "sine", "ricker"}
+        The pulse.
+    sign : {1, -1}
+        The pulse as defined (+1: positive first) or its mirror image (-1).
+    rows : list of dict
+        One per period: ``period`` (s; the duration of rect pulses), ``first_collapse``
+        (g: the smallest amplitude found to overturn, the upper end of ``bracket``; None
+        if none up to the grid's largest; ``first_overturning``: a deprecated alias with
+        the same value), ``bracket`` ``[safe, overturning]`` (g), ``converged``,
+        ``safe_above`` and ``safe_amplitudes_above`` (g: scanned amplitudes above the
+        first overturning one that do not overturn), ``collapse`` (the outcome at the
+        upper end), ``runs``, ``scan`` and ``bisection`` (amplitude and outcome of each
+        decision), ``errors``, ``t_end`` (s) and ``time_s``.
+    A_L : dict
+        ``A_L`` (g) of the member both ways, keys ``1`` and ``-1``.
+    onset : float
+        The amplitude (g) at which the pulse first moves the member (NaN when it cannot
+        stand).
+    amplitudes : list of float
+        The scanned grid (g).
+    geometry : dict
+        The member's description (its ``describe()``: shape and dimensions in m).
+    settings : dict
+        Model, mesh, solver, tolerances, grid and executor.
+    wall_time : float
+        Wall time of the study (s).
+    timing : dict
+        Wall and CPU time (s), runs (and time steps of ``simulate``).
+    model : {"rock", "simulate", "auto"}
+        The model of each run.
+    outcome : {"computed", "cannot_stand"}
+        ``"cannot_stand"``: the member does not stand under its own weight (rows without
+        runs).
+
+    Examples
+    --------
+    One period, three amplitudes (g) given, a coarse bisection:
+
+    >>> import fembeam
+    >>> from fembeam.studies.spectrum import spectrum
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = spectrum(arch, "sine", [0.5], voussoirs=12, amplitudes=[0.4, 0.5, 0.6],
+    ...                bisect_tol=0.05, t_end_factor=5.0, workers=1, progress=False)
+    >>> row = res.rows[0]
+    >>> for step in row["scan"] + row["bisection"]:
+    ...     print(f"{step['amplitude']:.4f} g: {step['outcome']}")
+    0.4000 g: below_barrier
+    0.5000 g: overturned
+    0.6000 g: overturned
+    0.4500 g: below_barrier
+    0.4750 g: overturned
+    0.4625 g: below_barrier
+    >>> csv = res.csv_rows()[0]
+    >>> print(csv["period_s"], csv["first_collapse_g"], csv["outcome"])
+    0.5 0.475 overturns
+    """
 
     kind: str
     sign: int
@@ -331,20 +390,102 @@ def spectrum(curve: MidCurve, kind: str, periods: Sequence[float], voussoirs: in
              *, sign: int = 1, backend: str = "clarabel", n_amplitudes: int = N_GRID,
              span: float = AMPLITUDE_SPAN, journal: Journal | None = None, model: str = "rock",
              dt: float | None = None, friction: float | None = None) -> SpectrumResult:
-    """Overturning amplitude (g) of ``curve`` under ``kind`` pulses for each of ``periods`` (s;
-    durations for rect).  Default grid: ``n_amplitudes`` geometric points from the onset
-    amplitude (``A_L`` of the direction the pulse loads first) to ``span`` times it.  Each run
-    lasts to the end of the pulse + ``t_end_factor sqrt(L/g)``.  Bad input raises
-    :class:`InputError` before any run; a member that cannot stand is an answer (``outcome``
-    ``"cannot_stand"``: a row per period, without runs).
-    ``journal``: finished periods are kept there and taken from there (an interrupted
-    spectrum resumes; :class:`~fembeam.studies.parallel.Journal`; the tasks' keys hold the model
-    and its ``dt`` and ``friction``, so a journal of one model is never read for another).
+    """Overturning spectrum: the smallest pulse amplitude that overturns, per period.
 
-    ``model="simulate"``: each run is the multi-block simulation (:class:`MultiBody`) with time
-    step ``dt`` (s, default ``fembeam.studies.runs.DT``, 1e-3 s) and Coulomb coefficient ``friction`` (default None: no
-    sliding); collapse by sliding counts as overturning.  ``dt`` and ``friction`` with
-    ``model="rock"`` are an :class:`InputError`."""
+    For each period the whole amplitude grid is scanned (the safe set is not an interval in
+    general: a larger pulse can reverse the motion in time), the first amplitude that
+    overturns is bisected against the safe one below it, and the safe amplitudes above it
+    are reported. The search, its shortcuts and the sign convention are those of
+    :mod:`fembeam.studies.spectrum`. One task per period, on local processes or Dask.
+
+    Parameters
+    ----------
+    curve : MidCurve
+        The member (lengths in m, density in kg/m^3).
+    kind : {"rect", "sine", "ricker"}
+        The pulse.
+    periods : sequence of float
+        Pulse periods (s; durations of rect pulses), within
+        :data:`~fembeam.dynamics.ground.PERIOD_RANGE`.
+    voussoirs : int, optional
+        Discrete arch of this many voussoirs; otherwise the continuous member on
+        ``elements`` rigid elements (default 200).
+    elements : int, optional
+        See ``voussoirs``.
+    amplitudes : sequence of float, optional
+        The scanned amplitudes (g, > 0, increasing). Default: ``n_amplitudes`` geometric
+        points from the onset amplitude (``A_L`` of the direction the pulse loads first) to
+        ``span`` times it.
+    workers : int, optional
+        Local worker processes (default: the cores this process may use; 1 runs in this
+        process).
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address or client, instead of local processes.
+    progress : bool, optional
+        A progress bar on stderr, when it is a terminal (default True).
+    bisect_tol : float, optional
+        Relative width of the final bracket, in (0, 0.1] (default 1e-3).
+    t_end_factor : float, optional
+        Each run lasts to the end of the pulse plus ``t_end_factor sqrt(L/g)`` (default
+        20), in (0, 1000].
+    sign : {1, -1}, optional
+        The pulse as defined (positive first: it loads the member to the left, against
+        ``A_L(-1)``) or its mirror image.
+    backend : str, optional
+        Solver of the impact QP (default ``"clarabel"``).
+    n_amplitudes : int, optional
+        Points of the default grid (default 40).
+    span : float, optional
+        Largest amplitude of the default grid over the onset amplitude (> 1, default 10).
+    journal : Journal, optional
+        Finished periods are kept there and taken from there
+        (:class:`~fembeam.studies.parallel.Journal`): an interrupted spectrum resumes. The
+        tasks' keys hold the model and its ``dt`` and ``friction``.
+    model : {"rock", "simulate", "auto"}, optional
+        The model of each run (default ``"rock"``); with ``"simulate"``
+        (:class:`~fembeam.studies.models.MultiBody`) a collapse by sliding counts as
+        overturning.
+    dt : float, optional
+        Time step of ``simulate`` and ``auto`` (s, default 1e-3).
+    friction : float, optional
+        Coulomb coefficient of the joints of ``simulate`` and ``auto`` (default None: no
+        sliding).
+
+    Returns
+    -------
+    SpectrumResult
+        One row per period; a member that cannot stand is an answer (``outcome``
+        ``"cannot_stand"``, rows without runs), not an exception.
+
+    Raises
+    ------
+    InputError
+        Bad input, before any run: an unknown pulse, a period out of range, a bad grid or
+        tolerance, too many scanned cases, ``dt`` or ``friction`` with ``model="rock"``, or
+        a member that no pulse can set moving.
+
+    See Also
+    --------
+    overturning_amplitude : the search of one period.
+
+    Examples
+    --------
+    Sine pulses of periods 0.5 s and 1 s on the paper's arch of 12 voussoirs, a coarse
+    grid from the onset (``A_L``, 0.3593 g) to three times it:
+
+    >>> import fembeam
+    >>> from fembeam.studies.spectrum import spectrum
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = spectrum(arch, "sine", [0.5, 1.0], voussoirs=12, n_amplitudes=6, span=3.0,
+    ...                bisect_tol=0.01, t_end_factor=5.0, workers=1, progress=False)
+    >>> print(f"onset {res.onset:.4f} g")
+    onset 0.3593 g
+    >>> for row in res.rows:
+    ...     lo, hi = row["bracket"]
+    ...     print(f"T = {row['period']} s: overturns from {hi:.3f} g (safe at {lo:.3f} g)")
+    T = 0.5 s: overturns from 0.475 g (safe at 0.472 g)
+    T = 1.0 s: overturns from 0.414 g (safe at 0.412 g)
+    """
     dt, friction = check_model(model, dt, friction)
     ps = _check_spectrum(kind, periods, voussoirs, elements, amplitudes, bisect_tol, t_end_factor, sign,
                          n_amplitudes, span)

@@ -200,9 +200,57 @@ def envelope_case(embrace_deg: float, elements: int = DEFAULT_ELEMENTS, tmin_ele
 
 @dataclass
 class SweepResult:
-    """Cases (``kind = "case"``) and envelope points (``kind = "envelope"``).  ``embrace``
-    and ``t_over_r``: the grid's ``a`` and ``b`` values (rise/span and t/span for a
-    ``shape`` other than the circle)."""
+    """What :func:`sweep` found: every case of the grid and the minimum-thickness envelope.
+
+    :meth:`to_dict` is its JSON, :meth:`csv_rows` its CSV table (envelope points first).
+    The keys of ``a`` and ``b`` in the rows are those of the :attr:`family`:
+    ``embrace_deg`` and ``t_over_R`` for circular arches, ``rise_over_span`` and
+    ``t_over_span`` for the other shapes.
+
+    Attributes
+    ----------
+    embrace : list of float
+        The grid's ``a`` values: embrace angles beta (deg) of circular arches, rise/span of
+        another ``shape``.
+    t_over_r : list of float
+        The grid's ``b`` values: t/R, or t/span of another ``shape``.
+    cases : list of dict
+        One per ``(a, b)`` (``kind = "case"``): ``outcome`` (``"rocking"``,
+        ``"arrested"``, ``"cannot_stand"``, ``"no_mechanism"`` or ``"solver_error"``
+        with the message in ``error``), ``A_L`` and ``A_L_mesh`` (g), ``r``, the minimum
+        thickness of an arch that cannot stand (``t_min_over_R`` or ``t_min_over_span``),
+        the hinges before and after the impact (deg from the left springing), residuals
+        and times (s).
+    envelope : list of dict
+        One per ``a`` of the envelope (``kind = "envelope"``): the minimum thickness
+        (``t_min_over_R`` or ``t_min_over_span``; 0 for ``"stands_at_any_thickness"``,
+        None for ``"never_stands"``) and the case just above it, at ``t_min (1 +
+        above)``.
+    settings : dict
+        Mesh, solver, direction, envelope settings, fill and executor.
+    wall_time : float
+        Wall time of the sweep (s).
+    timing : dict
+        CPU time (s) of the cases, the envelope, and their LP, hinge refinement and QP.
+    shape : str
+        ``"circular"``, ``"pointed"``, ``"elliptical"``, ``"parabolic"`` or
+        ``"catenary"``.
+    family : Family
+        The arches of the sweep: the keys and labels of ``a`` and ``b``.
+
+    Examples
+    --------
+    >>> from fembeam.studies import sweep
+    >>> res = sweep([160.0], [0.12, 0.15], elements=40, envelope=False, workers=1,
+    ...             progress=False)
+    >>> print(res.outcomes(), res.family.a_label, res.family.b_label)
+    {'rocking': 2} beta t/R
+    >>> print(f"r = {res.case(160.0, 0.15)['r']:.4f}")
+    r = 0.6217
+    >>> row = res.csv_rows()[0]
+    >>> print(row["kind"], row["embrace_deg"], row["t_over_R"], row["hinges_before_side"])
+    case 160.0 0.12 intrados;extrados;intrados;extrados
+    """
 
     embrace: list[float]
     t_over_r: list[float]
@@ -215,6 +263,7 @@ class SweepResult:
 
     @property
     def family(self) -> Family:
+        """The arches of the sweep: the keys and labels of ``a`` and ``b``."""
         return family(self.shape)
 
     def case(self, embrace_deg: float, t_over_r: float) -> dict:
@@ -226,18 +275,22 @@ class SweepResult:
         raise KeyError((embrace_deg, t_over_r))
 
     def outcomes(self) -> dict:
+        """The number of cases of each outcome."""
         out: dict = {}
         for c in self.cases:
             out[c["outcome"]] = out.get(c["outcome"], 0) + 1
         return out
 
     def to_dict(self) -> dict:
+        """The sweep as JSON: grid, settings, outcomes, cases, envelope and timing."""
         fam = self.family
         return {"study": "sweep", **fam.ident, fam.a_key: self.embrace, fam.b_key: self.t_over_r,
                 "settings": self.settings, "outcomes": self.outcomes(), "cases": self.cases,
                 "envelope": self.envelope, "wall_time_s": round(self.wall_time, 3), "timing_s": self.timing}
 
     def csv_rows(self) -> list[dict]:
+        """Flat rows for CSV, the envelope points first: hinge lists as ``;``-separated
+        angles (deg) and sides."""
         fam = self.family
         cols = ["kind", *fam.ident, fam.a_key, fam.b_key, "outcome", "r", "A_L", "A_L_mesh", fam.tmin_key,
                 "hinges_before_deg", "hinges_before_side", "hinges_after_deg", "hinges_after_side",
@@ -259,13 +312,91 @@ def sweep(embrace: list[float], t_over_r: list[float], elements: int = DEFAULT_E
           tmin_elements: int = 400, tmin_tol: float = 1e-6, above: float = 1e-3, workers: int | None = None,
           scheduler=None, progress: bool = True, shape: str = "circular", journal: Journal | None = None,
           fill=None) -> SweepResult:
-    """Every (beta, t/R) case plus, per beta of ``envelope_embrace`` (default
-    ``embrace``), the minimum-thickness envelope point; see the module docstring.  For a
-    ``shape`` other than the circle the values are rise/span and t/span (:func:`sweep_shape`).
-    ``journal``: finished cases are kept there and taken from there
-    (:class:`~fembeam.studies.parallel.Journal`: an interrupted sweep resumes).  ``fill``:
-    ``(density, depth)`` of a fill on every arch (kg/m^3, m above the crown's extrados; the
-    arches have a radius of 1 m, or a span of 1 m)."""
+    """Parametric study of arches (the paper's Fig. 13): ``r`` against the thickness.
+
+    Every ``(beta, t/R)`` case is one :func:`~fembeam.analyze` run of the continuous arch
+    (hinges refined) whose outcome is always reported; per beta of ``envelope_embrace`` the
+    minimum thickness ``t_min`` and the case just above it form the envelope. A_L, r and the
+    ratios do not depend on the scale: the arches have a radius (or a span) of 1 m. The
+    cases run in parallel, the envelope first; see :ref:`the sweep module <module-sweep>`.
+
+    Parameters
+    ----------
+    embrace : list of float
+        Embrace angles beta (deg) of circular arches; rise/span of another ``shape``.
+    t_over_r : list of float
+        Thickness ratios t/R; t/span of another ``shape`` (constant thickness).
+    elements : int, optional
+        Rigid elements of each arch (default
+        :data:`~fembeam.analysis.sizes.DEFAULT_ELEMENTS`).
+    backend : str, optional
+        Solver of the impact QP.
+    direction : {1, -1}, optional
+        Direction of the inertia load (+1: along ``+x``, a ground acceleration towards
+        ``-x``).
+    envelope : bool, optional
+        Compute the minimum-thickness envelope (default True).
+    envelope_embrace : list of float, optional
+        The ``a`` values of the envelope (default ``embrace``).
+    tmin_elements : int, optional
+        Elements of the minimum-thickness bisection (default 400).
+    tmin_tol : float, optional
+        Relative tolerance of ``t_min`` (default 1e-6).
+    above : float, optional
+        The envelope's case is at ``t_min (1 + above)`` (default 1e-3).
+    workers : int, optional
+        Local worker processes (default: the cores this process may use; 1 runs in this
+        process).
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address (``"tcp://host:8786"``) or client, instead of local
+        processes.
+    progress : bool, optional
+        A progress bar on stderr, when it is a terminal (default True).
+    shape : {"circular", "pointed", "elliptical", "parabolic", "catenary"}, optional
+        The arches (default ``"circular"``); the other shapes have a span of 1 m, rise
+        ``a`` and thickness ``b`` (m), as :func:`sweep_shape`.
+    journal : Journal, optional
+        Finished cases are kept there and taken from there
+        (:class:`~fembeam.studies.parallel.Journal`): an interrupted sweep resumes.
+    fill : tuple of (float, float), optional
+        ``(density, depth)`` of a fill on every arch: kg/m^3, and m from the crown's
+        extrados to the road.
+
+    Returns
+    -------
+    SweepResult
+        The cases and the envelope points; a case that fails to solve is a
+        ``"solver_error"`` row, not an exception.
+
+    Raises
+    ------
+    InputError
+        More than 100000 cases, or an arch of the grid that cannot be built (raised
+        before any run).
+
+    See Also
+    --------
+    sweep_case : one case.
+
+    Examples
+    --------
+    Two embrace angles and two thicknesses, the envelope of the first only:
+
+    >>> from fembeam.studies import sweep
+    >>> res = sweep([160.0, 140.0], [0.12, 0.15], elements=40, envelope_embrace=[160.0],
+    ...             tmin_elements=80, workers=1, progress=False)
+    >>> for c in res.cases:
+    ...     print(f"beta {c['embrace_deg']:g} deg, t/R {c['t_over_R']:.2f}:", c["outcome"],
+    ...           f"A_L = {c['A_L']:.4f} g, r = {c['r']:.4f}")
+    beta 160 deg, t/R 0.12: rocking A_L = 0.2243 g, r = 0.7036
+    beta 160 deg, t/R 0.15: rocking A_L = 0.3290 g, r = 0.6217
+    beta 140 deg, t/R 0.12: rocking A_L = 0.4213 g, r = 0.5843
+    beta 140 deg, t/R 0.15: rocking A_L = 0.5532 g, r = 0.4209
+    >>> e = res.envelope[0]
+    >>> print(f"beta 160 deg: t_min/R = {e['t_min_over_R']:.4f},",
+    ...       f"r just above = {e['r']:.4f}")
+    beta 160 deg: t_min/R = 0.0687, r just above = 0.8067
+    """
     fam = family(shape)
     n_cases = len(embrace) * len(t_over_r) + (len(envelope_embrace or embrace) if envelope else 0)
     if n_cases > MAX_CASES:
