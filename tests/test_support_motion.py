@@ -67,6 +67,48 @@ def test_rigid_translation_is_a_ground_motion(engine, member):
     assert np.allclose(a.history["support_displacement"], r * ta)
 
 
+@pytest.mark.parametrize("engine", ["compiled", "reference"])
+@pytest.mark.parametrize("direction", [(1.0, 0.0), (0.0, 1.0), (0.6, -0.8)])
+def test_rigid_translation_with_the_supports_is_exact(engine, direction):
+    """Both supports moved together at a constant rate ``r`` with the arch already moving at
+    ``r`` (``v0``): a rigid translation, which the time stepping must follow exactly (Galilean
+    invariance): every body at its place at rest plus ``r t`` along the direction and unrotated
+    to round-off, no hinge, and the forces on the supports those of the arch at rest with the
+    supports held: ``H_left = H_right`` and ``V_left + V_right`` = the weight to round-off, and
+    ``H`` the at-rest thrust (statically indeterminate: the contact problem fixes it to its
+    tolerance, and it wanders by a few 1e-6 of itself at rest too)."""
+    dt, r, T = 2e-3, 0.05, 0.3
+    sim = Simulator(CircularArch(), voussoirs=5)
+    n = sim.bodies.n
+    weight = sim.bodies.mass * GRAVITY / 1e3                     # kN/m
+    held = SupportMotion("rigid", (0.0, 0.0), (0.0, 0.0), r)     # the supports held: at rest
+    rest = sim.run(STILL, dt=dt, t_end=T, dt_out=0.02, engine=engine, support_motion=held)
+    mo = SupportMotion.rigid(direction, r)
+    u = np.array(mo.left)
+    v0 = np.zeros((n + 1, 3))
+    v0[:n, :2] = r * u
+    a = sim.run(STILL, dt=dt, t_end=T, dt_out=0.02, engine=engine, support_motion=mo, v0=v0)
+    assert a.steps == rest.steps == round(T / dt) and a.cut_steps == 0
+    t = np.asarray(a.history["t"])
+    P = np.array(a.positions)
+    moved = P - sim.bodies.rest_state()[None, :n]
+    moved[..., :2] -= r * t[:, None, None] * u
+    assert np.max(np.abs(moved)) < 1e-14                       # m and rad: no relative motion
+    assert np.max(a.history["max_rotation"]) < 1e-14 and np.max(a.history["hinges"]) == 0
+    assert np.allclose(a.history["support_displacement"], r * t, rtol=0, atol=1e-15)
+    assert np.allclose(a.support_q_end, r * T * np.array([u, u]), rtol=0, atol=1e-14)
+    assert a.energy_balance_error < 1e-9
+    h, h0 = ({k: np.asarray(x.history[k])[1:] for k in ("H_left", "H_right", "V_left", "V_right")}
+             for x in (a, rest))                               # row 0: no interval yet
+    H0 = float(np.mean(h0["H_left"]))
+    assert H0 > 1.0
+    for x in (h, h0):
+        assert np.max(np.abs(x["H_left"] - x["H_right"])) < 1e-10 * H0
+        assert np.max(np.abs(x["V_left"] + x["V_right"] - weight)) < 1e-10 * weight
+        assert np.max(np.abs(x["H_left"] - H0)) < 1e-5 * H0
+        assert np.max(np.abs(x["V_left"] - weight / 2)) < 1e-5 * weight
+
+
 def test_engines_agree_under_spreading():
     """The compiled loop and the NumPy reference: the same motion and forces on the supports."""
     sim = Simulator(CircularArch(), voussoirs=5)
