@@ -192,6 +192,10 @@ def _cli(*argv):
     ["--support-motion", "spread", "--support-rate", "0.1", "--support-left"],
     ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--support-rate", "0.1"],
     ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--support-motion", "spread", "--support-rate", "1"],
+    ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--thrust-plot", "thrust.png"],
+    ["--support-motion", "spread", "--support-rate", "0.1", "--thrust-plot", "thrust.txt"],
+    ["--support-motion", "spread", "--support-rate", "0.1", "--thrust-plot", "/no/such/folder/thrust.png"],
+    ["--support-motion", "spread", "--support-rate", "0.1", "--thrust-plot", "same.png", "--plot", "same.png"],
 ])
 def test_cli_bad_input(argv):
     p = _cli("--voussoirs", "5", *argv)
@@ -209,3 +213,39 @@ def test_cli_json():
     assert set(SUPPORT_COLUMNS) <= set(d["history"])
     assert d["history"]["support_displacement"][-1] == pytest.approx(0.01)
     assert d["history"]["H_left"][-1] > 1.0 and d["units"]["history.H_left"] == "kN/m"
+
+
+def test_cli_thrust_plot(tmp_path):
+    """``--thrust-plot``: the forces on the supports against their displacement over the
+    quasi-static path, written as a PNG and named in the text answer."""
+    out = tmp_path / "thrust.png"
+    p = _cli("--voussoirs", "5", "--support-motion", "spread", "--support-rate", "0.05", "--support-up-to", "0.01",
+             "--t-end", "0.3", "--dt", "2e-3", "--thrust-plot", str(out))
+    assert p.returncode == 0, p.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 10_000
+    line = [x for x in p.stdout.splitlines() if "thrust figure" in x]
+    assert line == [f"  thrust figure: {out} (over the quasi-static path)"]
+
+
+def test_thrust_figure_paths():
+    """The quasi-static path of the figure: the movement of the simulation up to 1.1 times its
+    largest displacement; none for a rigid translation of both supports."""
+    from fembeam.cli.simulate import quasi_static
+    from fembeam.output.supports import support_thrust_figure
+    arch = CircularArch()
+    sim = Simulator(arch, voussoirs=5)
+    a = sim.run(STILL, dt=2e-3, t_end=0.3, dt_out=0.02, support_motion=SupportMotion.of("settle", 0.05, left=True,
+                                                                                          up_to=0.01))
+    qs, note = quasi_static(a, arch, 5, None)
+    assert note is None and qs.movement == Movement.of("settle", left=True)
+    assert qs.outcome == "reached_up_to" and qs.path[-1][0] == pytest.approx(0.011)
+    fig = support_thrust_figure(a, qs)
+    assert len(fig.axes) == 2 and len(fig.axes[0].lines) == 3
+    b = sim.run(STILL, dt=2e-3, t_end=0.1, dt_out=0.02, support_motion=SupportMotion.rigid((1.0, 0.0), 0.05))
+    qs, note = quasi_static(b, arch, 5, None)
+    assert qs is None and "together" in note
+    support_thrust_figure(b, None, note)
+    with pytest.raises(ValueError):
+        support_thrust_figure(sim.run(STILL, dt=2e-3, t_end=0.1))
+    import matplotlib.pyplot as plt
+    plt.close("all")
