@@ -321,8 +321,6 @@ plot_supports(settle, "settle.png", dpi=100)
 #          pieces form a mechanism on which gravity does positive work
 #      at collapse: H = 21.5589 kN/m, V left 29.5461 kN/m, V right 48.2956 kN/m
 #      wrote figure: settle.png
-#    $ fembeam simulate --midcurve survey.csv --voussoirs 13 --support-motion settle \
-#          --support-rate 0.01 --t-end 200 --thrust-plot thrust.png
 
 # %%
 # The same on the command line
@@ -345,6 +343,8 @@ plot_supports(settle, "settle.png", dpi=100)
 #    fembeam collapse-scale $ARCH --record elcentro --model rock
 #    fembeam collapse-scale $ARCH --record elcentro --model simulate
 #    fembeam supports $ARCH --settle --plot settle.png
+#    fembeam simulate $ARCH --support-motion settle --support-rate 0.01 --t-end 200 \
+#        --thrust-plot thrust.png
 #    fembeam report --quick --out-dir record/verification
 #
 # ``fembeam assess`` runs steps 2 to 4 in one command and writes them on one page
