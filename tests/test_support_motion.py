@@ -67,6 +67,48 @@ def test_rigid_translation_is_a_ground_motion(engine, member):
     assert np.allclose(a.history["support_displacement"], r * ta)
 
 
+@pytest.mark.parametrize("engine", ["compiled", "reference"])
+@pytest.mark.parametrize("direction", [(1.0, 0.0), (0.0, 1.0), (0.6, -0.8)])
+def test_rigid_translation_with_the_supports_is_exact(engine, direction):
+    """Both supports moved together at a constant rate ``r`` with the arch already moving at
+    ``r`` (``v0``): a rigid translation, which the time stepping must follow exactly (Galilean
+    invariance): every body at its place at rest plus ``r t`` along the direction and unrotated
+    to round-off, no hinge, and the forces on the supports those of the arch at rest with the
+    supports held: ``H_left = H_right`` and ``V_left + V_right`` = the weight to round-off, and
+    ``H`` the at-rest thrust (statically indeterminate: the contact problem fixes it to its
+    tolerance, and it wanders by a few 1e-6 of itself at rest too)."""
+    dt, r, T = 2e-3, 0.05, 0.3
+    sim = Simulator(CircularArch(), voussoirs=5)
+    n = sim.bodies.n
+    weight = sim.bodies.mass * GRAVITY / 1e3                     # kN/m
+    held = SupportMotion("rigid", (0.0, 0.0), (0.0, 0.0), r)     # the supports held: at rest
+    rest = sim.run(STILL, dt=dt, t_end=T, dt_out=0.02, engine=engine, support_motion=held)
+    mo = SupportMotion.rigid(direction, r)
+    u = np.array(mo.left)
+    v0 = np.zeros((n + 1, 3))
+    v0[:n, :2] = r * u
+    a = sim.run(STILL, dt=dt, t_end=T, dt_out=0.02, engine=engine, support_motion=mo, v0=v0)
+    assert a.steps == rest.steps == round(T / dt) and a.cut_steps == 0
+    t = np.asarray(a.history["t"])
+    P = np.array(a.positions)
+    moved = P - sim.bodies.rest_state()[None, :n]
+    moved[..., :2] -= r * t[:, None, None] * u
+    assert np.max(np.abs(moved)) < 1e-14                       # m and rad: no relative motion
+    assert np.max(a.history["max_rotation"]) < 1e-14 and np.max(a.history["hinges"]) == 0
+    assert np.allclose(a.history["support_displacement"], r * t, rtol=0, atol=1e-15)
+    assert np.allclose(a.support_q_end, r * T * np.array([u, u]), rtol=0, atol=1e-14)
+    assert a.energy_balance_error < 1e-9
+    h, h0 = ({k: np.asarray(x.history[k])[1:] for k in ("H_left", "H_right", "V_left", "V_right")}
+             for x in (a, rest))                               # row 0: no interval yet
+    H0 = float(np.mean(h0["H_left"]))
+    assert H0 > 1.0
+    for x in (h, h0):
+        assert np.max(np.abs(x["H_left"] - x["H_right"])) < 1e-10 * H0
+        assert np.max(np.abs(x["V_left"] + x["V_right"] - weight)) < 1e-10 * weight
+        assert np.max(np.abs(x["H_left"] - H0)) < 1e-5 * H0
+        assert np.max(np.abs(x["V_left"] - weight / 2)) < 1e-5 * weight
+
+
 def test_engines_agree_under_spreading():
     """The compiled loop and the NumPy reference: the same motion and forces on the supports."""
     sim = Simulator(CircularArch(), voussoirs=5)
@@ -150,6 +192,10 @@ def _cli(*argv):
     ["--support-motion", "spread", "--support-rate", "0.1", "--support-left"],
     ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--support-rate", "0.1"],
     ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--support-motion", "spread", "--support-rate", "1"],
+    ["--pulse", "sine", "--amplitude", "0.1", "--period", "0.5", "--thrust-plot", "thrust.png"],
+    ["--support-motion", "spread", "--support-rate", "0.1", "--thrust-plot", "thrust.txt"],
+    ["--support-motion", "spread", "--support-rate", "0.1", "--thrust-plot", "/no/such/folder/thrust.png"],
+    ["--support-motion", "spread", "--support-rate", "0.1", "--thrust-plot", "same.png", "--plot", "same.png"],
 ])
 def test_cli_bad_input(argv):
     p = _cli("--voussoirs", "5", *argv)
@@ -167,3 +213,39 @@ def test_cli_json():
     assert set(SUPPORT_COLUMNS) <= set(d["history"])
     assert d["history"]["support_displacement"][-1] == pytest.approx(0.01)
     assert d["history"]["H_left"][-1] > 1.0 and d["units"]["history.H_left"] == "kN/m"
+
+
+def test_cli_thrust_plot(tmp_path):
+    """``--thrust-plot``: the forces on the supports against their displacement over the
+    quasi-static path, written as a PNG and named in the text answer."""
+    out = tmp_path / "thrust.png"
+    p = _cli("--voussoirs", "5", "--support-motion", "spread", "--support-rate", "0.05", "--support-up-to", "0.01",
+             "--t-end", "0.3", "--dt", "2e-3", "--thrust-plot", str(out))
+    assert p.returncode == 0, p.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 10_000
+    line = [x for x in p.stdout.splitlines() if "thrust figure" in x]
+    assert line == [f"  thrust figure: {out} (over the quasi-static path)"]
+
+
+def test_thrust_figure_paths():
+    """The quasi-static path of the figure: the movement of the simulation up to 1.1 times its
+    largest displacement; none for a rigid translation of both supports."""
+    from fembeam.cli.simulate import quasi_static
+    from fembeam.output.supports import support_thrust_figure
+    arch = CircularArch()
+    sim = Simulator(arch, voussoirs=5)
+    a = sim.run(STILL, dt=2e-3, t_end=0.3, dt_out=0.02, support_motion=SupportMotion.of("settle", 0.05, left=True,
+                                                                                          up_to=0.01))
+    qs, note = quasi_static(a, arch, 5, None)
+    assert note is None and qs.movement == Movement.of("settle", left=True)
+    assert qs.outcome == "reached_up_to" and qs.path[-1][0] == pytest.approx(0.011)
+    fig = support_thrust_figure(a, qs)
+    assert len(fig.axes) == 2 and len(fig.axes[0].lines) == 3
+    b = sim.run(STILL, dt=2e-3, t_end=0.1, dt_out=0.02, support_motion=SupportMotion.rigid((1.0, 0.0), 0.05))
+    qs, note = quasi_static(b, arch, 5, None)
+    assert qs is None and "together" in note
+    support_thrust_figure(b, None, note)
+    with pytest.raises(ValueError):
+        support_thrust_figure(sim.run(STILL, dt=2e-3, t_end=0.1))
+    import matplotlib.pyplot as plt
+    plt.close("all")

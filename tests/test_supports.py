@@ -140,3 +140,18 @@ def test_json_interface_and_up_to_beyond_capacity(capsys, tmp_path):
     assert set(d["path"][0]) >= {"displacement", "H", "V"}
     assert d["units"]["H"] == "kN/m" and d["units"]["capacity"] == "m"
     assert (tmp_path / "p.csv").read_text().startswith("displacement_m,H_kN_per_m")
+
+
+def test_mirror_events_at_one_displacement():
+    """A symmetric arch of thin voussoirs: the haunch hinges of both halves reach their next
+    joints at the same displacement; each snaps in turn (the other half's row at its edge is
+    the next event, not a bar to the snap), so the migrations come in mirror pairs and the
+    capacity is the continuous arch's at the same pieces (0.10480 of the span on 100)."""
+    arch = CircularArch()
+    v = supports(arch, Movement.of("spread"), voussoirs=100)
+    c = supports(arch, Movement.of("spread"), elements=100)
+    assert v.outcome == "collapsed" and len(v.migrations) % 2 == 0 and v.migrations
+    for a, b in zip(v.migrations[::2], v.migrations[1::2]):
+        assert a["displacement"] == b["displacement"] and a["joint"] + b["joint"] == 100
+    assert v.capacity_over_span == pytest.approx(0.10480, abs=1e-5)
+    assert v.capacity == pytest.approx(c.capacity, rel=1e-6)

@@ -49,8 +49,9 @@ form a mechanism under gravity alone, the arch collapses (the edge reached last 
 positive, the path goes on with four hinges (equilibrium through the four pivots imposed by
 Newton's method on closure plus stationarity) until one of the older hinges closes: the hinge
 has migrated; negative, the new hinge takes the rotation of an older one when that three-hinge
-state is admissible and lower in energy (a snap-through migration), else the arch collapses.
-On the continuous arch a hinge reaching the joint next to it on the same side rolls onto it
+state is admissible and lower in energy (a snap-through migration), else the arch collapses;
+rows at their edge at the same displacement (the mirror image of the new hinge on a symmetric
+arch) are events of their own, handled next, not a bar to the snap.  On the continuous arch a hinge reaching the joint next to it on the same side rolls onto it
 (the element between them stands for a thin slice of the continuum).  A hinge that closes
 hands the choice back to the LP on the deformed geometry.  An open hinge whose pivot force reaches zero, and three collinear pivots (the
 thrust becomes unbounded), are collapses too.
@@ -705,6 +706,7 @@ def supports(curve: MidCurve, movement: Movement, elements: int | None = None, v
     d, th, lam = 0.0, P.theta.copy(), np.zeros(3)
     prev = None
     k = 0
+    same = 0               # events in a row at one displacement (the two halves of a symmetric arch)
     while True:
         target = min(reach, (k + 1) * dstep)
         guess = th if prev is None else th + (th - prev[1]) * (target - d) / max(d - prev[0], 1e-300)
@@ -725,6 +727,9 @@ def supports(curve: MidCurve, movement: Movement, elements: int | None = None, v
                 res.capacity = dn
                 _record(res, P, dn, P.margins(dn, thn, P.side)[1], thn)
                 break
+            same = same + 1 if dn <= d + EVENT_TOL * span else 0
+            if same > 4 * ch.J:
+                raise SolverError(f"supports: the events at {dn:.6g} m do not end ({same} in a row)")
             d, th, lam, prev = dn, P.theta.copy(), P.lam.copy(), None
             continue
         prev = (d, th)
@@ -1080,6 +1085,10 @@ def _snap(P: _Path, d: float, th: np.ndarray, new: np.ndarray, j: int):
     None."""
     uL, _ = P.supports_at(d)
     V0 = P.ch.potential(th, P.side, uL)
+    # rows at their edge before the snap: events at this displacement too (the mirror image of
+    # the new hinge on a symmetric arch); the snap may pass them, they are handled next
+    r0, _ = P.margins(d, th, P.side)
+    edge = r0 <= ROW_TOL
     for a in sorted((i for i in np.flatnonzero(P.side)), key=lambda i: abs(i - j)):
         side3, guess = new.copy(), th.copy()
         side3[a] = 0
@@ -1094,7 +1103,7 @@ def _snap(P: _Path, d: float, th: np.ndarray, new: np.ndarray, j: int):
         if P.ch.potential(th3, side3, uL) > V0 + 1e-12 * P.ch.Wtot * P.ch.L:
             continue
         r, _ = P.margins(d, th3, side3)
-        if r.min() >= -ROW_TOL:
+        if np.all((r >= -ROW_TOL) | edge):
             return a, side3, th3, lam3
     return None
 

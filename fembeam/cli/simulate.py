@@ -66,6 +66,10 @@ def register(sub) -> None:
                                                       "...; with --support-motion also support_displacement (m), "
                                                       "H_left, V_left, H_right, V_right (kN/m)")
     o.add_argument("--plot", metavar="PATH.png", help="figure of a_g, rotations, open hinges and energies")
+    o.add_argument("--thrust-plot", metavar="PATH.png",
+                   help="with --support-motion: figure of H and V on the supports (kN/m) against the support "
+                        "displacement, the simulation's mean forces over the quasi-static path of fembeam supports "
+                        "(the same arch, pieces and movement)")
     o.add_argument("--vtk", metavar="PATH.pvd", help="ParaView time series of the bodies' polygons")
     o.add_argument("--gif", metavar="PATH.gif", help="animation of the moving bodies")
     o.add_argument("--frames", type=int, default=None, metavar="N",
@@ -314,10 +318,51 @@ def write_gif(res, path, frames: int = 120, fps: int = 20) -> None:
         plt.close(fig)
 
 
+def quasi_static(res, curve, voussoirs, elements):
+    """``(SupportsResult or None, note or None)``: the path of ``fembeam supports`` for the
+    movement of ``res`` (a run with a support motion) on ``curve``, the same pieces, up to 1.1
+    times the largest displacement simulated; None with the reason when there is none."""
+    from ..analysis.supports import Movement, supports
+    from ..errors import SolverError
+    mo = res.support_motion
+    if mo.kind == "rigid":
+        return None, "no quasi-static path: both supports move together (the arch does not deform)"
+    left = mo.kind != "spread" and any(mo.left)
+    mv = Movement.of(mo.kind, None if mo.kind != "move" else (mo.left if left else mo.right), left=left)
+    reach = float(np.max(res.history["support_displacement"], initial=0.0))
+    if not reach > 0:
+        return None, "no quasi-static path: the supports did not move"
+    kw = {"voussoirs": voussoirs} if voussoirs is not None else {"elements": elements}
+    try:
+        qs = supports(curve, mv, up_to=1.1 * reach, **kw)
+    except (InputError, SolverError) as e:
+        return None, f"no quasi-static path: {e}"
+    if qs.outcome == "cannot_stand":
+        return None, "no quasi-static path: the arch cannot stand at rest"
+    return qs, None
+
+
+def plot_thrust(res, path, curve, voussoirs, elements) -> str:
+    """``--thrust-plot``: the figure written; returns the line that names it."""
+    from ..output.supports import plot_support_thrust
+    qs, note = quasi_static(res, curve, voussoirs, elements)
+    plot_support_thrust(res, path, qs, note)
+    if qs is None:
+        return f"thrust figure: {path} ({note})"
+    cap = ("" if qs.capacity is None else f": capacity {qs.capacity:.6g} m")
+    return f"thrust figure: {path} (over the quasi-static path{cap})"
+
+
 def run(args) -> int:
+    from ..output.files import PLOT_SUFFIXES, check_distinct, check_output
     from ..simulation import Simulator
     from ..simulation.stepper import check_dt
     outputs = motion_outputs(args)
+    outputs["thrust_plot"] = check_output(args.thrust_plot, "--thrust-plot", PLOT_SUFFIXES)
+    check_distinct({"--csv": args.csv, "--plot": args.plot, "--vtk": args.vtk, "--gif": args.gif,
+                    "--thrust-plot": args.thrust_plot})
+    if args.thrust_plot is not None and args.support_motion is None:
+        raise InputError("--thrust-plot needs --support-motion spread|settle|DX,DY")
     for name in ("dt", "t_end", "dt_out"):
         x = getattr(args, name)
         if x is not None and not math.isfinite(x):
@@ -365,6 +410,8 @@ def run(args) -> int:
     if outputs["gif"]:
         write_gif(res, outputs["gif"], frames=args.frames or 120)
         written.append(f"animation: {outputs['gif']}")
+    if outputs["thrust_plot"]:
+        written.append(plot_thrust(res, outputs["thrust_plot"], curve, voussoirs, elements))
     if args.json:
         print(json.dumps(res.to_dict(history=args.history), allow_nan=False))
     else:

@@ -162,8 +162,9 @@ def summary(res) -> str:
         lines.append(f"  hinge migrations: {len(res.migrations)}")
         for m in res.migrations[:12]:
             frm = "" if m.get("closed_joint") is None else f" from joint {m['closed_joint']}"
+            snap = ", snap-through" if m.get("snap") else ""
             lines.append(f"    at {m['displacement']:.6g} m: joint {m['joint']} ({m['angle_deg']:.2f} deg, "
-                         f"{m['side']}){frm}")
+                         f"{m['side']}){frm}{snap}")
         if len(res.migrations) > 12:
             lines.append(f"    ... {len(res.migrations) - 12} more (--json)")
     dN, HN, VlN, VrN = res.path[-1]

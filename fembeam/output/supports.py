@@ -1,6 +1,8 @@
 """Pictures of an arch on moving supports (:mod:`fembeam.analysis.supports`): a figure of the
 arch at rest and at the end of the path with their lines of thrust and of the thrust against
-the displacement, and a ParaView series of the pieces along the path."""
+the displacement, and a ParaView series of the pieces along the path; and the figure of the
+forces on the supports of a simulation whose supports move (``simulate --support-motion``)
+against their displacement, over the quasi-static path."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -9,7 +11,7 @@ import numpy as np
 
 from .files import atomic, atomic_group, check_output
 
-__all__ = ["plot_supports", "write_pvd"]
+__all__ = ["plot_supports", "write_pvd", "support_thrust_figure", "plot_support_thrust"]
 
 
 def plot_supports(res, path, dpi: int = 150) -> Path:
@@ -81,3 +83,66 @@ def write_pvd(res, path) -> int:
         entries = [(res.frames[j][0], names[j].name) for j in range(n)]
         Path(tmps[-1]).write_text(_pvd_text(entries), encoding="utf-8")
     return n
+
+
+def support_thrust_figure(res, quasi_static=None, note: str | None = None):
+    """The forces of the arch on its supports in a simulation with a support motion
+    (:class:`~fembeam.simulation.result.SimulationResult` run with ``support_motion``) against
+    the support displacement ``D`` (m): ``H`` (kN/m, outward) of the left and right supports
+    above, ``V`` (kN/m, downward) below, each the mean force since the previous row of the
+    history; over them the quasi-static path of ``quasi_static`` (a
+    :class:`~fembeam.analysis.supports.SupportsResult` of the same movement, dashed), the
+    simulated collapse and the quasi-static capacity as vertical lines.  ``note``: a line
+    under the title (e.g. why there is no quasi-static path).  Returns the figure."""
+    from .motion import _pyplot
+
+    if res.support_motion is None:
+        raise ValueError("the simulation has no support motion: no forces on moving supports")
+    plt = _pyplot()
+    h = res.history
+    t = np.asarray(h["t"], float)
+    keep = t > res.support_t0          # the first row closes no interval: no mean force yet
+    u = np.asarray(h["support_displacement"], float)[keep]
+    fig, (aH, aV) = plt.subplots(2, 1, figsize=(7.5, 6.5), sharex=True)
+    for ax, (a, b), what in ((aH, ("H_left", "H_right"), "H"), (aV, ("V_left", "V_right"), "V")):
+        ax.plot(u, np.asarray(h[a], float)[keep], "-", color="C0", lw=1.0, label=f"{what} left, simulation")
+        ax.plot(u, np.asarray(h[b], float)[keep], "-", color="C1", lw=1.0, label=f"{what} right, simulation")
+    d_sim = res.to_dict().get("support_displacement_at_collapse")
+    if quasi_static is not None and len(quasi_static.path):
+        P = np.array(quasi_static.path, float)
+        aH.plot(P[:, 0], P[:, 1], "--", color="k", lw=1.2, label="H, quasi-static (fembeam supports)")
+        aV.plot(P[:, 0], P[:, 2], "--", color="k", lw=1.2, label="V left, quasi-static")
+        aV.plot(P[:, 0], P[:, 3], ":", color="k", lw=1.4, label="V right, quasi-static")
+        if quasi_static.capacity is not None:
+            for ax in (aH, aV):
+                ax.axvline(quasi_static.capacity, color="k", lw=0.8, ls="-.",
+                           label=f"capacity, quasi-static {quasi_static.capacity:.4g} m" if ax is aH else None)
+    if d_sim is not None:
+        for ax in (aH, aV):
+            ax.axvline(d_sim, color="C3", lw=0.8,
+                       label=f"collapse, simulation {d_sim:.4g} m" if ax is aH else None)
+    aH.set_ylabel("H on the support [kN/m]")
+    aV.set_ylabel("V on the support [kN/m]")
+    aV.set_xlabel("support displacement D [m]")
+    aH.legend(fontsize=7, loc="best")
+    aV.legend(fontsize=7, loc="best")
+    mo = res.support_motion
+    title = f"fembeam simulate: supports moved ({mo.kind}, {mo.rate:g} m/s): {res.outcome}"
+    fig.suptitle(title if note is None else f"{title}\n{note}", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_support_thrust(res, path, quasi_static=None, note: str | None = None, dpi: int = 120) -> Path:
+    """:func:`support_thrust_figure` written atomically to ``path`` (.png, .pdf or .svg);
+    returns the path."""
+    from .motion import _pyplot
+
+    p = Path(path)
+    fig = support_thrust_figure(res, quasi_static, note)
+    try:
+        with atomic(p) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=p.suffix.lstrip(".") or "png")
+    finally:
+        _pyplot().close(fig)
+    return p

@@ -211,6 +211,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
                cut_steps=cuts, pivots=pivots, time=time.perf_counter() - clock)
     if motion is not None:
         support_history(res, motion, t0, F_rows)
+        res.support_q_end = q[-2:, :2].copy()
     return res
 
 
