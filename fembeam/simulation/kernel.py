@@ -43,11 +43,24 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
 
 3. **The loop** (:func:`advance`) runs the steps of :mod:`.stepper` from the state it is given
    until the end of the run, an overturning (when asked to stop there), or a budget of steps or
-   output rows is used (the caller then reports progress and calls again).  The state lives in
-   arrays owned by the caller: positions ``q`` and velocities ``v`` ``(n + 2, 3)`` (the last two
-   rows: the left and the right support, kinematic: moved at their own velocity), the joint
-   geometry of the last configuration, the warm starts of the solvers, the scalars ``fs``
-   (floats, indices ``F_*``) and ``ist`` (integers, indices ``I_*``).
+   output rows is used (the caller then reports progress and calls again).  Its arguments are
+   four named tuples of arrays owned by the caller: :class:`Model` (the bodies and joints),
+   :class:`State` (positions ``q`` and velocities ``v`` ``(n + 2, 3)``, the last two rows the
+   left and the right support, kinematic: moved at their own velocity; the joint geometry of the
+   last configuration, the warm starts of the solvers, the scalars ``fs``, floats at indices
+   ``F_*``, and ``ist``, integers at indices ``I_*``), :class:`Run` (the settings) and
+   :class:`Buffers` (the outputs); its scratch arrays are a fifth, :class:`Work`.  A run's first
+   call evaluates the geometry of the initial state (:func:`_start`); then each step is six
+   phases:
+
+   a. :func:`_observe`: the energies and their balance, the peak rotation, the collapse;
+   b. :func:`_record`: a history row and the positions, at the output times;
+   c. :func:`_events`: the closed corners, the impacts (:func:`_impact`), the landings that cut
+      the step (:func:`_landings`), the step's length;
+   d. :func:`_contact_step`: the midpoint, the contact problem of the smooth step, the new
+      velocities and positions, the slip and the friction's work (:func:`_slip`);
+   e. :func:`_correct`: the position projection onto the closed corners;
+   f. :func:`_commit`: the ground's work, the state and the clocks at the step's end.
 
 Solver status codes: 0 solved, 1 did not converge, 2 KKT check failed, 3 not positive definite,
 4 the frictional problem unsolved.  One module, so that numba's on-disk cache (keyed on this
@@ -1226,8 +1239,11 @@ F_T, F_W_GROUND, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_
 N_FLOAT = 20
 # integer state
 I_STEPS, I_CUTS, I_PIVOTS, I_OUTCOME, I_HASW, I_HASWI, I_STALE, I_JRATIO, I_ATRATIO, I_JSLIP, I_STATUS, \
-    I_SLIDING, I_REDIST, I_LOOSE, I_BY_FP, I_BY_SSN, I_BY_NSGS, I_BY_LEMKE = range(18)
-N_INT = 18
+    I_SLIDING, I_REDIST, I_LOOSE, I_BY_FP, I_BY_SSN, I_BY_NSGS, I_BY_LEMKE, I_START = range(19)
+N_INT = 19
+# ist[I_START] before the first call: the run starts from rest (the joints carry no slip) or from a
+# given state (they carry the state's); advance() first evaluates the geometry (_start)
+FROM_REST, FROM_STATE = 1, 2
 # outcomes while running (0: none yet)
 OVERTURNED, SLID_OUT = 1, 2
 # statuses of advance()
@@ -1482,6 +1498,28 @@ def _on_supports(imp_v, v, n, sup):
 
 
 @njit(cache=True, error_model="numpy")
+def _copy(src, dst, rows):
+    """``dst[:rows] = src[:rows]`` (two-dimensional; a loop: numba's slice assignment compiles to
+    far more code, its shape checks and their messages)."""
+    for i in range(rows):
+        for d in range(src.shape[1]):
+            dst[i, d] = src[i, d]
+
+
+@njit(cache=True, error_model="numpy")
+def _start(mod, st):
+    """Phase 0, before the first step of a run (``ist[I_START]`` set): the geometry of ``q``, the
+    corners closed there, and the slip the joints carry (none from rest, the state's otherwise)."""
+    geometry(st.q, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
+             st.gap, st.slip, st.rows, st.contact)
+    for j in range(mod.A.size):
+        for k in range(2):
+            st.was_closed[j, k] = st.gap[j, k] <= mod.gap_tol[j]
+        st.s_ref[j] = st.slip[j, st.contact[j]] if st.ist[I_START] == FROM_STATE else 0.0
+    st.ist[I_START] = 0
+
+
+@njit(cache=True, error_model="numpy")
 def _workspace(mod, g):
     """The scratch arrays of :func:`advance` (:class:`Work`), the loads' array ``acc`` with its
     weight column set."""
@@ -1549,7 +1587,7 @@ def _record(mod, st, run, out, nh, t, K, V, rot):
         hist[nh, 9 + d] = sup[d] / sup[4] if sup[4] > 0 else 0.0
         sup[d] = 0.0
     sup[4] = 0.0
-    out.pos[nh] = st.q[:n]
+    _copy(st.q, out.pos[nh], n)
     fs[F_NEXT] = run.t0 + run.dt_out * (math.floor((t - run.t0) / run.dt_out + 1e-9) + 1)
 
 
@@ -1588,7 +1626,7 @@ def _impact(mod, st, run, out, wk, t, h):
     for i in range(v.shape[0]):
         for d in range(3):
             v[i, d] += minv[i, d] * wk.imp_v[i, d]
-    wk.hit[:, :] = wk.closed
+    _copy(wk.closed, wk.hit, mod.A.size)
     return 0
 
 
@@ -1699,9 +1737,9 @@ def _contact_step(mod, st, run, out, wk, t, h):
             for d in range(3):
                 wk.v_new[i, d] = wk.v_free[i, d] + minv[i, d] * wk.imp_v[i, d]
     else:
-        wk.v_new[:, :] = wk.v_free
+        _copy(wk.v_free, wk.v_new, nb)
         ist[I_HASW] = 0
-    st.was_closed[:, :] = wk.closed
+    _copy(wk.closed, st.was_closed, mod.A.size)
     for i in range(nb):
         for d in range(3):
             wk.q_new[i, d] = wk.qm[i, d] + 0.5 * h * wk.v_new[i, d]
@@ -1792,8 +1830,8 @@ def _commit(mod, st, run, wk, t, h, a_g):
     for i in range(mod.m.size):
         wx += mod.m[i] * (wk.q_new[i, 0] - q[i, 0])
     fs[F_W_GROUND] += -a_g * run.g * wx
-    q[:, :] = wk.q_new
-    st.v[:, :] = wk.v_new
+    _copy(wk.q_new, q, q.shape[0])
+    _copy(wk.v_new, st.v, q.shape[0])
     t = t + h
     st.sup[4] += h
     fs[F_T] = t
@@ -1810,10 +1848,13 @@ def advance(mod, st, run, out, t_end, max_steps):
     supports (rows ``n``, ``n + 1`` of ``q``, ``v``) move at their velocities; ``st.sup`` (6,)
     accumulates the impulses of the arch on them (x, y left, x, y right; N s/m) and the time (s)
     since the last history row, whose columns 9-12 are their means (N/m), and (``sup[5]``) their
-    work on the arch (J/m), which also counts as the ground's.  Each step: :func:`_observe`,
-    :func:`_record`, :func:`_events`, :func:`_contact_step`, :func:`_correct`, :func:`_commit`."""
+    work on the arch (J/m), which also counts as the ground's.  A run's first call starts with
+    :func:`_start`; each step: :func:`_observe`, :func:`_record`, :func:`_events`,
+    :func:`_contact_step`, :func:`_correct`, :func:`_commit`."""
     wk = _workspace(mod, run.g)
     fs, ist = st.fs, st.ist
+    if ist[I_START]:
+        _start(mod, st)
     nh, ni = np.int64(0), np.int64(0)     # (not the literal 0: one compiled _record and _events)
     t = fs[F_T]
     for count in range(max_steps + 1):

@@ -418,12 +418,6 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
         (con.a, int), (con.b, int), (ra, float), (rb, float), (nu0, float), (tau0, float), (con.outward, float),
         (con.depth, float), (con.edge, float), (con.sides, int), (minv, float), (m, float), (mv, float),
         (y0, float), (thick, float), (GAP_TOL * thick, float)))
-    gap, slip = np.zeros((J, 2)), np.zeros((J, 2))
-    rows, contact = np.zeros((J, 3, 2, 3)), np.zeros(J, np.int64)
-    K.geometry(q, *mod[:9], gap, slip, rows, contact)
-    was_closed = gap <= GAP_TOL * thick[:, None]
-    # the slip the joints carry: none from rest; a run from a given state (q0) keeps the state's
-    s_ref = np.zeros(J) if q0 is None else slip[np.arange(J), contact].copy()
     fs = np.zeros(K.N_FLOAT)
     ist = np.zeros(K.N_INT, np.int64)
     E0 = float(0.5 * np.sum(mv * v * v)) + g * float(m @ (q[:n, 1] - y0))
@@ -432,10 +426,14 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     fs[K.F_TPEAK] = fs[K.F_TOVER] = fs[K.F_TRATIO] = fs[K.F_TSLIP] = math.nan
     fs[K.F_VMIN] = math.inf
     ist[K.I_JRATIO] = ist[K.I_JSLIP] = -1
+    # the geometry of q, the closed corners, the slip the joints carry (none from rest; a run from a
+    # given state, q0, keeps the state's): by the kernel's first call
+    ist[K.I_START] = K.FROM_REST if q0 is None else K.FROM_STATE
     state = K.State(*_kernel_arrays(
-        (q, float), (v, float), (gap, float), (slip, float), (rows, float), (contact, int), (was_closed, bool),
+        (q, float), (v, float), (np.zeros((J, 2)), float), (np.zeros((J, 2)), float),
+        (np.zeros((J, 3, 2, 3)), float), (np.zeros(J, np.int64), int), (np.zeros((J, 2), bool), bool),
         (np.zeros(3 * J, bool), bool), (np.zeros(3 * J, bool), bool), (np.zeros(3 * J, np.int64), int),
-        (np.zeros(3 * J, np.int64), int), (s_ref, float), (fs, float), (ist, int), (np.zeros(6), float)))
+        (np.zeros(3 * J, np.int64), int), (np.zeros(J), float), (fs, float), (ist, int), (np.zeros(6), float)))
     q, v, s_ref, fs, ist = state.q, state.v, state.s_ref, state.fs, state.ist
     kind, amp, period, ts, av = _ground_args(ground)
     V_over = overturn_level(sim.curve, bodies.mass, g)
