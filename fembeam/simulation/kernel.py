@@ -1497,7 +1497,7 @@ def _on_supports(imp_v, v, n, sup):
     return work
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _copy(src, dst, rows):
     """``dst[:rows] = src[:rows]`` (two-dimensional; a loop: numba's slice assignment compiles to
     far more code, its shape checks and their messages)."""
@@ -1506,7 +1506,7 @@ def _copy(src, dst, rows):
             dst[i, d] = src[i, d]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _start(mod, st):
     """Phase 0, before the first step of a run (``ist[I_START]`` set): the geometry of ``q``, the
     corners closed there, and the slip the joints carry (none from rest, the state's otherwise)."""
@@ -1519,7 +1519,7 @@ def _start(mod, st):
     st.ist[I_START] = 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _workspace(mod, g):
     """The scratch arrays of :func:`advance` (:class:`Work`), the loads' array ``acc`` with its
     weight column set."""
@@ -1536,7 +1536,7 @@ def _workspace(mod, g):
                 np.zeros(M3), np.zeros(M3), np.zeros(M3))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _observe(mod, st, run, t, t_end):
     """Phase 1, the configuration at ``t``: the energies, their balance, the peak rotation, and
     the collapse (decided once, on ``V - sup[5]``: ``V`` less the supports' work on the arch).
@@ -1549,9 +1549,9 @@ def _observe(mod, st, run, t, t_end):
     fs[F_ESEEN] = max(fs[F_ESEEN], K + abs(V), abs(fs[F_W_GROUND]), fs[F_D])
     fs[F_BAL] = max(fs[F_BAL], abs(K + V - fs[F_E0] - fs[F_W_GROUND] + fs[F_D]) / fs[F_ESEEN])
     fs[F_VMIN] = min(fs[F_VMIN], V)
-    rot = 0.0
+    rot, q = 0.0, st.q
     for i in range(mod.m.size):
-        rot = max(rot, abs(st.q[i, 2]))
+        rot = max(rot, abs(q[i, 2]))
     if rot > fs[F_PEAK]:
         fs[F_PEAK], fs[F_TPEAK] = rot, t
     done = t >= t_end - run.h_min or (run.stop and ist[I_OUTCOME] != 0)
@@ -1564,14 +1564,14 @@ def _observe(mod, st, run, t, t_end):
     return K, V, rot, done
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _record(mod, st, run, out, nh, t, K, V, rot):
     """Phase 2: history row ``nh`` (:data:`HISTORY_COLUMNS`) and the positions at ``t``; the mean
     forces on the supports since the last row, and the time of the next row."""
-    n, sup, hist, fs = mod.m.size, st.sup, out.hist, st.fs
+    n, sup, hist, fs, gap, thick = mod.m.size, st.sup, out.hist, st.fs, st.gap, mod.thick
     hinges, separated = 0, 0
     for j in range(mod.A.size):
-        k = int(st.gap[j, 0] > OPEN_TOL * mod.thick[j]) + int(st.gap[j, 1] > OPEN_TOL * mod.thick[j])
+        k = int(gap[j, 0] > OPEN_TOL * thick[j]) + int(gap[j, 1] > OPEN_TOL * thick[j])
         hinges += k == 1
         separated += k == 2
     hist[nh, 0] = t
@@ -1591,7 +1591,7 @@ def _record(mod, st, run, out, nh, t, K, V, rot):
     fs[F_NEXT] = run.t0 + run.dt_out * (math.floor((t - run.t0) / run.dt_out + 1e-9) + 1)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _loads(run, acc, n, time):
     """The ground acceleration ``a_g`` (g) at ``time``, and the inertia forces per unit mass of the
     bodies in ``acc``."""
@@ -1601,13 +1601,13 @@ def _loads(run, acc, n, time):
     return a_g
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _impact(mod, st, run, out, wk, t, h):
     """The impact at ``t`` (in phase 3): the velocities projected onto the cone of the closed
     corners ``wk.closed`` (the geometry of ``q`` refreshed first if a position projection left it
     stale); the supports' work counts as the ground's and as dissipated.  Returns the solver's
     status (0: solved)."""
-    fs, ist, v, minv = st.fs, st.ist, st.v, mod.minv
+    fs, ist, v, minv, imp_v = st.fs, st.ist, st.v, mod.minv, wk.imp_v
     if ist[I_STALE]:
         geometry(st.q, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
                  st.gap, st.slip, st.rows, st.contact)
@@ -1619,48 +1619,49 @@ def _impact(mod, st, run, out, wk, t, h):
     if status != 0:
         return status
     ist[I_HASWI] = 1
-    apply_ht(st.rows, mod.sides, wk.P, wk.imp_v)
-    w_sup = _on_supports(wk.imp_v, v, mod.m.size, st.sup)
+    apply_ht(st.rows, mod.sides, wk.P, imp_v)
+    w_sup = _on_supports(imp_v, v, mod.m.size, st.sup)
     fs[F_W_GROUND] += w_sup
     fs[F_D] += w_sup
     for i in range(v.shape[0]):
         for d in range(3):
-            v[i, d] += minv[i, d] * wk.imp_v[i, d]
+            v[i, d] += minv[i, d] * imp_v[i, d]
     _copy(wk.closed, wk.hit, mod.A.size)
     return 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _landings(mod, st, run, wk):
     """The open corners' predicted landings (``gap + s v_n + s^2/2 a_n = 0``, phase 3): a corner
     landing within ``h_min`` is closed now.  Returns ``(a corner closed now, the first landing s)``."""
-    apply_h(st.rows, mod.sides, st.v, wk.Hv)
-    apply_h(st.rows, mod.sides, wk.acc, wk.Ha)
+    closed, gap, Hv, Ha, h_min = wk.closed, st.gap, wk.Hv, wk.Ha, run.h_min
+    apply_h(st.rows, mod.sides, st.v, Hv)
+    apply_h(st.rows, mod.sides, wk.acc, Ha)
     soon = False
     s_cut = np.inf
     for j in range(mod.A.size):
         for k in range(2):
-            if wk.closed[j, k]:
+            if closed[j, k]:
                 continue
-            s = _roots(st.gap[j, k], wk.Hv[3 * j + k], wk.Ha[3 * j + k])
-            if s < run.h_min:
+            s = _roots(gap[j, k], Hv[3 * j + k], Ha[3 * j + k])
+            if s < h_min:
                 soon = True
-                wk.closed[j, k] = True
+                closed[j, k] = True
             s_cut = min(s_cut, s)
     return soon, s_cut
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _events(mod, st, run, out, wk, t, t_end, ni):
     """Phase 3, the events at ``t``: the corners closed, an impact when one closed since the last
     step (again after a landing within ``h_min`` closes another), the impact recorded in
     ``out.imp[ni]``, and the step's length ``h`` (``dt``, all of a remainder shorter than
     ``dt + h_min``, or cut at the first landing).  Returns ``(status, h, a_g, impacts written)``."""
-    closed, was_closed, J = wk.closed, st.was_closed, mod.A.size
+    closed, was_closed, hit, gap, gap_tol, J = wk.closed, st.was_closed, wk.hit, st.gap, mod.gap_tol, mod.A.size
     h = t_end - t if t_end - t < run.dt + run.h_min else run.dt    # no sliver of a step left at the end
     for j in range(J):
         for k in range(2):
-            closed[j, k] = st.gap[j, k] <= mod.gap_tol[j]
+            closed[j, k] = gap[j, k] <= gap_tol[j]
     a_g = _loads(run, wk.acc, mod.m.size, t + 0.5 * h)
     K_in = -1.0
     have_hit = False
@@ -1673,7 +1674,7 @@ def _events(mod, st, run, out, wk, t, t_end, ni):
             for k in range(2):
                 if closed[j, k] and not was_closed[j, k]:
                     newly = True
-                if have_hit and closed[j, k] and not wk.hit[j, k]:
+                if have_hit and closed[j, k] and not hit[j, k]:
                     beyond_hit = True
                 if not closed[j, k]:
                     all_closed = False
@@ -1704,20 +1705,21 @@ def _events(mod, st, run, out, wk, t, t_end, ni):
     return 0, h, a_g, ni
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _contact_step(mod, st, run, out, wk, t, h):
     """Phase 4, the smooth step: the midpoint ``q_m``, the free velocity, the contact problem of
     the closed corners at ``q_m`` (its impulses on the supports: their work), ``v_{k+1}``,
     ``q_{k+1}`` (in ``wk``) and its geometry, then the slip and the friction's work
     (:func:`_slip`).  Returns ``(status, a corner closed)``."""
     q, v, minv, nb, fs, ist = st.q, st.v, mod.minv, st.q.shape[0], st.fs, st.ist
+    qm, v_free, v_new, q_new, acc, closed, imp_v = wk.qm, wk.v_free, wk.v_new, wk.q_new, wk.acc, wk.closed, wk.imp_v
     for i in range(nb):
         for d in range(3):
-            wk.qm[i, d] = q[i, d] + 0.5 * h * v[i, d]
-            wk.v_free[i, d] = v[i, d] + h * wk.acc[i, d]
+            qm[i, d] = q[i, d] + 0.5 * h * v[i, d]
+            v_free[i, d] = v[i, d] + h * acc[i, d]
     any_closed = False
     for j in range(mod.A.size):
-        if wk.closed[j, 0] or wk.closed[j, 1]:
+        if closed[j, 0] or closed[j, 1]:
             any_closed = True
     if any_closed:
         geometry(wk.qm, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
@@ -1731,49 +1733,50 @@ def _contact_step(mod, st, run, out, wk, t, h):
         if status != 0:
             return status, any_closed
         ist[I_HASW] = 1
-        apply_ht(wk.gm_rows, mod.sides, wk.P, wk.imp_v)
-        fs[F_W_GROUND] += _on_supports(wk.imp_v, v, mod.m.size, st.sup)
+        apply_ht(wk.gm_rows, mod.sides, wk.P, imp_v)
+        fs[F_W_GROUND] += _on_supports(imp_v, v, mod.m.size, st.sup)
         for i in range(nb):
             for d in range(3):
-                wk.v_new[i, d] = wk.v_free[i, d] + minv[i, d] * wk.imp_v[i, d]
+                v_new[i, d] = v_free[i, d] + minv[i, d] * imp_v[i, d]
     else:
-        _copy(wk.v_free, wk.v_new, nb)
+        _copy(v_free, v_new, nb)
         ist[I_HASW] = 0
-    _copy(wk.closed, st.was_closed, mod.A.size)
+    _copy(closed, st.was_closed, mod.A.size)
     for i in range(nb):
         for d in range(3):
-            wk.q_new[i, d] = wk.qm[i, d] + 0.5 * h * wk.v_new[i, d]
-    geometry(wk.q_new, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
+            q_new[i, d] = qm[i, d] + 0.5 * h * v_new[i, d]
+    geometry(q_new, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
              st.gap, st.slip, st.rows, st.contact)
     ist[I_STALE] = 0
     _slip(st, run, wk, t, h)
     return 0, any_closed
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _slip(st, run, wk, t, h):
     """The slip carried by the joints (whatever ``mu``: an open joint's follows the bodies, so a
     landing keeps its offset; a closed joint's moves only by sliding, never with ``mu = inf``)
     and the work of friction (phase 4)."""
-    mu, fs, s_ref, P = run.mu, st.fs, st.s_ref, wk.P
+    mu, fs, s_ref, P, closed, Hv, w, slip, contact = run.mu, st.fs, st.s_ref, wk.P, wk.closed, wk.Hv, wk.w, \
+        st.slip, st.contact
     for j in range(s_ref.size):
-        if wk.closed[j, 0] or wk.closed[j, 1]:
+        if closed[j, 0] or closed[j, 1]:
             if mu < np.inf:
                 # the slip and the work of P_t over the step: positions move by h/2 (v_k + v_k+1)
-                rate = 0.5 * (wk.Hv[3 * j + 2] + wk.w[3 * j + 2])
+                rate = 0.5 * (Hv[3 * j + 2] + w[3 * j + 2])
                 s_ref[j] += h * rate
                 work = -P[3 * j + 2] * rate              # P_t opposes the sliding rate
                 fs[F_FRICTION] += work
                 fs[F_D] += work
         else:
-            s_ref[j] = st.slip[j, st.contact[j]]
+            s_ref[j] = slip[j, contact[j]]
         if mu < np.inf and abs(s_ref[j]) > fs[F_SLIP]:
             fs[F_SLIP] = abs(s_ref[j])
             fs[F_TSLIP] = t + h
             st.ist[I_JSLIP] = j
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _correct(mod, st, run, wk, a_g):
     """Phase 5, the position projection of ``q_{k+1}`` (``wk.q_new``): ``M``-orthogonally (one
     Gauss-Newton step, velocities untouched) onto zero gap at the closed corners that carried a
@@ -1781,12 +1784,14 @@ def _correct(mod, st, run, wk, a_g):
     the gaps updated to first order (the geometry then stale) and the loads' work on the
     correction counted as drift.  Returns the status (3: ``W`` not positive definite)."""
     J, n, gap, slip, on, rhs, minv, dq = mod.A.size, mod.m.size, st.gap, st.slip, wk.on, wk.rhs, mod.minv, wk.dq
+    closed, P, working, contact, s_ref, ab, q_new, Hdq, m = wk.closed, wk.P, st.working, st.contact, st.s_ref, \
+        wk.ab, wk.q_new, wk.Hdq, mod.m
     nload = 0
     for j in range(J):
         lj = False
         for k in range(2):
-            lk = wk.closed[j, k] and gap[j, k] < OFF_FACE and ((wk.P[3 * j + k] > 0 and st.working[3 * j + k])
-                                                               or gap[j, k] < 0)
+            lk = closed[j, k] and gap[j, k] < OFF_FACE and ((P[3 * j + k] > 0 and working[3 * j + k])
+                                                            or gap[j, k] < 0)
             on[3 * j + k] = lk
             lj = lj or lk
         on[3 * j + 2] = lj
@@ -1796,41 +1801,41 @@ def _correct(mod, st, run, wk, a_g):
     for j in range(J):
         for k in range(2):
             rhs[3 * j + k] = -gap[j, k] if on[3 * j + k] else 0.0
-        rhs[3 * j + 2] = -(slip[j, st.contact[j]] - st.s_ref[j]) if on[3 * j + 2] else 0.0
+        rhs[3 * j + 2] = -(slip[j, contact[j]] - s_ref[j]) if on[3 * j + 2] else 0.0
     dmax = 0.0
     for i in range(3 * J):
-        dmax = max(dmax, wk.ab[BAND, i])
-    if not factor(wk.ab, on, REG * dmax, wk.zero, wk.U):
+        dmax = max(dmax, ab[BAND, i])
+    if not factor(ab, on, REG * dmax, wk.zero, wk.U):
         return 3
     solve(wk.U, rhs, wk.lam)
     apply_ht(wk.gm_rows, mod.sides, wk.lam, dq)
     for i in range(dq.shape[0]):
         for d in range(3):
             dq[i, d] *= minv[i, d]
-            wk.q_new[i, d] += dq[i, d]
-    apply_h(st.rows, mod.sides, dq, wk.Hdq)
+            q_new[i, d] += dq[i, d]
+    apply_h(st.rows, mod.sides, dq, Hdq)
     for j in range(J):
-        gap[j, 0] += wk.Hdq[3 * j]
-        gap[j, 1] += wk.Hdq[3 * j + 1]
+        gap[j, 0] += Hdq[3 * j]
+        gap[j, 1] += Hdq[3 * j + 1]
     st.ist[I_STALE] = 1
     dy, dx = 0.0, 0.0
     for i in range(n):
-        dy += mod.m[i] * dq[i, 1]
-        dx += mod.m[i] * dq[i, 0]
+        dy += m[i] * dq[i, 1]
+        dx += m[i] * dq[i, 0]
     st.fs[F_DRIFT] += run.g * dy + a_g * run.g * dx
     return 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _commit(mod, st, run, wk, t, h, a_g):
     """Phase 6: the ground's work over the step, ``(q, v)`` set to the step's end, the clocks.
     Returns the new time."""
-    q, fs = st.q, st.fs
+    q, fs, m, q_new = st.q, st.fs, mod.m, wk.q_new
     wx = 0.0
-    for i in range(mod.m.size):
-        wx += mod.m[i] * (wk.q_new[i, 0] - q[i, 0])
+    for i in range(m.size):
+        wx += m[i] * (q_new[i, 0] - q[i, 0])
     fs[F_W_GROUND] += -a_g * run.g * wx
-    _copy(wk.q_new, q, q.shape[0])
+    _copy(q_new, q, q.shape[0])
     _copy(wk.v_new, st.v, q.shape[0])
     t = t + h
     st.sup[4] += h
