@@ -8,11 +8,15 @@ step), the peak memory of one run (tracemalloc), the same run with Coulomb frict
 for N <= 30 the NumPy reference engine; then the growth exponent of the time per step against N
 (least squares on the logs) and per solve (a banded factorisation and its solves), with and without
 friction, and the friction's cost (its time over the frictionless run's) with what the frictional
-steps needed (steps that left the cone, and which stage solved them); then the wall time of
-``fembeam simulate --json`` in a fresh process (start-up, numba's cache load and the run) and the
-cache load alone (the first call of the compiled loop in a fresh process, best of 3).
+steps needed (steps that left the cone, and which stage solved them); then the start-up of a process on a warm
+numba cache (:func:`load_times`): the wall time of ``fembeam simulate --json`` (7 voussoirs) with
+its ``timings_s`` (``compile_or_load``: numba's import and the kernel's cache load), and the cache
+load alone, split into numba's import, its first cached function (numba's own start-up: its
+registries) and the kernel's loop (:func:`~fembeam.simulation.kernel.advance`), best of
+``--repeat`` fresh processes each.  ``--load-only`` measures only that (a few seconds).
 
     python benchmarks/simulate.py [--sizes 7 15 30 50 100 200] [--seconds 10] [--dt 1e-3] [--mu 0.6]
+    python benchmarks/simulate.py --load-only [--repeat 5]
 """
 from __future__ import annotations
 
@@ -29,6 +33,22 @@ from fembeam import CircularArch
 from fembeam.dynamics import GroundMotion
 from fembeam.simulation import Simulator
 
+# the cache load in a fresh process: numba's import, its first cached function (numba's registries,
+# the same cost for any cached function: here the kernel's constants), then the kernel's loop (its
+# first run of compiled_kernel(): the cache of advance() and a one-step run)
+LOAD = """import json, time
+from fembeam.simulation import stepper
+c0, t0 = time.process_time(), time.perf_counter()
+import numba
+c1, t1 = time.process_time(), time.perf_counter()
+from fembeam.simulation import kernel
+kernel.compiled_constants()
+c2, t2 = time.process_time(), time.perf_counter()
+stepper.compiled_kernel()
+c3, t3 = time.process_time(), time.perf_counter()
+print(json.dumps([[t1 - t0, t2 - t1, t3 - t2], [c1 - c0, c2 - c1, c3 - c2]]))
+"""
+
 
 def timed(sim: Simulator, ground: GroundMotion, args, repeat: int, **kw):
     """``(result, best wall s, its CPU s)`` of ``repeat`` runs."""
@@ -42,6 +62,33 @@ def timed(sim: Simulator, ground: GroundMotion, args, repeat: int, **kw):
     return best
 
 
+def load_times(seconds: float, repeat: int) -> None:
+    """Prints the wall time (s) of ``fembeam simulate --json`` in a fresh process on a warm cache
+    and its ``timings_s``, then the cache load alone (:data:`LOAD`), best of ``repeat`` processes
+    each (the warm cache built first)."""
+    cmd = [sys.executable, "-m", "fembeam.cli", "simulate", "--voussoirs", "7", "--radius", "5", "--pulse", "sine",
+           "--amplitude", "0.6", "--period", "0.56", "--t-end", f"{seconds:g}", "--json"]
+    subprocess.run(cmd, capture_output=True, check=True)                 # the cache built, if it was not
+    runs = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
+        runs.append((time.perf_counter() - t0, out["timings_s"]))
+    wall, timings = min(runs, key=lambda r: r[0])
+    each = " ".join(f"{t['compile_or_load']:.3f}" for _, t in runs)
+    print(f"fembeam {' '.join(cmd[3:])} (fresh process, warm cache), best of {repeat}: wall {wall:.3f} s, "
+          f"compile_or_load {timings['compile_or_load']:.3f} s, run {timings['run']:.3f} s "
+          f"(compile_or_load of each: {each})")
+    loads = [json.loads(subprocess.run([sys.executable, "-c", LOAD], capture_output=True, text=True,
+                                       check=True).stdout) for _ in range(repeat)]
+    for k, what in enumerate(("wall", "CPU")):
+        best = [min(x[k][i] for x in loads) for i in range(3)]
+        print(f"cache load (fresh process, warm cache), {what} s, best of {repeat}: "
+              f"{min(sum(x[k]) for x in loads):.3f} = numba's import {best[0]:.3f} + its first cached function "
+              f"(numba's registries; the kernel's module imported) {best[1]:.3f} + the kernel's loop {best[2]:.3f} "
+              f"(best of each)")
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--sizes", type=int, nargs="+", default=[7, 15, 30, 50, 100, 200])
@@ -51,7 +98,11 @@ def main() -> None:
     p.add_argument("--record", default=None, help="a record instead of the sine pulse (e.g. elcentro)")
     p.add_argument("--pga", type=float, default=0.6)
     p.add_argument("--repeat", type=int, default=3)
+    p.add_argument("--load-only", action="store_true", help="only the start-up on a warm cache (load_times)")
     args = p.parse_args()
+    if args.load_only:
+        load_times(args.seconds, args.repeat)
+        return
     arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
     ground = GroundMotion.sine(0.6, 0.56) if args.record is None else GroundMotion.record(args.record).to_pga(args.pga)
     print(f"simulate benchmark: beta = 157.5 deg, t/R = 0.15, R = 5 m, {ground.name}, {args.seconds:g} s at "
@@ -106,17 +157,7 @@ def main() -> None:
             k0 = np.polyfit(nb, np.log([f[1] for f in friction]), 1)[0]
             k1 = np.polyfit(nb, np.log([f[2] for f in friction]), 1)[0]
             print(f"growth with N of the run's wall time: exponent {k0:.2f} without friction, {k1:.2f} with")
-    cmd = [sys.executable, "-m", "fembeam.cli", "simulate", "--voussoirs", "7", "--radius", "5", "--pulse", "sine",
-           "--amplitude", "0.6", "--period", "0.56", "--t-end", f"{args.seconds:g}", "--json"]
-    t0 = time.perf_counter()
-    out = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
-    print(f"fresh process, {' '.join(cmd[3:])}: wall {time.perf_counter() - t0:.2f} s, timings_s "
-          f"{out['timings_s']}")
-    load = [sys.executable, "-c", "import time; from fembeam.simulation.stepper import compiled_kernel; "
-            "t = time.perf_counter(); compiled_kernel(); print(time.perf_counter() - t)"]
-    loads = [float(subprocess.run(load, capture_output=True, text=True, check=True).stdout) for _ in range(3)]
-    print(f"numba cache load (first compiled_kernel() of a fresh process, warm cache): best {min(loads):.3f} s, "
-          f"of 3: {' '.join(f'{x:.3f}' for x in loads)}")
+    load_times(args.seconds, args.repeat)
 
 
 if __name__ == "__main__":

@@ -43,11 +43,24 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
 
 3. **The loop** (:func:`advance`) runs the steps of :mod:`.stepper` from the state it is given
    until the end of the run, an overturning (when asked to stop there), or a budget of steps or
-   output rows is used (the caller then reports progress and calls again).  The state lives in
-   arrays owned by the caller: positions ``q`` and velocities ``v`` ``(n + 2, 3)`` (the last two
-   rows: the left and the right support, kinematic: moved at their own velocity), the joint
-   geometry of the last configuration, the warm starts of the solvers, the scalars ``fs``
-   (floats, indices ``F_*``) and ``ist`` (integers, indices ``I_*``).
+   output rows is used (the caller then reports progress and calls again).  Its arguments are
+   four named tuples of arrays owned by the caller: :class:`Model` (the bodies and joints),
+   :class:`State` (positions ``q`` and velocities ``v`` ``(n + 2, 3)``, the last two rows the
+   left and the right support, kinematic: moved at their own velocity; the joint geometry of the
+   last configuration, the warm starts of the solvers, the scalars ``fs``, floats at indices
+   ``F_*``, and ``ist``, integers at indices ``I_*``), :class:`Run` (the settings) and
+   :class:`Buffers` (the outputs); its scratch arrays are a fifth, :class:`Work`.  A run's first
+   call evaluates the geometry of the initial state (:func:`_start`); then each step is six
+   phases:
+
+   a. :func:`_observe`: the energies and their balance, the peak rotation, the collapse;
+   b. :func:`_record`: a history row and the positions, at the output times;
+   c. :func:`_events`: the closed corners, the impacts (:func:`_impact`), the landings that cut
+      the step (:func:`_landings`), the step's length;
+   d. :func:`_contact_step`: the midpoint, the contact problem of the smooth step, the new
+      velocities and positions, the slip and the friction's work (:func:`_slip`);
+   e. :func:`_correct`: the position projection onto the closed corners;
+   f. :func:`_commit`: the ground's work, the state and the clocks at the step's end.
 
 Solver status codes: 0 solved, 1 did not converge, 2 KKT check failed, 3 not positive definite,
 4 the frictional problem unsolved.  One module, so that numba's on-disk cache (keyed on this
@@ -56,6 +69,7 @@ file) is never stale for a part of it.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -1225,14 +1239,42 @@ F_T, F_W_GROUND, F_D, F_DRIFT, F_BAL, F_ESEEN, F_PEAK, F_TPEAK, F_NEXT, F_E0, F_
 N_FLOAT = 20
 # integer state
 I_STEPS, I_CUTS, I_PIVOTS, I_OUTCOME, I_HASW, I_HASWI, I_STALE, I_JRATIO, I_ATRATIO, I_JSLIP, I_STATUS, \
-    I_SLIDING, I_REDIST, I_LOOSE, I_BY_FP, I_BY_SSN, I_BY_NSGS, I_BY_LEMKE = range(18)
-N_INT = 18
+    I_SLIDING, I_REDIST, I_LOOSE, I_BY_FP, I_BY_SSN, I_BY_NSGS, I_BY_LEMKE, I_START = range(19)
+N_INT = 19
+# ist[I_START] before the first call: the run starts from rest (the joints carry no slip) or from a
+# given state (they carry the state's); advance() first evaluates the geometry (_start)
+FROM_REST, FROM_STATE = 1, 2
 # outcomes while running (0: none yet)
 OVERTURNED, SLID_OUT = 1, 2
 # statuses of advance()
 RUNNING, FINISHED, STOPPED = 0, 1, 2
 SOLVER_FAILED = 3       # the contact problem of a step failed (ist[I_STATUS] the solver's code)
 HISTORY_COLUMNS = 13     # and the mean forces of the arch on the supports (x, y, left then right; N/m)
+
+# the arguments of advance(), named tuples of arrays and scalars (numba types each field; one
+# compiled advance() as long as the fields keep their dtypes, dimensions and C layout)
+Model = namedtuple("Model", "A B ra rb nu0 tau0 outward depth edge sides minv m mv y0 thick gap_tol")
+"""The bodies and joints, fixed during a run: the joint data of :func:`geometry` (the first nine
+fields), ``sides`` ``(J, 2)``,
+the inverse masses ``minv`` and the masses ``mv`` ``(n + 2, 3)`` (the supports': zero), the
+masses ``m`` ``(n,)``, the centroids' heights at rest ``y0``, the joints' thicknesses ``thick`` and
+the gaps at which their corners count as closed ``gap_tol`` ``(J,)`` (m)."""
+State = namedtuple("State", "q v gap slip rows contact was_closed working working_imp box box_imp s_ref fs ist sup")
+"""What a run carries from step to step and from call to call: positions, velocities, the
+geometry of ``q``, the corners closed at the last step, the warm starts of the solvers (smooth
+steps and impacts), the slip the joints carry ``s_ref``, the scalars ``fs`` (``F_*``) and ``ist``
+(``I_*``) and the supports' accumulators ``sup`` (6,)."""
+Run = namedtuple("Run", "dt t0 dt_out g h_min V_over mu stop kind amp period ts av impact_pivots block_pivots "
+                 "kkt_tol coulomb_tol")
+"""The settings of a run: time step, start, history step (s), ``g``, shortest step (s), the
+overturning level of ``V`` (J/m), ``mu`` (inf: no sliding), whether to stop at a collapse, the
+ground motion (:func:`ground_at`), the block pivots of impacts and smooth steps, the tolerances."""
+Buffers = namedtuple("Buffers", "hist pos imp dump_ab dump_c dump_P dump_closed")
+"""The outputs of one call: history rows, positions, impacts ``(t, K-, K+)``; the frictional
+problem of a failed step (``W`` banded, ``c``, the sticking ``P``, the closed corners)."""
+Work = namedtuple("Work", "acc ab U Z P w c Hv Ha imp_v closed hit gm_gap gm_slip gm_rows gm_contact qm v_free "
+                  "v_new q_new dq on rhs lam zero Hdq")
+"""The scratch arrays of :func:`advance` (:func:`_workspace`)."""
 
 
 @njit(cache=True, error_model="numpy")
@@ -1455,276 +1497,390 @@ def _on_supports(imp_v, v, n, sup):
     return work
 
 
-@njit(cache=True, error_model="numpy")
-def advance(q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, joint_thick,
-            gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
-            fs, ist, dt, t_end, t0, dt_out, g, h_min, gap_tol, V_over, mu, stop,
-            kind, amp, period, ts, av, impact_pivots, block_pivots,
-            hist, pos, imp, max_steps, kkt_tol, coulomb_tol, dump_ab, dump_c, dump_P, dump_closed, sup):
-    """Steps from the state given until the end, a stop, ``max_steps`` steps, or the buffers
-    ``hist`` ``(rows, 13)`` / ``pos`` ``(rows, n, 3)`` / ``imp`` ``(rows, 3)`` are full.  Returns
-    ``(status, history rows written, impacts written)``.  The supports (rows ``n``, ``n + 1`` of
-    ``q``, ``v``) move at their velocities; ``sup`` (6,) accumulates the impulses of the arch on
-    them (x, y left, x, y right; N s/m) and the time (s) since the last history row, whose
-    columns 9-12 are their means (N/m), and (``sup[5]``) their work on the arch (J/m), which also
-    counts as the ground's; the collapse is decided on ``V - sup[5]``: the energy released beyond
-    the supports' work (without a support motion, ``V``)."""
-    n = m.size
-    nb = q.shape[0]
-    J = A.size
+@njit(cache=True, error_model="numpy", inline="always")
+def _copy(src, dst, rows):
+    """``dst[:rows] = src[:rows]`` (two-dimensional; a loop: numba's slice assignment compiles to
+    far more code, its shape checks and their messages)."""
+    for i in range(rows):
+        for d in range(src.shape[1]):
+            dst[i, d] = src[i, d]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _start(mod, st):
+    """Phase 0, before the first step of a run (``ist[I_START]`` set): the geometry of ``q``, the
+    corners closed there, and the slip the joints carry (none from rest, the state's otherwise)."""
+    geometry(st.q, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
+             st.gap, st.slip, st.rows, st.contact)
+    for j in range(mod.A.size):
+        for k in range(2):
+            st.was_closed[j, k] = st.gap[j, k] <= mod.gap_tol[j]
+        st.s_ref[j] = st.slip[j, st.contact[j]] if st.ist[I_START] == FROM_STATE else 0.0
+    st.ist[I_START] = 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _workspace(mod, g):
+    """The scratch arrays of :func:`advance` (:class:`Work`), the loads' array ``acc`` with its
+    weight column set."""
+    n, nb, J = mod.m.size, mod.minv.shape[0], mod.A.size
     M3 = 3 * J
-    nh = 0
-    ni = 0
     acc = np.zeros((nb, 3))
     for i in range(n):
         acc[i, 1] = -g
-    ab = np.zeros((BAND + 1, M3))
-    U = np.zeros((M3, BAND + 1))
-    Z = np.zeros((M3, 4))                 # self-stress states (at most 3 for a chain between two abutments)
-    P = np.zeros(M3)
-    w = np.zeros(M3)
-    c = np.zeros(M3)
-    Hv = np.zeros(M3)
-    Ha = np.zeros(M3)
-    imp_v = np.zeros((nb, 3))
-    closed = np.zeros((J, 2), np.bool_)
-    hit = np.zeros((J, 2), np.bool_)
-    gm_gap = np.zeros((J, 2))
-    gm_slip = np.zeros((J, 2))
-    gm_rows = np.zeros((J, 3, 2, 3))
-    gm_contact = np.zeros(J, np.int64)
-    qm = np.zeros((nb, 3))
-    v_free = np.zeros((nb, 3))
-    v_new = np.zeros((nb, 3))
-    q_new = np.zeros((nb, 3))
-    dq = np.zeros((nb, 3))
-    on = np.zeros(M3, np.bool_)
-    rhs = np.zeros(M3)
-    lam = np.zeros(M3)
-    zero = np.zeros(M3)
-    Hdq = np.zeros(M3)
-    t = fs[F_T]
-    for count in range(max_steps + 1):
-        K = _kinetic(mv, v)
-        V = _potential(m, y0, g, q)
-        fs[F_ESEEN] = max(fs[F_ESEEN], K + abs(V), abs(fs[F_W_GROUND]), fs[F_D])
-        fs[F_BAL] = max(fs[F_BAL], abs(K + V - fs[F_E0] - fs[F_W_GROUND] + fs[F_D]) / fs[F_ESEEN])
-        fs[F_VMIN] = min(fs[F_VMIN], V)
-        rot = 0.0
-        for i in range(n):
-            rot = max(rot, abs(q[i, 2]))
-        if rot > fs[F_PEAK]:
-            fs[F_PEAK], fs[F_TPEAK] = rot, t
-        # the end (a remainder shorter than a landing cut is not stepped), or an outcome already
-        # decided in an earlier call that returned for its buffers before it could stop
-        done = t >= t_end - h_min or (stop and ist[I_OUTCOME] != 0)
-        if ist[I_OUTCOME] == 0:
-            code = collapse(V - sup[5], V_over, gap, s_ref)    # V less the work of the supports on the arch
-            if code != 0:
-                ist[I_OUTCOME] = code
-                fs[F_TOVER] = t
-                done = done or stop
-        if t >= fs[F_NEXT] or done:
-            if nh == hist.shape[0]:
-                return RUNNING, nh, ni
-            hinges, separated = 0, 0
-            for j in range(J):
-                k = int(gap[j, 0] > OPEN_TOL * thick[j]) + int(gap[j, 1] > OPEN_TOL * thick[j])
-                hinges += k == 1
-                separated += k == 2
-            hist[nh, 0] = t
-            hist[nh, 1] = K
-            hist[nh, 2] = V
-            hist[nh, 3] = fs[F_W_GROUND]
-            hist[nh, 4] = fs[F_D]
-            hist[nh, 5] = ground_at(kind, amp, period, ts, av, t)
-            hist[nh, 6] = hinges
-            hist[nh, 7] = separated
-            hist[nh, 8] = rot
-            for d in range(4):
-                hist[nh, 9 + d] = sup[d] / sup[4] if sup[4] > 0 else 0.0
-                sup[d] = 0.0
-            sup[4] = 0.0
-            pos[nh] = q[:n]
-            nh += 1
-            fs[F_NEXT] = t0 + dt_out * (math.floor((t - t0) / dt_out + 1e-9) + 1)
-        if done:
-            return STOPPED if t < t_end - h_min else FINISHED, nh, ni
-        if count == max_steps or ni == imp.shape[0]:
-            return RUNNING, nh, ni
-        h = t_end - t if t_end - t < dt + h_min else dt    # no sliver of a step left at the end
+    return Work(acc, np.zeros((BAND + 1, M3)), np.zeros((M3, BAND + 1)), np.zeros((M3, 4)), np.zeros(M3),
+                np.zeros(M3), np.zeros(M3), np.zeros(M3), np.zeros(M3), np.zeros((nb, 3)),
+                np.zeros((J, 2), np.bool_), np.zeros((J, 2), np.bool_), np.zeros((J, 2)), np.zeros((J, 2)),
+                np.zeros((J, 3, 2, 3)), np.zeros(J, np.int64), np.zeros((nb, 3)), np.zeros((nb, 3)),
+                np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(M3, np.bool_), np.zeros(M3),
+                np.zeros(M3), np.zeros(M3), np.zeros(M3))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _observe(mod, st, run, t, t_end):
+    """Phase 1, the configuration at ``t``: the energies, their balance, the peak rotation, and
+    the collapse (decided once, on ``V - sup[5]``: ``V`` less the supports' work on the arch).
+    Returns ``(K, V, largest rotation, done)``: ``done`` at the end of the run (a remainder shorter
+    than a landing cut is not stepped) or at an outcome when the run stops there (also one
+    decided by an earlier call that returned for its buffers before it could stop)."""
+    fs, ist = st.fs, st.ist
+    K = _kinetic(mod.mv, st.v)
+    V = _potential(mod.m, mod.y0, run.g, st.q)
+    fs[F_ESEEN] = max(fs[F_ESEEN], K + abs(V), abs(fs[F_W_GROUND]), fs[F_D])
+    fs[F_BAL] = max(fs[F_BAL], abs(K + V - fs[F_E0] - fs[F_W_GROUND] + fs[F_D]) / fs[F_ESEEN])
+    fs[F_VMIN] = min(fs[F_VMIN], V)
+    rot, q = 0.0, st.q
+    for i in range(mod.m.size):
+        rot = max(rot, abs(q[i, 2]))
+    if rot > fs[F_PEAK]:
+        fs[F_PEAK], fs[F_TPEAK] = rot, t
+    done = t >= t_end - run.h_min or (run.stop and ist[I_OUTCOME] != 0)
+    if ist[I_OUTCOME] == 0:
+        code = collapse(V - st.sup[5], run.V_over, st.gap, st.s_ref)
+        if code != 0:
+            ist[I_OUTCOME] = code
+            fs[F_TOVER] = t
+            done = done or run.stop
+    return K, V, rot, done
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _record(mod, st, run, out, nh, t, K, V, rot):
+    """Phase 2: history row ``nh`` (:data:`HISTORY_COLUMNS`) and the positions at ``t``; the mean
+    forces on the supports since the last row, and the time of the next row."""
+    n, sup, hist, fs, gap, thick = mod.m.size, st.sup, out.hist, st.fs, st.gap, mod.thick
+    hinges, separated = 0, 0
+    for j in range(mod.A.size):
+        k = int(gap[j, 0] > OPEN_TOL * thick[j]) + int(gap[j, 1] > OPEN_TOL * thick[j])
+        hinges += k == 1
+        separated += k == 2
+    hist[nh, 0] = t
+    hist[nh, 1] = K
+    hist[nh, 2] = V
+    hist[nh, 3] = fs[F_W_GROUND]
+    hist[nh, 4] = fs[F_D]
+    hist[nh, 5] = ground_at(run.kind, run.amp, run.period, run.ts, run.av, t)
+    hist[nh, 6] = hinges
+    hist[nh, 7] = separated
+    hist[nh, 8] = rot
+    for d in range(4):
+        hist[nh, 9 + d] = sup[d] / sup[4] if sup[4] > 0 else 0.0
+        sup[d] = 0.0
+    sup[4] = 0.0
+    _copy(st.q, out.pos[nh], n)
+    fs[F_NEXT] = run.t0 + run.dt_out * (math.floor((t - run.t0) / run.dt_out + 1e-9) + 1)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _loads(run, acc, n, time):
+    """The ground acceleration ``a_g`` (g) at ``time``, and the inertia forces per unit mass of the
+    bodies in ``acc``."""
+    a_g = ground_at(run.kind, run.amp, run.period, run.ts, run.av, time)
+    for i in range(n):
+        acc[i, 0] = -a_g * run.g
+    return a_g
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _impact(mod, st, run, out, wk, t, h):
+    """The impact at ``t`` (in phase 3): the velocities projected onto the cone of the closed
+    corners ``wk.closed`` (the geometry of ``q`` refreshed first if a position projection left it
+    stale); the supports' work counts as the ground's and as dissipated.  Returns the solver's
+    status (0: solved)."""
+    fs, ist, v, minv, imp_v = st.fs, st.ist, st.v, mod.minv, wk.imp_v
+    if ist[I_STALE]:
+        geometry(st.q, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
+                 st.gap, st.slip, st.rows, st.contact)
+        ist[I_STALE] = 0
+    status = _project(st.rows, mod.sides, minv, v, wk.closed, st.working_imp, ist[I_HASWI] == 1, st.box_imp,
+                      run.mu, run.g * h, run.impact_pivots, wk.ab, wk.U, wk.P, wk.w, wk.c, wk.Z, out.dump_ab,
+                      out.dump_c, out.dump_P, out.dump_closed, fs, ist, t, np.int64(1), run.kkt_tol,
+                      run.coulomb_tol)       # (np.int64: one compiled _project for both calls, not one per literal)
+    if status != 0:
+        return status
+    ist[I_HASWI] = 1
+    apply_ht(st.rows, mod.sides, wk.P, imp_v)
+    w_sup = _on_supports(imp_v, v, mod.m.size, st.sup)
+    fs[F_W_GROUND] += w_sup
+    fs[F_D] += w_sup
+    for i in range(v.shape[0]):
+        for d in range(3):
+            v[i, d] += minv[i, d] * imp_v[i, d]
+    _copy(wk.closed, wk.hit, mod.A.size)
+    return 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _landings(mod, st, run, wk):
+    """The open corners' predicted landings (``gap + s v_n + s^2/2 a_n = 0``, phase 3): a corner
+    landing within ``h_min`` is closed now.  Returns ``(a corner closed now, the first landing s)``."""
+    closed, gap, Hv, Ha, h_min = wk.closed, st.gap, wk.Hv, wk.Ha, run.h_min
+    apply_h(st.rows, mod.sides, st.v, Hv)
+    apply_h(st.rows, mod.sides, wk.acc, Ha)
+    soon = False
+    s_cut = np.inf
+    for j in range(mod.A.size):
+        for k in range(2):
+            if closed[j, k]:
+                continue
+            s = _roots(gap[j, k], Hv[3 * j + k], Ha[3 * j + k])
+            if s < h_min:
+                soon = True
+                closed[j, k] = True
+            s_cut = min(s_cut, s)
+    return soon, s_cut
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _events(mod, st, run, out, wk, t, t_end, ni):
+    """Phase 3, the events at ``t``: the corners closed, an impact when one closed since the last
+    step (again after a landing within ``h_min`` closes another), the impact recorded in
+    ``out.imp[ni]``, and the step's length ``h`` (``dt``, all of a remainder shorter than
+    ``dt + h_min``, or cut at the first landing).  Returns ``(status, h, a_g, impacts written)``."""
+    closed, was_closed, hit, gap, gap_tol, J = wk.closed, st.was_closed, wk.hit, st.gap, mod.gap_tol, mod.A.size
+    h = t_end - t if t_end - t < run.dt + run.h_min else run.dt    # no sliver of a step left at the end
+    for j in range(J):
+        for k in range(2):
+            closed[j, k] = gap[j, k] <= gap_tol[j]
+    a_g = _loads(run, wk.acc, mod.m.size, t + 0.5 * h)
+    K_in = -1.0
+    have_hit = False
+    s_cut = np.inf
+    while True:
+        newly = False
+        beyond_hit = not have_hit
+        all_closed = True
         for j in range(J):
             for k in range(2):
-                closed[j, k] = gap[j, k] <= gap_tol[j]
-        a_g = ground_at(kind, amp, period, ts, av, t + 0.5 * h)
-        for i in range(n):
-            acc[i, 0] = -a_g * g
-        K_in = -1.0
-        have_hit = False
-        s_cut = np.inf
-        while True:
-            newly = False
-            beyond_hit = not have_hit
-            all_closed = True
-            for j in range(J):
-                for k in range(2):
-                    if closed[j, k] and not was_closed[j, k]:
-                        newly = True
-                    if have_hit and closed[j, k] and not hit[j, k]:
-                        beyond_hit = True
-                    if not closed[j, k]:
-                        all_closed = False
-            if newly and beyond_hit:
-                if K_in < 0:
-                    K_in = _kinetic(mv, v)
-                if ist[I_STALE]:
-                    geometry(q, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
-                    ist[I_STALE] = 0
-                st = _project(rows, sides, minv, v, closed, working_imp, ist[I_HASWI] == 1, box_imp, mu, g * h,
-                              impact_pivots, ab, U, P, w, c, Z, dump_ab, dump_c, dump_P, dump_closed, fs, ist, t, 1, kkt_tol, coulomb_tol)
-                if st != 0:
-                    ist[I_STATUS] = st
-                    fs[F_T] = t
-                    return SOLVER_FAILED, nh, ni
-                ist[I_HASWI] = 1
-                apply_ht(rows, sides, P, imp_v)
-                w_sup = _on_supports(imp_v, v, n, sup)
-                fs[F_W_GROUND] += w_sup
-                fs[F_D] += w_sup
-                for i in range(nb):
-                    for d in range(3):
-                        v[i, d] += minv[i, d] * imp_v[i, d]
-                hit[:, :] = closed
-                have_hit = True
-            if all_closed:
-                s_cut = np.inf
-                break
-            apply_h(rows, sides, v, Hv)
-            apply_h(rows, sides, acc, Ha)
-            soon = False
+                if closed[j, k] and not was_closed[j, k]:
+                    newly = True
+                if have_hit and closed[j, k] and not hit[j, k]:
+                    beyond_hit = True
+                if not closed[j, k]:
+                    all_closed = False
+        if newly and beyond_hit:
+            if K_in < 0:
+                K_in = _kinetic(mod.mv, st.v)
+            status = _impact(mod, st, run, out, wk, t, h)
+            if status != 0:
+                return status, h, a_g, ni
+            have_hit = True
+        if all_closed:
             s_cut = np.inf
-            for j in range(J):
-                for k in range(2):
-                    if closed[j, k]:
-                        continue
-                    s = _roots(gap[j, k], Hv[3 * j + k], Ha[3 * j + k])
-                    if s < h_min:
-                        soon = True
-                        closed[j, k] = True
-                    s_cut = min(s_cut, s)
-            if not soon:
-                break
-        if K_in >= 0:
-            K_out = _kinetic(mv, v)
-            fs[F_D] += K_in - K_out
-            imp[ni, 0] = t
-            imp[ni, 1] = K_in
-            imp[ni, 2] = K_out
-            ni += 1
-        if s_cut < h:
-            h = s_cut
-            ist[I_CUTS] += 1
-            a_g = ground_at(kind, amp, period, ts, av, t + 0.5 * h)
-            for i in range(n):
-                acc[i, 0] = -a_g * g
+            break
+        soon, s_cut = _landings(mod, st, run, wk)
+        if not soon:
+            break
+    if K_in >= 0:
+        K_out = _kinetic(mod.mv, st.v)
+        st.fs[F_D] += K_in - K_out
+        out.imp[ni, 0] = t
+        out.imp[ni, 1] = K_in
+        out.imp[ni, 2] = K_out
+        ni += 1
+    if s_cut < h:
+        h = s_cut
+        st.ist[I_CUTS] += 1
+        a_g = _loads(run, wk.acc, mod.m.size, t + 0.5 * h)
+    return 0, h, a_g, ni
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _contact_step(mod, st, run, out, wk, t, h):
+    """Phase 4, the smooth step: the midpoint ``q_m``, the free velocity, the contact problem of
+    the closed corners at ``q_m`` (its impulses on the supports: their work), ``v_{k+1}``,
+    ``q_{k+1}`` (in ``wk``) and its geometry, then the slip and the friction's work
+    (:func:`_slip`).  Returns ``(status, a corner closed)``."""
+    q, v, minv, nb, fs, ist = st.q, st.v, mod.minv, st.q.shape[0], st.fs, st.ist
+    qm, v_free, v_new, q_new, acc, closed, imp_v = wk.qm, wk.v_free, wk.v_new, wk.q_new, wk.acc, wk.closed, wk.imp_v
+    for i in range(nb):
+        for d in range(3):
+            qm[i, d] = q[i, d] + 0.5 * h * v[i, d]
+            v_free[i, d] = v[i, d] + h * acc[i, d]
+    any_closed = False
+    for j in range(mod.A.size):
+        if closed[j, 0] or closed[j, 1]:
+            any_closed = True
+    if any_closed:
+        geometry(wk.qm, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
+                 wk.gm_gap, wk.gm_slip, wk.gm_rows, wk.gm_contact)
+        if run.mu < np.inf:
+            apply_h(wk.gm_rows, mod.sides, v, wk.Hv)      # the rates at the start of the step
+        status = _project(wk.gm_rows, mod.sides, minv, wk.v_free, wk.closed, st.working, ist[I_HASW] == 1, st.box,
+                          run.mu, run.g * h, run.block_pivots, wk.ab, wk.U, wk.P, wk.w, wk.c, wk.Z, out.dump_ab,
+                          out.dump_c, out.dump_P, out.dump_closed, fs, ist, t, np.int64(0), run.kkt_tol,
+                          run.coulomb_tol)
+        if status != 0:
+            return status, any_closed
+        ist[I_HASW] = 1
+        apply_ht(wk.gm_rows, mod.sides, wk.P, imp_v)
+        fs[F_W_GROUND] += _on_supports(imp_v, v, mod.m.size, st.sup)
         for i in range(nb):
             for d in range(3):
-                qm[i, d] = q[i, d] + 0.5 * h * v[i, d]
-                v_free[i, d] = v[i, d] + h * acc[i, d]
-        any_closed = False
-        for j in range(J):
-            if closed[j, 0] or closed[j, 1]:
-                any_closed = True
-        if any_closed:
-            geometry(qm, A, B, ra, rb, nu0, tau0, outward, depth, edge, gm_gap, gm_slip, gm_rows, gm_contact)
+                v_new[i, d] = v_free[i, d] + minv[i, d] * imp_v[i, d]
+    else:
+        _copy(v_free, v_new, nb)
+        ist[I_HASW] = 0
+    _copy(closed, st.was_closed, mod.A.size)
+    for i in range(nb):
+        for d in range(3):
+            q_new[i, d] = qm[i, d] + 0.5 * h * v_new[i, d]
+    geometry(q_new, mod.A, mod.B, mod.ra, mod.rb, mod.nu0, mod.tau0, mod.outward, mod.depth, mod.edge,
+             st.gap, st.slip, st.rows, st.contact)
+    ist[I_STALE] = 0
+    _slip(st, run, wk, t, h)
+    return 0, any_closed
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _slip(st, run, wk, t, h):
+    """The slip carried by the joints (whatever ``mu``: an open joint's follows the bodies, so a
+    landing keeps its offset; a closed joint's moves only by sliding, never with ``mu = inf``)
+    and the work of friction (phase 4)."""
+    mu, fs, s_ref, P, closed, Hv, w, slip, contact = run.mu, st.fs, st.s_ref, wk.P, wk.closed, wk.Hv, wk.w, \
+        st.slip, st.contact
+    for j in range(s_ref.size):
+        if closed[j, 0] or closed[j, 1]:
             if mu < np.inf:
-                apply_h(gm_rows, sides, v, Hv)      # the rates at the start of the step
-            st = _project(gm_rows, sides, minv, v_free, closed, working, ist[I_HASW] == 1, box, mu, g * h,
-                          block_pivots, ab, U, P, w, c, Z, dump_ab, dump_c, dump_P, dump_closed, fs, ist, t, 0, kkt_tol, coulomb_tol)
-            if st != 0:
-                ist[I_STATUS] = st
-                fs[F_T] = t
-                return SOLVER_FAILED, nh, ni
-            ist[I_HASW] = 1
-            apply_ht(gm_rows, sides, P, imp_v)
-            fs[F_W_GROUND] += _on_supports(imp_v, v, n, sup)
-            for i in range(nb):
-                for d in range(3):
-                    v_new[i, d] = v_free[i, d] + minv[i, d] * imp_v[i, d]
+                # the slip and the work of P_t over the step: positions move by h/2 (v_k + v_k+1)
+                rate = 0.5 * (Hv[3 * j + 2] + w[3 * j + 2])
+                s_ref[j] += h * rate
+                work = -P[3 * j + 2] * rate              # P_t opposes the sliding rate
+                fs[F_FRICTION] += work
+                fs[F_D] += work
         else:
-            v_new[:, :] = v_free
-            ist[I_HASW] = 0
-        was_closed[:, :] = closed
-        for i in range(nb):
-            for d in range(3):
-                q_new[i, d] = qm[i, d] + 0.5 * h * v_new[i, d]
-        geometry(q_new, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
-        ist[I_STALE] = 0
-        # the slip carried by the joints (whatever mu: an open joint's follows the bodies, so a
-        # landing keeps its offset; a closed joint's moves only by sliding, never with mu = inf)
-        # and the work of friction
-        for j in range(J):
-            if closed[j, 0] or closed[j, 1]:
-                if mu < np.inf:
-                    # the slip and the work of P_t over the step: positions move by h/2 (v_k + v_k+1)
-                    rate = 0.5 * (Hv[3 * j + 2] + w[3 * j + 2])
-                    s_ref[j] += h * rate
-                    work = -P[3 * j + 2] * rate              # P_t opposes the sliding rate
-                    fs[F_FRICTION] += work
-                    fs[F_D] += work
-            else:
-                s_ref[j] = slip[j, contact[j]]
-            if mu < np.inf and abs(s_ref[j]) > fs[F_SLIP]:
-                fs[F_SLIP] = abs(s_ref[j])
-                fs[F_TSLIP] = t + h
-                ist[I_JSLIP] = j
-        if any_closed:
-            nload = 0
-            for j in range(J):
-                lj = False
-                for k in range(2):
-                    lk = closed[j, k] and gap[j, k] < OFF_FACE and ((P[3 * j + k] > 0 and working[3 * j + k])
-                                                                    or gap[j, k] < 0)
-                    on[3 * j + k] = lk
-                    lj = lj or lk
-                on[3 * j + 2] = lj
-                nload += lj
-            if nload > 0:
-                for j in range(J):
-                    for k in range(2):
-                        rhs[3 * j + k] = -gap[j, k] if on[3 * j + k] else 0.0
-                    rhs[3 * j + 2] = -(slip[j, contact[j]] - s_ref[j]) if on[3 * j + 2] else 0.0
-                dmax = 0.0
-                for i in range(M3):
-                    dmax = max(dmax, ab[BAND, i])
-                if not factor(ab, on, REG * dmax, zero, U):
-                    ist[I_STATUS] = 3
-                    fs[F_T] = t
-                    return SOLVER_FAILED, nh, ni
-                solve(U, rhs, lam)
-                apply_ht(gm_rows, sides, lam, dq)
-                for i in range(nb):
-                    for d in range(3):
-                        dq[i, d] *= minv[i, d]
-                        q_new[i, d] += dq[i, d]
-                apply_h(rows, sides, dq, Hdq)
-                for j in range(J):
-                    gap[j, 0] += Hdq[3 * j]
-                    gap[j, 1] += Hdq[3 * j + 1]
-                ist[I_STALE] = 1
-                dy, dx = 0.0, 0.0
-                for i in range(n):
-                    dy += m[i] * dq[i, 1]
-                    dx += m[i] * dq[i, 0]
-                fs[F_DRIFT] += g * dy + a_g * g * dx
-        wx = 0.0
-        for i in range(n):
-            wx += m[i] * (q_new[i, 0] - q[i, 0])
-        fs[F_W_GROUND] += -a_g * g * wx
-        q[:, :] = q_new
-        v[:, :] = v_new
-        t = t + h
-        sup[4] += h
-        fs[F_T] = t
-        ist[I_STEPS] += 1
+            s_ref[j] = slip[j, contact[j]]
+        if mu < np.inf and abs(s_ref[j]) > fs[F_SLIP]:
+            fs[F_SLIP] = abs(s_ref[j])
+            fs[F_TSLIP] = t + h
+            st.ist[I_JSLIP] = j
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _correct(mod, st, run, wk, a_g):
+    """Phase 5, the position projection of ``q_{k+1}`` (``wk.q_new``): ``M``-orthogonally (one
+    Gauss-Newton step, velocities untouched) onto zero gap at the closed corners that carried a
+    percussion (or overlap) and the carried slip at their joints, with the rows of the midpoint;
+    the gaps updated to first order (the geometry then stale) and the loads' work on the
+    correction counted as drift.  Returns the status (3: ``W`` not positive definite)."""
+    J, n, gap, slip, on, rhs, minv, dq = mod.A.size, mod.m.size, st.gap, st.slip, wk.on, wk.rhs, mod.minv, wk.dq
+    closed, P, working, contact, s_ref, ab, q_new, Hdq, m = wk.closed, wk.P, st.working, st.contact, st.s_ref, \
+        wk.ab, wk.q_new, wk.Hdq, mod.m
+    nload = 0
+    for j in range(J):
+        lj = False
+        for k in range(2):
+            lk = closed[j, k] and gap[j, k] < OFF_FACE and ((P[3 * j + k] > 0 and working[3 * j + k])
+                                                            or gap[j, k] < 0)
+            on[3 * j + k] = lk
+            lj = lj or lk
+        on[3 * j + 2] = lj
+        nload += lj
+    if nload == 0:
+        return 0
+    for j in range(J):
+        for k in range(2):
+            rhs[3 * j + k] = -gap[j, k] if on[3 * j + k] else 0.0
+        rhs[3 * j + 2] = -(slip[j, contact[j]] - s_ref[j]) if on[3 * j + 2] else 0.0
+    dmax = 0.0
+    for i in range(3 * J):
+        dmax = max(dmax, ab[BAND, i])
+    if not factor(ab, on, REG * dmax, wk.zero, wk.U):
+        return 3
+    solve(wk.U, rhs, wk.lam)
+    apply_ht(wk.gm_rows, mod.sides, wk.lam, dq)
+    for i in range(dq.shape[0]):
+        for d in range(3):
+            dq[i, d] *= minv[i, d]
+            q_new[i, d] += dq[i, d]
+    apply_h(st.rows, mod.sides, dq, Hdq)
+    for j in range(J):
+        gap[j, 0] += Hdq[3 * j]
+        gap[j, 1] += Hdq[3 * j + 1]
+    st.ist[I_STALE] = 1
+    dy, dx = 0.0, 0.0
+    for i in range(n):
+        dy += m[i] * dq[i, 1]
+        dx += m[i] * dq[i, 0]
+    st.fs[F_DRIFT] += run.g * dy + a_g * run.g * dx
+    return 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _commit(mod, st, run, wk, t, h, a_g):
+    """Phase 6: the ground's work over the step, ``(q, v)`` set to the step's end, the clocks.
+    Returns the new time."""
+    q, fs, m, q_new = st.q, st.fs, mod.m, wk.q_new
+    wx = 0.0
+    for i in range(m.size):
+        wx += m[i] * (q_new[i, 0] - q[i, 0])
+    fs[F_W_GROUND] += -a_g * run.g * wx
+    _copy(q_new, q, q.shape[0])
+    _copy(wk.v_new, st.v, q.shape[0])
+    t = t + h
+    st.sup[4] += h
+    fs[F_T] = t
+    st.ist[I_STEPS] += 1
+    return t
+
+
+@njit(cache=True, error_model="numpy")
+def advance(mod, st, run, out, t_end, max_steps):
+    """Steps from the state ``st`` (:class:`State`) of the bodies ``mod`` (:class:`Model`) with the
+    settings ``run`` (:class:`Run`) until ``t_end``, a stop, ``max_steps`` steps, or the buffers of
+    ``out`` (:class:`Buffers`: ``hist`` ``(rows, 13)``, ``pos`` ``(rows, n, 3)``, ``imp``
+    ``(rows, 3)``) are full.  Returns ``(status, history rows written, impacts written)``.  The
+    supports (rows ``n``, ``n + 1`` of ``q``, ``v``) move at their velocities; ``st.sup`` (6,)
+    accumulates the impulses of the arch on them (x, y left, x, y right; N s/m) and the time (s)
+    since the last history row, whose columns 9-12 are their means (N/m), and (``sup[5]``) their
+    work on the arch (J/m), which also counts as the ground's.  A run's first call starts with
+    :func:`_start`; each step: :func:`_observe`, :func:`_record`, :func:`_events`,
+    :func:`_contact_step`, :func:`_correct`, :func:`_commit`."""
+    wk = _workspace(mod, run.g)
+    fs, ist = st.fs, st.ist
+    if ist[I_START]:
+        _start(mod, st)
+    nh, ni = np.int64(0), np.int64(0)     # (not the literal 0: one compiled _record and _events)
+    t = fs[F_T]
+    for count in range(max_steps + 1):
+        K, V, rot, done = _observe(mod, st, run, t, t_end)
+        if t >= fs[F_NEXT] or done:
+            if nh == out.hist.shape[0]:
+                return RUNNING, nh, ni
+            _record(mod, st, run, out, nh, t, K, V, rot)
+            nh += 1
+        if done:
+            return STOPPED if t < t_end - run.h_min else FINISHED, nh, ni
+        if count == max_steps or ni == out.imp.shape[0]:
+            return RUNNING, nh, ni
+        status, h, a_g, ni = _events(mod, st, run, out, wk, t, t_end, ni)
+        if status == 0:
+            status, any_closed = _contact_step(mod, st, run, out, wk, t, h)
+            if status == 0 and any_closed:
+                status = _correct(mod, st, run, wk, a_g)
+        if status != 0:
+            ist[I_STATUS] = status
+            fs[F_T] = t
+            return SOLVER_FAILED, nh, ni
+        t = _commit(mod, st, run, wk, t, h, a_g)
     return RUNNING, nh, ni

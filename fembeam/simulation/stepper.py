@@ -414,21 +414,14 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     thick = bodies.thickness.copy()
     mu = math.inf if sim.friction is None else sim.friction
     # the contact data of :class:`.contacts.Contacts` as real arrays
-    ra = np.stack([con.r_a.real, con.r_a.imag], axis=-1).copy()
-    rb = np.stack([con.r_b.real, con.r_b.imag], axis=-1).copy()
-    nu0 = np.stack([con.nu0.real, con.nu0.imag], axis=-1).copy()
-    tau0 = np.stack([con.tau0.real, con.tau0.imag], axis=-1).copy()
-    outward, depth, edge = con.outward.copy(), con.depth.copy(), con.edge.copy()
-    A, B = con.a.astype(np.int64), con.b.astype(np.int64)
-    sides = np.ascontiguousarray(con.sides, dtype=np.int64)
-    gap, slip = np.zeros((J, 2)), np.zeros((J, 2))
-    rows, contact = np.zeros((J, 3, 2, 3)), np.zeros(J, np.int64)
-    K.geometry(q, A, B, ra, rb, nu0, tau0, outward, depth, edge, gap, slip, rows, contact)
-    was_closed = gap <= GAP_TOL * thick[:, None]
-    working, working_imp = np.zeros(3 * J, bool), np.zeros(3 * J, bool)
-    box, box_imp = np.zeros(3 * J, np.int64), np.zeros(3 * J, np.int64)
-    # the slip the joints carry: none from rest; a run from a given state (q0) keeps the state's
-    s_ref = np.zeros(J) if q0 is None else slip[np.arange(J), contact].copy()
+    ra = np.stack([con.r_a.real, con.r_a.imag], axis=-1)
+    rb = np.stack([con.r_b.real, con.r_b.imag], axis=-1)
+    nu0 = np.stack([con.nu0.real, con.nu0.imag], axis=-1)
+    tau0 = np.stack([con.tau0.real, con.tau0.imag], axis=-1)
+    mod = K.Model(*_kernel_arrays(
+        (con.a, int), (con.b, int), (ra, float), (rb, float), (nu0, float), (tau0, float), (con.outward, float),
+        (con.depth, float), (con.edge, float), (con.sides, int), (minv, float), (m, float), (mv, float),
+        (y0, float), (thick, float), (GAP_TOL * thick, float)))
     fs = np.zeros(K.N_FLOAT)
     ist = np.zeros(K.N_INT, np.int64)
     E0 = float(0.5 * np.sum(mv * v * v)) + g * float(m @ (q[:n, 1] - y0))
@@ -437,25 +430,31 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     fs[K.F_TPEAK] = fs[K.F_TOVER] = fs[K.F_TRATIO] = fs[K.F_TSLIP] = math.nan
     fs[K.F_VMIN] = math.inf
     ist[K.I_JRATIO] = ist[K.I_JSLIP] = -1
+    # the geometry of q, the closed corners, the slip the joints carry (none from rest; a run from a
+    # given state, q0, keeps the state's): by the kernel's first call
+    ist[K.I_START] = K.FROM_REST if q0 is None else K.FROM_STATE
+    state = K.State(*_kernel_arrays(
+        (q, float), (v, float), (np.zeros((J, 2)), float), (np.zeros((J, 2)), float),
+        (np.zeros((J, 3, 2, 3)), float), (np.zeros(J, np.int64), int), (np.zeros((J, 2), bool), bool),
+        (np.zeros(3 * J, bool), bool), (np.zeros(3 * J, bool), bool), (np.zeros(3 * J, np.int64), int),
+        (np.zeros(3 * J, np.int64), int), (np.zeros(J), float), (fs, float), (ist, int), (np.zeros(6), float)))
+    q, v, s_ref, fs, ist = state.q, state.v, state.s_ref, state.fs, state.ist
     kind, amp, period, ts, av = _ground_args(ground)
     V_over = overturn_level(sim.curve, bodies.mass, g)
-    hist = np.zeros((CHUNK_ROWS, K.HISTORY_COLUMNS))
-    pos = np.zeros((CHUNK_ROWS, n, 3))
-    imp = np.zeros((CHUNK_ROWS, 3))
+    settings = K.Run(float(dt), float(t0), float(dt_out), float(g), float(MIN_STEP * dt), float(V_over), float(mu),
+                     bool(stop_at_overturn), int(kind), float(amp), float(period),
+                     *_kernel_arrays((ts, float), (av, float)), int(IMPACT_PIVOTS), int(BLOCK_PIVOTS),
+                     float(KKT_TOL), float(COULOMB_TOL))
+    out = K.Buffers(np.zeros((CHUNK_ROWS, K.HISTORY_COLUMNS)), np.zeros((CHUNK_ROWS, n, 3)), np.zeros((CHUNK_ROWS, 3)),
+                    np.zeros((6, 3 * J)), np.zeros(3 * J), np.zeros(3 * J), np.zeros((J, 2), bool))
+    hist, pos, imp = out.hist, out.pos, out.imp
     res = SimulationResult(sim.curve, ground, bodies, mode=sim.mode, dt=dt, friction=sim.friction)
     t_start = time.perf_counter()
     h_rows, p_rows, impacts = [], [], []
-    dump = (np.zeros((6, 3 * J)), np.zeros(3 * J), np.zeros(3 * J), np.zeros((J, 2), bool))
-    sup = np.zeros(6)
     while True:
         t_stop = t_hold if t_hold < t_end else t_end     # the supports stop at t_hold: a step ends there
         try:
-            status, nh, ni = K.advance(
-                q, v, A, B, sides, ra, rb, nu0, tau0, outward, depth, edge, minv, m, mv, y0, thick, thick,
-                gap, slip, rows, contact, was_closed, working, working_imp, box, box_imp, s_ref,
-                fs, ist, dt, t_stop, t0, dt_out, g, MIN_STEP * dt, GAP_TOL * thick, V_over, mu,
-                bool(stop_at_overturn), kind, amp, period, ts, av, IMPACT_PIVOTS, BLOCK_PIVOTS,
-                hist, pos, imp, CHUNK_STEPS, KKT_TOL, COULOMB_TOL, *dump, sup)
+            status, nh, ni = K.advance(mod, state, settings, out, t_stop, CHUNK_STEPS)
         except (np.linalg.LinAlgError, ZeroDivisionError) as e:
             # a singular dense system inside a solver (numba raises numpy's LinAlgError): the step
             # from the state it started from (positions; velocities after its impact, if any)
@@ -475,7 +474,8 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
             err.problem = {"t": float(fs[K.F_T]), "q": _public(q), "v": _public(v), "mu": mu, "dt": dt,
                            "slip_carried": s_ref.copy()}
             if ist[K.I_STATUS] == 4:
-                err.problem.update({"W_banded": dump[0], "c": dump[1], "P_stick": dump[2], "closed": dump[3],
+                err.problem.update({"W_banded": out.dump_ab, "c": out.dump_c, "P_stick": out.dump_P,
+                                    "closed": out.dump_closed,
                                     "vscale": float(fs[K.F_VSCALE])})
             raise err
         if progress is not None:
@@ -524,6 +524,15 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     if motion is not None:
         res.support_q_end = q[-2:, :2].copy()
     return res
+
+
+def _kernel_arrays(*pairs):
+    """The arrays ``(array, dtype)`` of :func:`.kernel.advance`'s arguments as C-contiguous arrays
+    of that dtype (float64, int64, bool), the same objects when they are already: numba compiles
+    one :func:`~.kernel.advance` per combination of dtypes and layouts, so a view or an int32
+    array would cost a compilation."""
+    kinds = {float: np.float64, int: np.int64, bool: np.bool_}
+    return tuple(np.ascontiguousarray(a, dtype=kinds[k]) for a, k in pairs)
 
 
 def _public(x: np.ndarray) -> np.ndarray:
