@@ -279,9 +279,10 @@ def test_overturning_level_is_far_from_the_contact_errors():
 
 def test_bad_friction_is_refused():
     from fembeam.errors import InputError
-    for mu in (0.0, -1.0, math.nan, math.inf, 1e9, "x"):
+    for mu in (0.0, -1.0, math.nan, -math.inf, 1e9, "x"):
         with pytest.raises(InputError):
             Simulator(SQUAT, voussoirs=1, friction=mu)
+    assert Simulator(SQUAT, voussoirs=1, friction=math.inf).friction is None    # unlimited: no sliding
 
 
 def test_no_sliver_of_a_step_at_the_end():
