@@ -41,6 +41,8 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
       ``mu`` (a 7-voussoir arch under twice El Centro at ``mu = 10``: the fixed point cycled at a
       residual of 1.4e-2, Newton stalled at 1.9e-2, Gauss-Seidel at 7.9e-3 after 2000 sweeps,
       on a problem whose exact solution has two joints sliding).
+   g. Newton again from the best answer of (c)-(f) (with ``mu = 1000`` every stage stalls from the
+      sticking solution, and Newton converges from near the solution).
 
 3. **The loop** (:func:`advance`) runs the steps of :mod:`.stepper` from the state it is given
    until the end of the run, an overturning (when asked to stop there), or a budget of steps or
@@ -1437,6 +1439,19 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                             ist[I_BY_NSGS if stage < 2 else I_BY_LEMKE] += 1
                             break
                         if res < best:
+                            best = res
+                            Pbest[:] = P
+                    if not ok:
+                        # Newton again from the best answer so far: with a large mu (1000) the
+                        # coupling of the joints stalls every stage from the sticking solution,
+                        # and Newton converges from near the solution
+                        P[:] = Pbest
+                        ok, its, res = semismooth_newton(ab, c, nonneg, cj, mu, vscale, REG_FRICTION * dmax,
+                                                         coulomb_tol, P, w)
+                        ist[I_PIVOTS] += its
+                        if ok:
+                            ist[I_BY_SSN] += 1
+                        elif res < best:
                             best = res
                             Pbest[:] = P
                 if not ok and best <= LOOSE * coulomb_tol:    # accepted, counted and reported
