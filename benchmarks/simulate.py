@@ -146,12 +146,12 @@ def main() -> None:
               f"largest (more impacts per step); of the time per solve (one banded factorisation): {k_solve:.2f}")
     if friction:
         print(f"friction mu = {args.mu:g}: bodies, wall s without and with friction, ratio, steps that left the cone "
-              f"(sliding_steps), solved by (stick in the cone after a self-stress / fixed point / Newton / Gauss-Seidel / "
+              f"(sliding_steps), solved by (stick in the cone after a self-stress / Newton / fixed point / Gauss-Seidel / "
               f"Lemke / loose), pivots and solves with friction")
         for n, w0, w1, r in friction:
             sb = r.solved_by
-            print(f"{n:5d} {w0:8.3f} {w1:8.3f} {w1 / w0:6.2f} {r.sliding_steps:7d}   {r.redistributed}/{sb['fixed_point']}/"
-                  f"{sb['newton']}/{sb['gauss_seidel']}/{sb['lemke']}/{r.loose_steps} {r.pivots:9d}")
+            print(f"{n:5d} {w0:8.3f} {w1:8.3f} {w1 / w0:6.2f} {r.sliding_steps:7d}   {r.redistributed}/{sb['newton']}/"
+                  f"{sb['fixed_point']}/{sb['gauss_seidel']}/{sb['lemke']}/{r.loose_steps} {r.pivots:9d}")
         if len(friction) > 2:
             nb = np.log([f[0] for f in friction])
             k0 = np.polyfit(nb, np.log([f[1] for f in friction]), 1)[0]

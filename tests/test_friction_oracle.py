@@ -324,3 +324,63 @@ def test_the_kernel_was_compiled_with_the_constants():
     """Numba froze :mod:`fembeam.simulation.constants` into the kernel; a stale cache would not
     see a change (the stepper rebuilds it; here it must agree)."""
     assert K.compiled_constants() == C.values()
+
+
+def test_a_step_of_a_sliding_arch_is_its_cold_solution():
+    """Steps of the 30-voussoir arch (R = 5 m) from its state at 0.85 s of the 0.6 g, 0.56 s sine
+    with mu = 0.6, under a horizontal acceleration of 0 or 1.2 g, with mu = 0.6 (the sticking
+    solution is in the cone) or 0.3 (it is not; a joint slides): the whole step
+    (:func:`~fembeam.simulation.kernel._project`) against cold solves of the same problem.  Where
+    the sticking solution is in the cone it is returned as it is (nothing counted); where it is
+    not, the answer (the semi-smooth Newton method from the sticking solution, polished) has the
+    rates of Lemke's pivots and of the Tresca fixed point from the sticking solution, to the
+    tolerance of Coulomb's law, and satisfies the law independently checked."""
+    from fembeam import CircularArch
+    from fembeam.dynamics import GroundMotion
+    from fembeam.simulation import Simulator
+    arch = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
+    sim = Simulator(arch, voussoirs=30, friction=0.6)
+    r = sim.run(GroundMotion.sine(0.6, 0.56), dt=1e-3, t_end=0.85)
+    assert r.sliding_steps > 0
+    con, h, g = sim.contacts, 1e-3, 9.81
+    geo = con.evaluate(r.q_end)
+    closed = geo.gap <= C.GAP_TOL * sim.bodies.thickness[:, None]
+    nonneg, cj, _ = masks(closed)
+    n, J = sim.bodies.n, closed.shape[0]
+    m = 3 * J
+    kinds = set()
+    for mu, a_g in product((0.6, 0.3), (0.0, 1.2)):
+        v = r.v_end.copy()
+        v[:n, 0] -= h * a_g * g
+        v[:n, 1] -= h * g
+        ab, c = con.delassus(geo.rows), con.apply(geo.rows, v)
+        ab_k, U, P, w, cc, Z = (np.zeros((C.BAND + 1, m)), np.zeros((m, C.BAND + 1)), np.zeros(m), np.zeros(m),
+                                np.zeros(m), np.zeros((m, 4)))
+        dump = (np.zeros((C.BAND + 1, m)), np.zeros(m), np.zeros(m), np.zeros((J, 2), bool))
+        fs, ist = np.zeros(K.N_FLOAT), np.zeros(K.N_INT, np.int64)
+        F, box = np.zeros(m, bool), np.zeros(m, np.int64)
+        st = K._project(geo.rows, con.sides.astype(np.int64), con.minv, v, closed, F, False, box, mu, g * h,
+                        C.BLOCK_PIVOTS, ab_k, U, P, w, cc, Z, *dump, fs, ist, 0.0, 0, C.KKT_TOL, C.COULOMB_TOL)
+        assert st == 0 and ist[K.I_LOOSE] == 0
+        vscale = max(float(np.max(np.abs(c))), g * h)
+        dmax = float(np.max(ab[C.BAND]))
+        _, Ps, _, _ = stick(ab, c, closed)
+        pscale = max(np.max(np.abs(P)), np.max(np.abs(Ps)), vscale / dmax)
+        W = np.zeros((m, m))
+        for k in range(m):
+            for i in range(max(0, k - C.BAND), k + 1):
+                W[i, k] = W[k, i] = ab[C.BAND + i - k, k]
+        assert np.allclose(W @ P + c, w, atol=1e-12 * vscale)
+        assert violation(P, w, closed, mu, vscale, pscale) <= 10 * C.COULOMB_TOL
+        if ist[K.I_SLIDING] == 0:                 # the sticking solution is the frictional one
+            kinds.add("stick")
+            assert fs[K.F_COULOMB] == 0.0
+            assert np.max(np.abs(P - Ps)) <= 1e-6 * pscale
+            continue
+        kinds.add("slide")
+        assert ist[K.I_BY_SSN] == 1
+        for cold in ("lemke", "fixed_point"):
+            ok, res, Pc, wc = _stage(cold, ab, c, closed, mu, Ps.copy())
+            assert ok, cold
+            assert np.max(np.abs(wc - w)) <= 1e-4 * vscale, (a_g, cold, np.max(np.abs(wc - w)) / vscale)
+    assert kinds == {"stick", "slide"}, kinds

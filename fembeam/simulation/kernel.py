@@ -26,20 +26,23 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
    b. the same velocities with a self-stress of the redundant closed joints added
       (:func:`self_stress`, :func:`redistribute`): between two abutments the percussions are
       determined up to three self-stress states, and one of them may lie in the cone;
-   c. the Tresca fixed point (:func:`solve_friction`; Siconos' ``TFP``): with the bounds
+   c. the semi-smooth Newton method on Alart and Curnier's equations (:func:`semismooth_newton`,
+      damped on their squared residual, banded, and polished by one full step with the cases of
+      its answer): from the sticking solution it settles most steps in a few iterations;
+   d. the Tresca fixed point (:func:`solve_friction`; Siconos' ``TFP``): with the bounds
       ``mu N^k`` frozen, the convex QP ``min 1/2 P^T W P + c^T P``, ``P_N >= 0``,
       ``|P_t| <= mu N^k`` by block principal pivoting on the box (projected Gauss-Seidel as
       fallback), then ``N^{k+1}`` from its solution (relaxed after some iterations);
-   d. the semi-smooth Newton method on Alart and Curnier's equations (:func:`semismooth_newton`,
-      damped on their squared residual);
    e. non-smooth Gauss-Seidel with an exact solver per joint (:func:`nsgs`; LMGC90's and
-      Siconos' solver), from the sticking solution, then from the best iterate of (c);
+      Siconos' solver), from the sticking solution, then from the best iterate of (d);
    f. Lemke's complementary pivoting on the problem written as a linear complementarity
       problem (:func:`lemke_friction`, Stewart and Trinkle's form, exact in the plane): a finite
       sequence of pivots where (c)-(e) iterate on the coupling of the joints, which grows with
       ``mu`` (a 7-voussoir arch under twice El Centro at ``mu = 10``: the fixed point cycled at a
       residual of 1.4e-2, Newton stalled at 1.9e-2, Gauss-Seidel at 7.9e-3 after 2000 sweeps,
       on a problem whose exact solution has two joints sliding).
+   g. Newton again from the best answer of (c)-(f) (with ``mu = 1000`` every stage stalls from the
+      sticking solution, and Newton converges from near the solution).
 
 3. **The loop** (:func:`advance`) runs the steps of :mod:`.stepper` from the state it is given
    until the end of the run, an overturning (when asked to stop there), or a budget of steps or
@@ -255,6 +258,7 @@ REG_FRICTION = 1e-9  # regularisation of the Tresca problems (relative to the la
 SSN_ITERATIONS = 50   # semi-smooth Newton iterations
 NSGS_SWEEPS = 2000   # non-smooth Gauss-Seidel sweeps (the last resort of the frictional problem)
 PGS_TOL = 1e-9       # projected gradient that ends the projected Gauss-Seidel, relative to the rates
+SELF_STRESS_PIVOT = 1e-4   # a factor's pivot below this x W's largest diagonal entry: self-stress states sought
 
 
 @njit(cache=True, error_model="numpy")
@@ -960,6 +964,19 @@ def self_stress(ab, F, reg, U, Z):
     zero = np.zeros(m)
     if not factor(ab, F, reg, zero, U):
         return 0
+    # a null vector z of W_FF whose last entry is at row p makes W's leading block up to p singular:
+    # the factor's pivot there (1 / U[p, 0]^2) is at most reg |z|^2 / z_p^2.  With every pivot
+    # above SELF_STRESS_PIVOT of W's diagonal there is none unless its entries span four orders of
+    # magnitude (a self-stress of the joints of a member spans the ratio of its lengths); so on most
+    # steps the inverse iterations, the Rayleigh-Ritz step and their checks (more than a frictional
+    # step's Newton iterations) are skipped
+    small = False
+    for i in range(m):
+        if F[i] and U[i, 0] * U[i, 0] * SELF_STRESS_PIVOT * dmax >= 1.0:
+            small = True
+            break
+    if not small:
+        return 0
     X = np.zeros((m, q))
     for i in range(m):                   # deterministic, generic starting vectors on F
         if F[i]:
@@ -1114,37 +1131,41 @@ def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
 
 
 @njit(cache=True, error_model="numpy")
-def _band_solve(A, b, kl, ku, x):
-    """``x`` with ``A x = b`` for a square ``A`` whose entries vanish outside ``-kl <= k - i <= ku``
-    (dense storage; ``A`` and ``b`` overwritten), by Gaussian elimination with partial pivoting
-    restricted to the band (LAPACK's ``dgbsv`` order: ``O(m kl (kl + ku))`` operations instead of
-    ``O(m^3)``).  False if a pivot vanishes (``A`` singular)."""
+def _band_solve(A, b, kl, x):
+    """``x`` with ``A x = b`` for a square matrix whose entries vanish outside ``-kl <= k - i <= kl``,
+    stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: partial pivoting moves a row's
+    entries up to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian
+    elimination with partial pivoting restricted to the band (LAPACK's ``dgbsv`` order:
+    ``O(m kl^2)`` operations and ``O(m kl)`` storage; a dense ``m x m`` matrix cost ``O(m^2)`` per
+    Newton iteration only to be cleared).  False if a pivot vanishes (singular)."""
     m = b.size
+    ku = 2 * kl
     for j in range(m):
         p = j
-        big = abs(A[j, j])
+        big = abs(A[j, kl])
         for i in range(j + 1, min(m, j + kl + 1)):
-            if abs(A[i, j]) > big:
-                big, p = abs(A[i, j]), i
+            if abs(A[i, kl + j - i]) > big:
+                big, p = abs(A[i, kl + j - i]), i
         if big == 0.0:
             return False
-        last = min(m, j + kl + ku + 1)          # a swapped row reaches kl + ku to the right
+        last = min(m, j + ku + 1)
         if p != j:
             for k in range(j, last):
-                A[j, k], A[p, k] = A[p, k], A[j, k]
+                A[j, kl + k - j], A[p, kl + k - p] = A[p, kl + k - p], A[j, kl + k - j]
             b[j], b[p] = b[p], b[j]
+        piv = A[j, kl]
         for i in range(j + 1, min(m, j + kl + 1)):
-            f = A[i, j] / A[j, j]
+            f = A[i, kl + j - i] / piv
             if f != 0.0:
                 for k in range(j + 1, last):
-                    A[i, k] -= f * A[j, k]
+                    A[i, kl + k - i] -= f * A[j, kl + k - j]
                 b[i] -= f * b[j]
-            A[i, j] = 0.0
+            A[i, kl + j - i] = 0.0
     for i in range(m - 1, -1, -1):
         acc = b[i]
-        for k in range(i + 1, min(m, i + kl + ku + 1)):
-            acc -= A[i, k] * x[k]
-        x[i] = acc / A[i, i]
+        for k in range(i + 1, min(m, i + ku + 1)):
+            acc -= A[i, kl + k - i] * x[k]
+        x[i] = acc / A[i, kl]
     return True
 
 
@@ -1154,81 +1175,102 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     ``P_t = proj[-mu N, mu N](P_t - rho w_t)`` (``rho = 1 / W_ii``), solved by the semi-smooth
     Newton method: the cases those projections pick (a corner pressed or free, a joint sticking
     or sliding either way) fix a linear system in ``P`` (sliding: ``P_t = -+ mu N``, a
-    non-symmetric row, within the band of ``W``), solved by banded elimination (:func:`_band_solve`;
-    it was a dense solve, ``O(m^3)``: most of the frictional steps' time on 200 bodies); the step
-    damped by halving until ``|Phi|^2`` decreases.
+    non-symmetric row, within the band of ``W``), solved by banded elimination in band storage
+    (:func:`_band_solve`); the step damped by halving until ``|Phi|^2`` decreases (the merit and
+    the rates of the accepted step are those of the next iteration).
     From the ``P`` given; returns ``(converged, iterations, residual)``."""
     m = c.size
     J = closed_joint.size
     dmax = 0.0
     for i in range(m):
         dmax = max(dmax, ab[BAND, i])
-    Wd = np.zeros((m, m))
-    for d in range(BAND + 1):
-        for k in range(d, m):
-            Wd[k - d, k] = ab[BAND - d, k]
-            Wd[k, k - d] = ab[BAND - d, k]
     rho = np.empty(m)
     for i in range(m):
-        rho[i] = 1.0 / max(Wd[i, i], 1e-300)
+        rho[i] = 1.0 / max(ab[BAND, i], 1e-300)
     Pt = np.empty(m)
     wt = np.empty(m)
-    case = np.full(m, -9, np.int64)
-    new = np.zeros(m, np.int64)
-    A = np.zeros((m, m))
+    case = np.zeros(m, np.int64)
+    width = 3 * BAND + 1
+    A = np.zeros((m, width))
     rhs = np.zeros(m)
     d = np.zeros(m)
     res = np.inf
-    for it in range(SSN_ITERATIONS):
-        matvec(ab, P, w)
-        w += c
+    f0 = _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w)       # and w = W P + c
+    polish = False
+    res0 = 0.0
+    P0 = np.empty(m)
+    w0 = np.empty(m)
+    for it in range(SSN_ITERATIONS + 2):
         pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
         res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
+        if polish:                        # the polished iterate, if it is no worse
+            if res <= res0:
+                return True, it, res
+            P[:] = P0
+            w[:] = w0
+            return True, it, res0
         if res <= tol:
-            return True, it, res
+            # one more full step with the cases of the solution: their linear system's solution is
+            # the exact one (the tolerance alone would leave rates of 1e-5 of the scale at pressed
+            # corners, which turn the voussoirs of an arch that slides without rocking)
+            polish = True
+            res0 = res
+            P0[:] = P
+            w0[:] = w
+        elif it >= SSN_ITERATIONS:
+            break
         for j in range(J):
             for r in range(2):
                 i = 3 * j + r
-                new[i] = 1 if nonneg[i] and P[i] - w[i] / Wd[i, i] > 0 else 0
+                case[i] = 1 if nonneg[i] and P[i] - w[i] * rho[i] > 0 else 0
             i = 3 * j + 2
             N = max(P[3 * j], 0.0) + max(P[3 * j + 1], 0.0)
-            y = P[i] - w[i] / Wd[i, i]
+            y = P[i] - w[i] * rho[i]
             if not closed_joint[j]:
-                new[i] = 0
+                case[i] = 0
             elif abs(y) <= mu * N:
-                new[i] = 1
+                case[i] = 1
             else:
-                new[i] = 2 if y > 0 else 3
+                case[i] = 2 if y > 0 else 3
         for i in range(m):
-            case[i] = new[i]
-        A[:, :] = 0.0
-        for i in range(m):
+            for k in range(width):
+                A[i, k] = 0.0
             if case[i] == 1:                  # w_i = 0
                 for k in range(max(0, i - BAND), min(m, i + BAND + 1)):
-                    A[i, k] = Wd[i, k]
-                A[i, i] += reg
+                    lo, hi = min(i, k), max(i, k)
+                    A[i, BAND + k - i] = ab[BAND + lo - hi, hi]
+                A[i, BAND] += reg
                 rhs[i] = -c[i]
             elif case[i] == 0:                # P_i = 0
-                A[i, i] = 1.0
+                A[i, BAND] = 1.0
                 rhs[i] = 0.0
             else:                             # P_t -+ mu (P_n0 + P_n1) = 0
                 s = 1.0 if case[i] == 2 else -1.0
-                A[i, i] = 1.0
-                A[i, i - 1] = -s * mu
-                A[i, i - 2] = -s * mu
+                A[i, BAND] = 1.0
+                A[i, BAND - 1] = -s * mu
+                A[i, BAND - 2] = -s * mu
                 rhs[i] = 0.0
-        if not _band_solve(A, rhs, BAND, BAND, d):
-            return False, it, res
-        d -= P                            # the Newton step, damped on the merit |Phi|^2
-        f0 = _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, wt)
+        if not _band_solve(A, rhs, BAND, d):
+            return polish, it, res
+        if polish:
+            P[:] = d
+            matvec(ab, P, w)
+            w += c
+            continue
+        for i in range(m):                # the Newton step, damped on the merit |Phi|^2
+            d[i] -= P[i]
         alpha = 1.0
+        f1 = f0
         for ls in range(20):
             for i in range(m):
                 Pt[i] = P[i] + alpha * d[i]
-            if _ac_merit(ab, c, nonneg, closed_joint, mu, rho, Pt, wt) < (1.0 - 1e-4 * alpha) * f0:
+            f1 = _ac_merit(ab, c, nonneg, closed_joint, mu, rho, Pt, wt)
+            if f1 < (1.0 - 1e-4 * alpha) * f0:
                 break
             alpha *= 0.5
         P[:] = Pt
+        w[:] = wt
+        f0 = f1
     return False, SSN_ITERATIONS, res
 
 
@@ -1398,43 +1440,62 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                 else:
                     P[:] = Pstick
         if slide:
-            # ... else the Tresca fixed point from it, then non-smooth Gauss-Seidel
-            for j in range(J):              # start: the stick solution's working set, the violated bounds
-                for r in range(2):
-                    box[3 * j + r] = 0 if F[3 * j + r] else 1
-                N = P[3 * j] + P[3 * j + 1]
-                box[3 * j + 2] = 2 if P[3 * j + 2] > mu * N else (1 if P[3 * j + 2] < -mu * N else 0)
+            # ... else the semi-smooth Newton method from it (a few banded eliminations on most
+            # steps), then the Tresca fixed point, non-smooth Gauss-Seidel and Lemke's pivots
             Pstick = P.copy()
-            status, piv, res = solve_friction(ab, c, nonneg, cj, mu, vscale, box, U, P, w, coulomb_tol)
-            ist[I_PIVOTS] += piv
-            if status == 0:
-                ist[I_BY_FP] += 1
+            ok, its, res = semismooth_newton(ab, c, nonneg, cj, mu, vscale, REG_FRICTION * dmax, coulomb_tol, P, w)
+            ist[I_PIVOTS] += its
+            if ok:
+                ist[I_BY_SSN] += 1
             else:
-                # (d) semi-smooth Newton from the stick solution, (e) non-smooth Gauss-Seidel from
-                # it, (f) Gauss-Seidel from the fixed point's best iterate, (g) Lemke's pivots on
-                # the linear complementarity problem; a stalled step accepted at the best of them
-                # up to LOOSE x the tolerance
-                P0 = P.copy()
                 best = res
                 Pbest = P.copy()
-                ok = False
-                for stage in range(4):
-                    P[:] = P0 if stage == 2 else Pstick
-                    if stage == 0:
-                        ok, its, res = semismooth_newton(ab, c, nonneg, cj, mu, vscale, REG_FRICTION * dmax,
-                                                         coulomb_tol, P, w)
-                    elif stage < 3:
-                        ok, its, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
-                    else:
-                        ok, its, res = lemke_friction(ab, c, nonneg, cj, mu, vscale, REG * dmax, P, w)
-                        ok = ok and res <= coulomb_tol
-                    ist[I_PIVOTS] += its
-                    if ok:
-                        ist[I_BY_SSN if stage == 0 else (I_BY_NSGS if stage < 3 else I_BY_LEMKE)] += 1
-                        break
+                P[:] = Pstick
+                for j in range(J):          # start: the stick solution's working set, the violated bounds
+                    for r in range(2):
+                        box[3 * j + r] = 0 if F[3 * j + r] else 1
+                    N = P[3 * j] + P[3 * j + 1]
+                    box[3 * j + 2] = 2 if P[3 * j + 2] > mu * N else (1 if P[3 * j + 2] < -mu * N else 0)
+                status, piv, res = solve_friction(ab, c, nonneg, cj, mu, vscale, box, U, P, w, coulomb_tol)
+                ist[I_PIVOTS] += piv
+                ok = status == 0
+                if ok:
+                    ist[I_BY_FP] += 1
+                else:
+                    # non-smooth Gauss-Seidel from the stick solution, then from the fixed point's
+                    # best iterate, then Lemke's pivots on the linear complementarity problem; a
+                    # stalled step accepted at the best of them up to LOOSE x the tolerance
+                    P0 = P.copy()
                     if res < best:
                         best = res
                         Pbest[:] = P
+                    for stage in range(3):
+                        P[:] = P0 if stage == 1 else Pstick
+                        if stage < 2:
+                            ok, its, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
+                        else:
+                            ok, its, res = lemke_friction(ab, c, nonneg, cj, mu, vscale, REG * dmax, P, w)
+                            ok = ok and res <= coulomb_tol
+                        ist[I_PIVOTS] += its
+                        if ok:
+                            ist[I_BY_NSGS if stage < 2 else I_BY_LEMKE] += 1
+                            break
+                        if res < best:
+                            best = res
+                            Pbest[:] = P
+                    if not ok:
+                        # Newton again from the best answer so far: with a large mu (1000) the
+                        # coupling of the joints stalls every stage from the sticking solution,
+                        # and Newton converges from near the solution
+                        P[:] = Pbest
+                        ok, its, res = semismooth_newton(ab, c, nonneg, cj, mu, vscale, REG_FRICTION * dmax,
+                                                         coulomb_tol, P, w)
+                        ist[I_PIVOTS] += its
+                        if ok:
+                            ist[I_BY_SSN] += 1
+                        elif res < best:
+                            best = res
+                            Pbest[:] = P
                 if not ok and best <= LOOSE * coulomb_tol:    # accepted, counted and reported
                     ok = True
                     res = best
