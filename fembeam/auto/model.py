@@ -402,6 +402,26 @@ class AutoModel:
         ------
         InputError
             ``t_end`` or ``dt_out`` out of range.
+
+        Examples
+        --------
+        The first 2 s under a pulse below the onset threshold, the history (the model
+        in use, 0 for ``rock``; the largest rotation in rad) sampled every 0.5 s:
+
+        >>> import fembeam
+        >>> from fembeam.auto import AutoModel
+        >>> from fembeam.dynamics import GroundMotion
+        >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+        >>> res = AutoModel(arch, voussoirs=12).run(GroundMotion.sine(0.3, 0.5),
+        ...                                         t_end=2.0, dt_out=0.5)
+        >>> h = res.history
+        >>> for t, model, phi in zip(h["t"], h["model"], h["max_rotation"]):
+        ...     print(f"{t:.1f} s  model {model:.0f}  {phi:.4f} rad")
+        0.0 s  model 0  0.0000 rad
+        0.5 s  model 0  0.0000 rad
+        1.0 s  model 0  0.0000 rad
+        1.5 s  model 0  0.0000 rad
+        2.0 s  model 0  0.0000 rad
         """
         return _run(self, ground, t_end, dt_out, progress, history)
 
