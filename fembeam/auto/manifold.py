@@ -99,9 +99,9 @@ def bodies_state(eq: EquationOfMotion, theta: float, rate: float, bodies: Bodies
     >>> eq = EquationOfMotion(mech)
     >>> sim = Simulator(arch, voussoirs=12)
     >>> q, v = bodies_state(eq, 0.01 * eq.sign, 0.1 * eq.sign, sim.bodies)
-    >>> print(q.shape, f"first voussoir at ({q[0, 0]:.4f}, {q[0, 1]:.4f}) m,",
+    >>> print(q.shape, f"first voussoir at ({q[0, 0]:.3f}, {q[0, 1]:.3f}) m,",
     ...       f"turned {q[0, 2]:.2f} rad at {v[0, 2]:.2f} rad/s")
-    (13, 3) first voussoir at (-0.9505, 0.3062) m, turned -0.01 rad at -0.10 rad/s
+    (13, 3) first voussoir at (-0.951, 0.306) m, turned -0.01 rad at -0.10 rad/s
     """
     mech = eq.mechanism
     piece = _pieces(mech, bodies)

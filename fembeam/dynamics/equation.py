@@ -83,11 +83,11 @@ class EquationOfMotion:
     >>> mech = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
     >>> eq = EquationOfMotion(mech)
     >>> for a_g in (-0.3, -0.5):
-    ...     print(f"{a_g} g: {eq.sign * eq.acceleration(0.0, 0.0, a_g):.3f} rad/s^2")
-    -0.3 g: -0.515 rad/s^2
-    -0.5 g: 1.220 rad/s^2
-    >>> print(f"unstable at {eq.theta_unstable:.4f} rad, V = {eq.potential(-0.01):.2f} J/m")
-    unstable at 0.1180 rad, V = 17.28 J/m
+    ...     print(f"{a_g} g: {eq.sign * eq.acceleration(0.0, 0.0, a_g):.2f} rad/s^2")
+    -0.3 g: -0.51 rad/s^2
+    -0.5 g: 1.22 rad/s^2
+    >>> print(f"unstable at {eq.theta_unstable:.3f} rad, V = {eq.potential(-0.01):.2f} J/m")
+    unstable at 0.118 rad, V = 17.28 J/m
     """
 
     def __init__(self, mechanism: Mechanism, g: float = GRAVITY):

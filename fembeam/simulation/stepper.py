@@ -234,11 +234,11 @@ class Simulator:
         >>> res = sim.run(GroundMotion.sine(0.4, 0.5), dt=2e-3, t_end=0.3, dt_out=0.1,
         ...               engine="reference")
         >>> for t, phi in zip(res.history["t"], res.history["max_rotation"]):
-        ...     print(f"{t:.1f} s  {phi:.4f} rad")
-        0.0 s  0.0000 rad
-        0.1 s  0.0010 rad
-        0.2 s  0.0120 rad
-        0.3 s  0.0238 rad
+        ...     print(f"{t:.1f} s  {phi:.3f} rad")
+        0.0 s  0.000 rad
+        0.1 s  0.001 rad
+        0.2 s  0.012 rad
+        0.3 s  0.024 rad
         """
         if support_motion is not None and not isinstance(support_motion, SupportMotion):
             raise InputError(f"support_motion must be a SupportMotion, got {type(support_motion).__name__}")
