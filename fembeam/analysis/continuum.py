@@ -269,7 +269,21 @@ class ContinuumLimit:
     ``exact_hinges``: the hinge positions solve the optimality conditions to round-off.
     It is False when the optimum is degenerate, e.g. two hinges of one edge merging
     (thick arches: the thrust line touches the edge with a contact of fourth order), where
-    the positions are determined only to about the square root of the tolerance."""
+    the positions are determined only to about the square root of the tolerance.
+
+    Examples
+    --------
+    :func:`~fembeam.analyze` of a continuous arch reports it as ``continuum``: the
+    bracket of ``A_L`` (g) and the hinges (arc lengths in m from the left springing):
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> c = fembeam.analyze(arch, elements=60).continuum
+    >>> print(c.status, f"A_L in [{c.A_L_lower:.4f}, {c.A_L:.4f}] g")
+    ok A_L in [0.3534, 0.3534] g
+    >>> print([f"{s:.3f}" for s in c.hinge_s])
+    ['0.026', '1.035', '2.043', '2.749']
+    """
 
     status: str
     A_L: float

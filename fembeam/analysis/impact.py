@@ -74,6 +74,20 @@ class ImpactResult:
         Time of the solve (s).
     verification : dict
         The checked figures of the solution (KKT residuals, energy balance).
+
+    Examples
+    --------
+    :func:`impact` returns it: the restitution coefficient, the hinges after the impact
+    and the impulses (N s/m) for the mechanism of :func:`~fembeam.limit_analysis`:
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 12))
+    >>> imp = fembeam.impact(disc, -fembeam.limit_analysis(disc).u)
+    >>> print(f"r = {imp.r:.4f},", len(imp.hinges), "hinges after the impact")
+    r = 0.6137, 6 hinges after the impact
+    >>> print(f"I_t = {imp.I_t[0]:.1f} N s/m at the left springing")
+    I_t = -299.7 N s/m at the left springing
     """
 
     disc: Discretization

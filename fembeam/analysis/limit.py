@@ -98,6 +98,22 @@ class LimitResult:
         Time of the LP solves (s).
     lp_rounds : int
         Rounds of constraint generation.
+
+    Examples
+    --------
+    :func:`limit_analysis` of a mesh returns it: the load factor ``A_L`` (g), the
+    standing margin and the joint forces, in kN/m through :func:`fembeam.units.kN`:
+
+    >>> import fembeam
+    >>> from fembeam.units import kN
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> disc = fembeam.discretize(arch, fembeam.uniform_nodes(arch, 12))
+    >>> lim = fembeam.limit_analysis(disc)
+    >>> print(lim.status, f"A_L = {lim.A_L:.4f} g, margin {lim.margin:.4f}")
+    ok A_L = 0.3593 g, margin 0.1110
+    >>> N = kN(lim.N[0] + lim.N[1])    # normal force at each joint, at A_L
+    >>> print(f"{N[0]:.3f} kN/m at the left springing")
+    3.639 kN/m at the left springing
     """
 
     status: str

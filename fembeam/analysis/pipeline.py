@@ -116,6 +116,19 @@ class AnalysisResult:
     r : float
         Restitution coefficient ``K'/K`` of the impact (0 when arrested, NaN without
         impact).
+
+    Examples
+    --------
+    :func:`analyze` returns it; the paper's arch of 12 voussoirs rocks from
+    ``A_L`` (g), weighs ``mass`` (kg/m) and stands in a range of thrust (kN/m):
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = fembeam.analyze(arch, voussoirs=12)
+    >>> print(res.outcome, f"A_L = {res.A_L:.4f} g, mass {res.mass:.1f} kg/m")
+    rocking A_L = 0.3593 g, mass 824.7 kg/m
+    >>> print(f"H in [{res.thrust.H_min:.3f}, {res.thrust.H_max:.3f}] kN/m")
+    H in [1.612, 2.643] kN/m
     """
 
     geometry: dict

@@ -387,7 +387,24 @@ class SupportsResult:
     ``migrations``: hinges that formed on the way without collapsing it (joint, side, the
     displacement, and the joint whose hinge closed, when it did); ``last_edge``: the joint and
     side reached at collapse.  ``frames``: the rotations of the joints at each row of ``path``
-    (for the pictures)."""
+    (for the pictures).
+
+    Examples
+    --------
+    :func:`supports` returns it; spreading the supports of the paper's arch of 12
+    voussoirs, from the passive thrust ``H_min`` (kN/m) to collapse at a displacement
+    ``capacity`` (m):
+
+    >>> import fembeam
+    >>> from fembeam.analysis.supports import Movement, supports
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = supports(arch, Movement.of("spread"), voussoirs=12)
+    >>> share = res.capacity_over_span
+    >>> print(res.outcome, f"at {res.capacity:.4f} m, {share:.2%} of the span")
+    collapsed at 0.1965 m, 10.02% of the span
+    >>> print(f"H_min = {res.H_min:.3f} kN/m;", [h["angle_deg"] for h in res.hinges])
+    H_min = 1.612 kN/m; [26.25, 78.75, 131.25]
+    """
 
     geometry: dict
     movement: Movement

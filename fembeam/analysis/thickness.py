@@ -62,6 +62,19 @@ class MinimumThickness:
         Every section checked (continuous member) or the joints only.
     friction : float or None
         Coulomb coefficient of the joints (None: no sliding).
+
+    Examples
+    --------
+    :func:`minimum_thickness` returns it: the smallest factor of the thickness that
+    stands and the thickness (m) and ``t/R`` it gives:
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> mt = fembeam.minimum_thickness(arch, voussoirs=12)
+    >>> print(mt.outcome, f"scale = {mt.scale:.4f}")
+    ok scale = 0.4267
+    >>> print(f"t_min = {mt.scale * arch.thickness:.4f} m, t_min/R = {mt.t_over_R:.4f}")
+    t_min = 0.0640 m, t_min/R = 0.0640
     """
 
     curve: MidCurve

@@ -42,7 +42,23 @@ class ThrustRange:
     ``N_max`` (2, J) (intrados, extrados fibre forces, kg/m per unit g) on the joints of
     ``disc``; ``cuts`` the sections between joints added (continuous member).  ``H_max`` is
     infinite (``N_max`` None) when an admissible ray of self-stress makes the thrust grow
-    without bound (a straight line of thrust fits inside a flat arch)."""
+    without bound (a straight line of thrust fits inside a flat arch).
+
+    Examples
+    --------
+    :func:`thrust_range` of a mesh returns it (:func:`~fembeam.analyze` reports it as
+    ``thrust``): the passive and active thrusts (kN/m) and the eccentricity (m) of the
+    passive thrust line at the left springing:
+
+    >>> import fembeam
+    >>> from fembeam.analysis.thrust_range import thrust_range
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> tr = thrust_range(fembeam.discretize(arch, fembeam.uniform_nodes(arch, 12)))
+    >>> print(f"H_min = {tr.H_min:.3f} kN/m, H_max = {tr.H_max:.3f} kN/m")
+    H_min = 1.612 kN/m, H_max = 2.643 kN/m
+    >>> print(f"e = {tr.eccentricity('min')[0]:.4f} m")
+    e = 0.0409 m
+    """
 
     disc: Discretization
     H_min: float

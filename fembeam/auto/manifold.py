@@ -83,6 +83,25 @@ def bodies_state(eq: EquationOfMotion, theta: float, rate: float, bodies: Bodies
     q, v : ndarray
         Positions ``(x, y, angle)`` (m, m, rad) and velocities (m/s, m/s, rad/s) of the
         bodies, ``(n + 1, 3)`` (last row: the ground).
+
+    Examples
+    --------
+    The paper's four-hinge mechanism opened by 0.01 rad at 0.1 rad/s, as the state of
+    the 12 voussoirs of a :class:`~fembeam.simulation.Simulator`:
+
+    >>> import fembeam
+    >>> from fembeam.auto import bodies_state
+    >>> from fembeam.dynamics import EquationOfMotion
+    >>> from fembeam.simulation import Simulator
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> sides = ["intrados", "extrados", "intrados", "extrados"]
+    >>> mech = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
+    >>> eq = EquationOfMotion(mech)
+    >>> sim = Simulator(arch, voussoirs=12)
+    >>> q, v = bodies_state(eq, 0.01 * eq.sign, 0.1 * eq.sign, sim.bodies)
+    >>> print(q.shape, f"first voussoir at ({q[0, 0]:.3f}, {q[0, 1]:.3f}) m,",
+    ...       f"turned {q[0, 2]:.2f} rad at {v[0, 2]:.2f} rad/s")
+    (13, 3) first voussoir at (-0.951, 0.306) m, turned -0.01 rad at -0.10 rad/s
     """
     mech = eq.mechanism
     piece = _pieces(mech, bodies)
@@ -154,6 +173,26 @@ def mechanism_of(bodies: Bodies, contacts: Contacts, q: np.ndarray, v: np.ndarra
         or slid (by ``position_tol`` of its thickness), the positions rebuilt from
         ``theta`` off by more than ``position_tol`` of the thickness, or the velocities
         off the mechanism's field by more than ``velocity_tol``.
+
+    Examples
+    --------
+    Back from the state :func:`bodies_state` makes of the paper's mechanism: the same
+    hinges (deg), rotation (rad) and rate (rad/s), no kinetic energy dropped (J/m):
+
+    >>> import fembeam
+    >>> from fembeam.auto import bodies_state, mechanism_of
+    >>> from fembeam.dynamics import EquationOfMotion
+    >>> from fembeam.simulation import Simulator
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> sides = ["intrados", "extrados", "intrados", "extrados"]
+    >>> mech = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
+    >>> sim = Simulator(arch, voussoirs=12)
+    >>> q, v = bodies_state(EquationOfMotion(mech), -0.01, -0.1, sim.bodies)
+    >>> found, theta, rate, dropped = mechanism_of(sim.bodies, sim.contacts, q, v, g=9.81)
+    >>> print([f"{a:g}" for a in found.angles_deg()], f"{theta:.3f} rad, {rate:.3f} rad/s")
+    ['0', '52.5', '118.125', '157.5'] -0.010 rad, -0.100 rad/s
+    >>> print(f"dropped {abs(dropped):.4f} J/m")
+    dropped 0.0000 J/m
     """
     curve = bodies.curve
     geo = contacts.evaluate(q)

@@ -86,6 +86,22 @@ class Segment:
         Impacts in it.
     dropped : float
         Kinetic energy (J/m) dropped by the hand-back that started it.
+
+    Examples
+    --------
+    :attr:`AutoResult.segments` holds them; a pulse below the onset threshold leaves the
+    arch at rest in one segment of the one-mechanism model, to the end of the run (s):
+
+    >>> import fembeam
+    >>> from fembeam.auto import AutoModel
+    >>> from fembeam.dynamics import GroundMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = AutoModel(arch, voussoirs=12).run(GroundMotion.sine(0.3, 0.5))
+    >>> seg = res.segments[0]
+    >>> print(seg.model, f"from {seg.t_start:.1f} s to {seg.t_end:.2f} s:", seg.end)
+    rock from 0.0 s to 11.09 s: end
+    >>> print(seg.impacts, "impacts, peak rotation", seg.peak_rotation, "rad")
+    0 impacts, peak rotation 0.0 rad
     """
 
     model: str
@@ -152,6 +168,21 @@ class AutoResult:
         hand-back's tolerance of the thickness, its size said); None when every rest was handed
         back.  A member at rest after the end of the ground motion stays there: the simulation
         stops at the second such check (a :data:`WINDOW` apart) and the run ends at ``t_end``.
+
+    Examples
+    --------
+    :meth:`AutoModel.run` returns it; a 0.3 g sine pulse of 0.5 s, below the onset
+    threshold ``A_L`` (g), leaves the paper's arch at rest to the end of the run (s):
+
+    >>> import fembeam
+    >>> from fembeam.auto import AutoModel
+    >>> from fembeam.dynamics import GroundMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = AutoModel(arch, voussoirs=12).run(GroundMotion.sine(0.3, 0.5))
+    >>> print(res.outcome, f"to {res.t_end:.2f} s, A_L = {res.A_L[1]:.4f} g")
+    rest to 11.09 s, A_L = 0.3593 g
+    >>> print(res.handovers, "hand-overs, collapse:", res.t_collapse)
+    0 hand-overs, collapse: None
     """
 
     curve: MidCurve
@@ -371,6 +402,26 @@ class AutoModel:
         ------
         InputError
             ``t_end`` or ``dt_out`` out of range.
+
+        Examples
+        --------
+        The first 2 s under a pulse below the onset threshold, the history (the model
+        in use, 0 for ``rock``; the largest rotation in rad) sampled every 0.5 s:
+
+        >>> import fembeam
+        >>> from fembeam.auto import AutoModel
+        >>> from fembeam.dynamics import GroundMotion
+        >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+        >>> res = AutoModel(arch, voussoirs=12).run(GroundMotion.sine(0.3, 0.5),
+        ...                                         t_end=2.0, dt_out=0.5)
+        >>> h = res.history
+        >>> for t, model, phi in zip(h["t"], h["model"], h["max_rotation"]):
+        ...     print(f"{t:.1f} s  model {model:.0f}  {phi:.4f} rad")
+        0.0 s  model 0  0.0000 rad
+        0.5 s  model 0  0.0000 rad
+        1.0 s  model 0  0.0000 rad
+        1.5 s  model 0  0.0000 rad
+        2.0 s  model 0  0.0000 rad
         """
         return _run(self, ground, t_end, dt_out, progress, history)
 

@@ -70,6 +70,24 @@ class EquationOfMotion:
     ------
     SolverError
         No sense of motion opens all the hinges.
+
+    Examples
+    --------
+    The paper's four-hinge mechanism at rest: a ground acceleration of 0.3 g towards
+    ``-x`` (below ``A_L = 0.359 g``) cannot open it, one of 0.5 g does (rad/s^2):
+
+    >>> import fembeam
+    >>> from fembeam.dynamics import EquationOfMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> sides = ["intrados", "extrados", "intrados", "extrados"]
+    >>> mech = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
+    >>> eq = EquationOfMotion(mech)
+    >>> for a_g in (-0.3, -0.5):
+    ...     print(f"{a_g} g: {eq.sign * eq.acceleration(0.0, 0.0, a_g):.2f} rad/s^2")
+    -0.3 g: -0.51 rad/s^2
+    -0.5 g: 1.22 rad/s^2
+    >>> print(f"unstable at {eq.theta_unstable:.3f} rad, V = {eq.potential(-0.01):.2f} J/m")
+    unstable at 0.118 rad, V = 17.28 J/m
     """
 
     def __init__(self, mechanism: Mechanism, g: float = GRAVITY):

@@ -38,6 +38,21 @@ class ImpactEvent:
         ``K'/K`` of the general impact QP (None unless asked for).
     at_rest : bool
         The episode ended at rest (arrested, or an accumulation of impacts).
+
+    Examples
+    --------
+    A 0.8 g sine pulse of 0.5 s overturns the paper's arch of 12 voussoirs after one
+    impact, at a time ``t`` (s) with incoming and outgoing rates (rad/s):
+
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = fembeam.dynamics.rock(arch, GroundMotion.sine(0.8, 0.5), voussoirs=12)
+    >>> e = res.impacts[0]
+    >>> print(f"t = {e.t:.3f} s, r = {e.r:.3f}, mechanism {e.before} -> {e.after}")
+    t = 0.536 s, r = 0.607, mechanism 0 -> 1
+    >>> print(f"rate {e.rate_in:.3f} -> {e.rate_out:.3f} rad/s")
+    rate -2.057 -> -0.751 rad/s
     """
 
     t: float
@@ -99,6 +114,27 @@ class RockingResult:
         ``rate`` (rad/s), ``K``, ``V`` (J/m), ``a_g`` (g).
     state_end : tuple or None
         ``(mechanism, theta, rate)`` at the end (None at rest).
+
+    Examples
+    --------
+    :func:`~fembeam.dynamics.rock` returns it. A 0.4 g sine pulse of 0.5 s rocks the
+    paper's arch of 12 voussoirs, which comes back to rest; the energy the ground put in
+    (J/m) is lost in the impacts:
+
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = fembeam.dynamics.rock(arch, GroundMotion.sine(0.4, 0.5), voussoirs=12)
+    >>> print(res.outcome, f"peak {res.peak_rotation:.4f} rad at {res.t_peak:.3f} s")
+    rest peak 0.0025 rad at 0.200 s
+    >>> print(f"ground work {res.ground_work:.3f} J/m, dissipated {res.dissipated:.3f} J/m")
+    ground work 2.027 J/m, dissipated 2.027 J/m
+
+    A 0.8 g pulse overturns it:
+
+    >>> res = fembeam.dynamics.rock(arch, GroundMotion.sine(0.8, 0.5), voussoirs=12)
+    >>> print(res.outcome, f"at t = {res.t_collapse:.3f} s")
+    overturned at t = 1.052 s
     """
 
     curve: MidCurve

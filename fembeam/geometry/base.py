@@ -56,6 +56,24 @@ class MidCurve:
         Density of the masonry (kg/m^3; masses are per metre of barrel width).
     ends : tuple of str
         What each end is: ``"joint"`` (on a rigid support) or ``"free"``.
+
+    Examples
+    --------
+    Every member is one (:class:`~fembeam.CircularArch`, ...); the crown of the paper's
+    arch lies half way along its mid-curve, its intrados ``t/2`` below it (m), and the
+    whole arch weighs ``m`` (kg/m):
+
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> print(isinstance(arch, fembeam.MidCurve), f"{arch.length:.4f} m", arch.ends)
+    True 2.7489 m ('joint', 'joint')
+    >>> s = arch.length / 2
+    >>> crown, intrados = arch.position(s), arch.point(s, 0.075)
+    >>> print(f"crown at y = {crown[1]:.3f} m, intrados at y = {intrados[1]:.3f} m")
+    crown at y = 1.000 m, intrados at y = 0.925 m
+    >>> m, S, J = arch.segment_inertia(0.0, arch.length)
+    >>> print(f"m = {m[0]:.1f} kg/m, angle at the crown {arch.angle_deg(s):.2f} deg")
+    m = 824.7 kg/m, angle at the crown 78.75 deg
     """
 
     length: float

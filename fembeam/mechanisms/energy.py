@@ -85,6 +85,25 @@ class ImpactFigures:
     Gamma / Lambda'`` (15) and ``r = Gamma^2 / (Lambda Lambda')`` (17); ``compatible``
     is False when ``alpha'`` has not the sign that opens every hinge of ``after``
     (then no motion along ``after`` follows and ``r`` is reported 0).
+
+    Examples
+    --------
+    :func:`post_impact` returns it; the paper's mechanism closing at unit rate (rad/s),
+    followed by the one of hinges at 0, 52.5, 105 and 157.5 deg (``Lambda`` in
+    kg m^2/m):
+
+    >>> from fembeam.mechanisms import post_impact
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> sides = ["intrados", "extrados", "intrados", "extrados"]
+    >>> before = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
+    >>> after = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 105.0, 157.5],
+    ...                                       sides[::-1])
+    >>> fig = post_impact(before.with_alpha(-before.compatible_sign()), after)
+    >>> print(fig.compatible, f"r = {fig.r:.4f}, alpha'/alpha = {fig.alpha_ratio:.4f}")
+    True r = 0.6071, alpha'/alpha = 1.3298
+    >>> print(f"Lambda = {fig.Lambda:.1f}, Lambda' = {fig.Lambda_after:.1f}")
+    Lambda = 597.5, Lambda' = 205.2
     """
 
     Gamma: float

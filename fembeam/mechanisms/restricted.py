@@ -35,7 +35,25 @@ MAX_EXHAUSTIVE_JOINTS = 81   # 80 voussoirs: 16 C(81, 4) = 26.6 million candidat
 @dataclass
 class RestrictedResult:
     """Best four-hinge mechanism ``after`` with its ``r`` (17); ``ranking``: the next
-    best candidates as ``(r, Mechanism)``; ``candidates``/``compatible``: counts."""
+    best candidates as ``(r, Mechanism)``; ``candidates``/``compatible``: counts.
+
+    Examples
+    --------
+    :func:`best_four_hinge_discrete` returns it; of the four-hinge mechanisms on the 13
+    joints of the paper's arch of 12 voussoirs, the best after the paper's one closes
+    (hinges in deg):
+
+    >>> from fembeam.mechanisms.restricted import best_four_hinge_discrete
+    >>> import fembeam
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> sides = ["intrados", "extrados", "intrados", "extrados"]
+    >>> before = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5], sides)
+    >>> res = best_four_hinge_discrete(fembeam.uniform_nodes(arch, 12), before)
+    >>> print([f"{a:g}" for a in res.after.angles_deg()], f"r = {res.r:.4f}")
+    ['0', '52.5', '105', '157.5'] r = 0.6071
+    >>> print(res.candidates, "candidates,", res.compatible, "compatible")
+    11440 candidates, 547 compatible
+    """
 
     after: Mechanism | None
     r: float

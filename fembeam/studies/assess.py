@@ -89,6 +89,24 @@ class AssessResult:
         The run of each motion.
     snapshots : list
         The member at the peak or at overturning of each motion, or None.
+
+    Examples
+    --------
+    :func:`assess` returns it; the paper's arch of 12 voussoirs stands in a range of
+    thrust (kN/m) and survives a 0.3 g sine pulse of 0.5 s, below its ``A_L`` (g):
+
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.assess import assess
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> res = assess(arch, GroundMotion.sine(0.3, 0.5), voussoirs=12, margin_search=False)
+    >>> H = res.static["thrust_range"]
+    >>> print(f"A_L = {res.static['A_L']['+1']:.4f} g,",
+    ...       f"H in [{H['H_min']:.3f}, {H['H_max']:.3f}] kN/m")
+    A_L = 0.3593 g, H in [1.612, 2.643] kN/m
+    >>> m = res.motions[0]
+    >>> print(m["verdict"], m["outcome"], f"peak rotation {m['peak_rotation']:.4f} rad")
+    survives rest peak rotation 0.0000 rad
     """
 
     curve: MidCurve
@@ -276,6 +294,22 @@ def margin(curve: MidCurve, ground: GroundMotion, A: dict, *, voussoirs: int | N
         scale factors, ``pga_g`` in g, ``resolution`` and ``resolution_reached`` relative);
         ``ratio`` ``auto / rock`` (None unless both are found); ``skipped``: why nothing was
         searched, or None.
+
+    Examples
+    --------
+    A motion that no scale factor sets moving is not searched (the search of a motion
+    that does is that of :func:`~fembeam.studies.collapse.collapse_scale`, run by
+    ``auto``, whose multi-block simulation is compiled on its first use, and by
+    ``rock``):
+
+    >>> import fembeam
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.assess import margin
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> out = margin(arch, GroundMotion.sine(0.0, 0.5), {1: 0.359, -1: 0.359},
+    ...              voussoirs=12, elements=200, friction=None, dt=1e-3, t_end=None)
+    >>> print(out["auto"], out["rock"], out["skipped"])
+    None None no scale factor sets the member moving (the motion is zero, ...)
     """
     out = {"auto": None, "rock": None, "ratio": None, "skipped": None}
     span = margin_span(A, ground)

@@ -36,7 +36,26 @@ GRID_PER_PERIOD = 100             # output points per period at least
 
 @dataclass(frozen=True)
 class IntensityMeasure:
-    """``kind`` ``"pga"`` (g), ``"pgv"`` (m/s) or ``"sa"`` (g, at ``period`` s, 5 % damping)."""
+    """``kind`` ``"pga"`` (g), ``"pgv"`` (m/s) or ``"sa"`` (g, at ``period`` s, 5 % damping).
+
+    Calling it with a :class:`~fembeam.dynamics.GroundMotion` gives the measure of that
+    motion.
+
+    Examples
+    --------
+    :func:`parse_im` returns it:
+
+    >>> import numpy as np
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.intensity import parse_im
+    >>> t = np.linspace(0.0, 1.0, 201)
+    >>> record = GroundMotion(t, 0.3 * np.sin(2.0 * np.pi * t), name="sine")
+    >>> for text in ("pga", "sa:1"):
+    ...     im = parse_im(text)
+    ...     print(im.name, im.label, f"{im(record):.3f}", im.unit)
+    pga PGA 0.300 g
+    sa:1 Sa(1 s, 5 %) 0.810 g
+    """
 
     kind: str
     period: float | None = None
@@ -156,6 +175,21 @@ def pseudo_acceleration(ground: GroundMotion, period: float, damping: float = DA
     ------
     InputError
         A pulse given by its formula (not sampled) or a record not uniformly sampled.
+
+    Examples
+    --------
+    One cycle of a 0.3 g sine of 1 s, sampled every 5 ms, excites an oscillator of 1 s
+    more than a stiffer one of 0.5 s:
+
+    >>> import numpy as np
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.intensity import pseudo_acceleration
+    >>> t = np.linspace(0.0, 1.0, 201)
+    >>> record = GroundMotion(t, 0.3 * np.sin(2.0 * np.pi * t), name="sine")
+    >>> for T in (0.5, 1.0):
+    ...     print(f"Sa({T} s) = {pseudo_acceleration(record, T):.3f} g")
+    Sa(0.5 s) = 0.486 g
+    Sa(1.0 s) = 0.810 g
     """
     from scipy.linalg import expm
     from scipy.signal import lfilter, ss2tf

@@ -29,7 +29,24 @@ MAX_POSITIONS = 2000
 @dataclass
 class LoadScan:
     """Load factors of one load ``P`` (kN/m) at the positions ``x`` (m): ``factor`` (NaN where
-    ``status`` is not ``"ok"``), the smallest (``critical``: index) and its mechanism."""
+    ``status`` is not ``"ok"``), the smallest (``critical``: index) and its mechanism.
+
+    Examples
+    --------
+    :func:`load_scan` returns it; a point load of 1 kN/m at five positions (m) on the
+    paper's arch of 12 voussoirs (none collapses it at a springing):
+
+    >>> import fembeam
+    >>> from fembeam.studies.load_scan import load_scan
+    >>> arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    >>> scan = load_scan(arch, 1.0, positions=5, voussoirs=12)
+    >>> print([f"{x:.3f}" for x in scan.x])
+    ['0.000', '0.490', '0.981', '1.471', '1.962']
+    >>> i = scan.critical
+    >>> print(f"at x = {scan.x[i]:.3f} m: {scan.min_factor:.3f} x {scan.P:g} kN/m;",
+    ...       scan.status[0])
+    at x = 0.981 m: 3.635 x 1 kN/m; no_mechanism
+    """
 
     geometry: dict
     P: float

@@ -54,7 +54,21 @@ NEWTON_STEPS = 100
 class LognormalFit:
     """``theta`` (median, the unit of the intensity), ``beta`` (dispersion, dimensionless), the
     numbers of collapsed and right-censored samples, and ``method`` (``closed_form``, ``newton``
-    or ``interval_censored``)."""
+    or ``interval_censored``).
+
+    Examples
+    --------
+    :func:`fit` returns it: the median collapse intensity (here PGA, g), the
+    dispersion, and the probability of collapse at an intensity:
+
+    >>> from fembeam.studies.lognormal import fit
+    >>> f = fit([0.31, 0.42, 0.55, 0.38], censored=[0.6])
+    >>> print(f"theta = {f.theta:.3f} g, beta = {f.beta:.3f};",
+    ...       f.n_collapsed, "collapsed,", f.n_censored, "censored")
+    theta = 0.453 g, beta = 0.292; 4 collapsed, 1 censored
+    >>> print(f"P(collapse at 0.4 g) = {f.probability(0.4):.3f}")
+    P(collapse at 0.4 g) = 0.335
+    """
 
     theta: float
     beta: float

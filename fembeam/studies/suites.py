@@ -57,6 +57,25 @@ class Record:
         The suite's normalisation factor (1 for a folder).
     extra : dict
         The suite's own fields.
+
+    Examples
+    --------
+    The records of a :class:`Suite`; one of a folder holding a CSV record, its
+    accelerations in g over a duration in s:
+
+    >>> import pathlib, tempfile
+    >>> import numpy as np
+    >>> from fembeam.studies.suites import load_suite
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> t = np.linspace(0.0, 1.0, 201)
+    >>> np.savetxt(folder / "rec.csv", np.c_[t, 0.2 * np.sin(2.0 * np.pi * t)],
+    ...            delimiter=",", header="time,acceleration", comments="")
+    >>> record = load_suite(str(folder)).records[0]
+    >>> ground = record.ground
+    >>> print(record.name, f"PGA {ground.pga:.2f} g over {ground.duration:.1f} s")
+    rec.csv PGA 0.20 g over 1.0 s
+    >>> print(record.group, record.normalisation)
+    rec.csv 1.0
     """
 
     name: str
@@ -110,6 +129,17 @@ class Suite:
         The suite's name (or its folder).
     records : tuple of Record
         Its records, 1 to ``MAX_RECORDS``, names unique.
+
+    Examples
+    --------
+    :func:`load_suite` returns it, or it is built from records (accelerations in g):
+
+    >>> from fembeam.dynamics import GroundMotion
+    >>> from fembeam.studies.suites import Record, Suite
+    >>> suite = Suite("pulses", (Record("a", GroundMotion.sine(0.2, 0.5)),
+    ...                          Record("b", GroundMotion.sine(0.3, 1.0))))
+    >>> print(suite.name, [f"{r.name}: {r.ground.pga:.1f} g" for r in suite.records])
+    pulses ['a: 0.2 g', 'b: 0.3 g']
     """
 
     name: str
