@@ -40,12 +40,17 @@ def paper_result(paper_arch):
 # only process) compiles it once in a child process, holding an exclusive lock on a file that
 # the child keeps until it exits; meanwhile the test files that never run the kernel go first
 # (KERNEL_FREE, in this order), and any other test waits for the lock (a hang guard of 10 min,
-# after which it goes on and compiles for itself) before it starts.  No outcome depends on this:
-# it only decides who compiles, and when.
+# after which it goes on and compiles for itself) before it starts.  The longest of the other
+# files follow (LONG), so that no long file is left for the end of a run on two processes.  No
+# outcome depends on this: it only decides who compiles, and when each file runs.
 KERNEL_FREE = (
     "test_docs_snippets.py", "test_examples.py", "test_invariance_ring.py", "test_invariance.py",
-    "test_invariance_deep.py", "test_rocking.py", "test_rock_friction.py", "test_properties.py",
-    "test_pointed_crown.py", "test_shapes.py",
+    "test_invariance_deep.py", "test_rocking.py", "test_mirror_motion.py", "test_pointed_crown.py",
+    "test_shapes.py", "test_properties.py", "test_rock_friction.py",
+)
+LONG = (
+    "test_friction_oracle.py", "test_docs_figures.py", "test_parallel_journal.py", "test_spectrum.py",
+    "test_assess.py", "test_fragility.py", "test_fuzz.py", "test_studies_simulate.py", "test_support_motion.py",
 )
 _LOCK_ENV = "FEMBEAM_TESTS_KERNEL_LOCK"
 _WARM = "from fembeam.simulation.stepper import compiled_kernel; compiled_kernel()"
@@ -91,8 +96,8 @@ def pytest_unconfigure(config):
 
 
 def pytest_collection_modifyitems(session, config, items):
-    """The files of KERNEL_FREE first, in its order (stable: the rest as collected)."""
-    rank = {name: i for i, name in enumerate(KERNEL_FREE)}
+    """The files of KERNEL_FREE, then of LONG, in their order (stable: the rest as collected)."""
+    rank = {name: i for i, name in enumerate(KERNEL_FREE + LONG)}
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))
 
 
