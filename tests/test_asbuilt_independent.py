@@ -11,8 +11,6 @@ our own weights and centroids.  Nothing from fembeam's rows, statics or inertia 
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +21,8 @@ from scipy.optimize import linprog
 from fembeam import CircularArch, analyze
 from fembeam.analysis.load_factor import load_factor
 from fembeam.geometry.asbuilt import as_built, build
+
+from inprocess import fembeam
 
 G = 9.81                 # m/s^2
 RTOL = 1e-7              # fembeam vs the independent LP
@@ -502,9 +502,7 @@ BAD = [
 
 @pytest.mark.parametrize("extra", BAD, ids=[" ".join(b) for b in BAD])
 def test_cli_bad_input(extra):
-    cmd = [sys.executable, "-m", "fembeam", "analyze", "--embrace", "180", "--t-over-r", "0.15", "--radius", "5",
-           "--voussoirs", "12", *extra]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    p = fembeam("analyze", "--embrace", "180", "--t-over-r", "0.15", "--radius", "5", "--voussoirs", "12", *extra)
     assert p.returncode == 2, (p.returncode, p.stdout, p.stderr)
     assert p.stdout == ""
     lines = p.stderr.strip("\n").split("\n")
@@ -516,10 +514,9 @@ def test_cli_json_agrees_with_the_independent_lp():
     import json
 
     L = span_of(180.0)
-    cmd = [sys.executable, "-m", "fembeam", "analyze", "--embrace", "180", "--t-over-r", "0.15", "--radius", "5",
-           "--voussoirs", "12", "--density", "2000", "--fill-density", "1800", "--fill-depth", "0.5",
-           "--load", f"{0.25 * L!r},100", "--mass", f"{0.61 * L!r},4000", "--json"]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    p = fembeam("analyze", "--embrace", "180", "--t-over-r", "0.15", "--radius", "5", "--voussoirs", "12",
+                "--density", "2000", "--fill-density", "1800", "--fill-depth", "0.5",
+                "--load", f"{0.25 * L!r},100", "--mass", f"{0.61 * L!r},4000", "--json")
     assert p.returncode == 0, p.stderr
     d = json.loads(p.stdout)
     a = Arch(180.0, 0.15, R, RHO, 12, RHO_F, DEPTH, [(0.61 * L, 4000.0)])

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -25,6 +23,8 @@ from fembeam.fem import nodes_through, uniform_nodes
 from fembeam.geometry import StraightMember
 from fembeam.simulation import Simulator
 from fembeam.simulation.bodies import Bodies
+
+from inprocess import fembeam
 
 ARCH = CircularArch.from_ratio(157.5, 0.15, radius=5.0)
 BLOCK = StraightMember(height=2.0, width=0.5)
@@ -191,7 +191,7 @@ def test_a_rest_that_cannot_be_handed_back_stays_and_says_why():
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "fembeam", *args], capture_output=True, text=True, timeout=600)
+    return fembeam(*args)
 
 
 def test_cli_auto_json_and_errors(tmp_path):

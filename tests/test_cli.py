@@ -7,6 +7,8 @@ import pytest
 
 from fembeam.cli import main
 
+from inprocess import fembeam
+
 
 def run(*args):
     return subprocess.run([sys.executable, "-m", "fembeam.cli", *args], capture_output=True, text=True)
@@ -42,11 +44,20 @@ def test_summary_is_readable(capsys):
     (["--t-over-r", "abc"], "number"),
 ])
 def test_bad_input_one_line_no_traceback(args, words):
-    p = run("analyze", *args)
+    p = fembeam("analyze", *args)
     assert p.returncode == 2
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0] and "Traceback" not in p.stderr
     assert p.stdout == ""
+
+
+def test_bad_input_exits_2_from_the_process():
+    """The same one line and exit code 2 from ``python -m fembeam.cli``, the process (the cases
+    above: ``main`` in this one)."""
+    p = run("analyze", "--t-over-r", "-0.1")
+    assert p.returncode == 2 and p.stdout == ""
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "t/R" in lines[0] and "Traceback" not in p.stderr
 
 
 def test_physical_outcomes_in_json(capsys):

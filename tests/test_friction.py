@@ -4,8 +4,6 @@ and the minimum thickness of the semicircular arch against Cocchetti & Rizzi (20
 import json
 import math
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -18,6 +16,8 @@ from fembeam.analysis.rows import joint_rows
 from fembeam.analysis.statics import section_forces, statics
 from fembeam.cli.main import main
 from fembeam.errors import InputError
+
+from inprocess import fembeam
 
 PAPER = CircularArch.from_ratio(157.5, 0.15)
 
@@ -182,7 +182,7 @@ def test_cli_impact_friction_json(capsys):
 @pytest.mark.parametrize("bad", ["-1", "nan", "abc", "inf"])
 @pytest.mark.parametrize("cmd", ["analyze", "impact"])
 def test_cli_bad_friction(bad, cmd):
-    p = subprocess.run([sys.executable, "-m", "fembeam.cli", cmd, "--friction", bad], capture_output=True, text=True)
+    p = fembeam(cmd, "--friction", bad)
     assert p.returncode == 2 and p.stdout == "" and len(p.stderr.strip().splitlines()) == 1
     assert "--friction" in p.stderr
 

@@ -10,8 +10,6 @@ and ``fembeam rock`` (kept fast: the whole file runs in well under a minute on o
 """
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -19,6 +17,8 @@ import pytest
 from fembeam import CircularArch, StraightMember, analyze
 from fembeam.dynamics import GroundMotion, Rocker
 from fembeam.simulation import Simulator
+
+from inprocess import fembeam
 
 BLOCK = StraightMember(height=2.0, width=0.5)          # tan alpha = 0.25
 ALPHA = math.atan(0.25)
@@ -214,7 +214,7 @@ def test_failed_kkt_check_raises(monkeypatch):
 
 
 def run_cli(*args):
-    return subprocess.run([sys.executable, "-m", "fembeam.cli", "simulate", *args], capture_output=True, text=True)
+    return fembeam("simulate", *args)
 
 
 def test_cli_json_and_errors():

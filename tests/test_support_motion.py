@@ -177,9 +177,8 @@ def test_support_motion_input():
 
 
 def _cli(*argv):
-    import subprocess
-    import sys
-    return subprocess.run([sys.executable, "-m", "fembeam", "simulate", *argv], capture_output=True, text=True)
+    from inprocess import fembeam
+    return fembeam("simulate", *argv)
 
 
 @pytest.mark.parametrize("argv", [
