@@ -277,7 +277,8 @@ print("\n".join(f"  joint {h['joint']}: {h['angle_deg']:.2f} {h['side']}"
                 for h in settle.hinges))
 print(f"hinge migrations: {len(settle.migrations)}")
 last = settle.last_edge
-print(f"edge reached last: joint {last['joint']}, {last['angle_deg']:.2f} {last['side']}")
+print(f"edge reached last: joint {last['joint']},",
+      f"{last['angle_deg']:.2f} {last['side']}")
 path = np.array(settle.path)          # rows: settlement (m), H, V left, V right (kN/m)
 print(f"{'settlement m':>12} {'H kN/m':>8} {'V left':>8} {'V right':>8}")
 for d in np.linspace(0.0, settle.capacity, 5):
