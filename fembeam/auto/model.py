@@ -590,13 +590,9 @@ def _handback(am: AutoModel, sim, q, v, E_unit):
     """``(reason, rock state, dropped energy)`` when the simulation's state may go back to the
     one-mechanism model, else None."""
     K = sim.bodies.kinetic_energy(v)
-    geo = sim.contacts.evaluate(q)
-    t = sim.bodies.thickness[:, None]
     if K < REST_KINETIC * E_unit:
-        slip = geo.slip[np.arange(t.size), geo.contact]
-        if np.all(geo.gap <= POSITION_TOL * t) and np.all(np.abs(slip) <= POSITION_TOL * t[:, 0]):
-            return "rest", None, K
-        return None
+        gap, slip = _rest_offsets(sim, q)
+        return ("rest", None, K) if max(gap.max(), slip.max()) <= POSITION_TOL else None
     on = mechanism_of(sim.bodies, sim.contacts, q, v, g=am.g, position_tol=POSITION_TOL, velocity_tol=VELOCITY_TOL)
     if on is None:
         return None
@@ -604,13 +600,19 @@ def _handback(am: AutoModel, sim, q, v, E_unit):
     return "mechanism", (m, theta, rate), drop
 
 
-def _why_not_back(sim, q) -> str:
-    """Why the member at rest in the simulation's state ``q`` is not the one-mechanism model's
-    rest: its largest joint opening and slip against the hand-back's tolerance."""
+def _rest_offsets(sim, q) -> tuple[np.ndarray, np.ndarray]:
+    """Each joint's largest opening and its slip in the simulation's state ``q``, as
+    fractions of the joint's thickness: a rest the one-mechanism model can take has both within
+    :data:`POSITION_TOL`."""
     geo = sim.contacts.evaluate(q)
     t = sim.bodies.thickness
-    gap = np.max(geo.gap / t[:, None], axis=1)
-    slip = np.abs(geo.slip[np.arange(t.size), geo.contact]) / t
+    return np.max(geo.gap, axis=1) / t, np.abs(geo.slip[np.arange(t.size), geo.contact]) / t
+
+
+def _why_not_back(sim, q) -> str:
+    """Why the member at rest in the simulation's state ``q`` is not the one-mechanism model's
+    rest: its largest joint opening or slip against the hand-back's tolerance."""
+    gap, slip = _rest_offsets(sim, q)
     j, k = int(np.argmax(gap)), int(np.argmax(slip))
     size, joint, what = (gap[j], j, "open") if gap[j] >= slip[k] else (slip[k], k, "slid")
     return (f"joint {joint} is {what} by {size:.3g} of its thickness, above the hand-back's tolerance "
