@@ -114,12 +114,14 @@ class ImpactFigures:
     compatible: bool
 
 
-def post_impact(before: Mechanism, after: Mechanism) -> ImpactFigures:
-    """Closed-form impact (Sect. 4.2): alpha' and r for prescribed hinges ``after``."""
+def post_impact(before: Mechanism, after: Mechanism, Lambda: float | None = None) -> ImpactFigures:
+    """Closed-form impact (Sect. 4.2): alpha' and r for prescribed hinges ``after``;
+    ``Lambda``: ``product(before, before)`` when known (a search over ``after``)."""
     sgn = after.compatible_sign()
     pa = after.with_alpha(1.0)
     gamma = product(before, pa)
-    lam, lam_a = product(before, before), product(pa, pa)
+    lam = product(before, before) if Lambda is None else Lambda
+    lam_a = product(pa, pa)
     ok = bool(sgn != 0 and gamma * sgn > 0)
     return ImpactFigures(gamma, lam, lam_a, gamma / lam_a, gamma**2 / (lam * lam_a) if ok else 0.0, ok)
 

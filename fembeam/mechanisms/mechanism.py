@@ -353,11 +353,19 @@ class Mechanism:
 
     def motion(self) -> np.ndarray:
         """(pieces, 3): ``(V_x, V_y, Omega)`` of each piece (m/s, rad/s) at rate ``alpha``."""
-        om, C = self.omegas()
-        w = self.alpha * om
-        out = np.zeros((self.moving.size, 3))
-        out[self.moving] = np.column_stack([w * C[1], -w * C[0], w])   # rotation w about C
-        return out
+        return self._motion().copy()
+
+    def _motion(self) -> np.ndarray:
+        # computed once per mechanism (the fields are frozen): the impact's pairings and the
+        # hinge searches ask for it thousands of times
+        cached = self.__dict__.get("_motion_cache")
+        if cached is None:
+            om, C = self.omegas()
+            w = self.alpha * om
+            cached = np.zeros((self.moving.size, 3))
+            cached[self.moving] = np.column_stack([w * C[1], -w * C[0], w])   # rotation w about C
+            object.__setattr__(self, "_motion_cache", cached)
+        return cached
 
     def piece_of(self, s) -> np.ndarray:
         """Index of the piece containing each section ``s`` (left piece at a hinge)."""
@@ -365,7 +373,7 @@ class Mechanism:
 
     def motion_at(self, s) -> np.ndarray:
         """(n, 3) motion of the piece containing each ``s``."""
-        return self.motion()[self.piece_of(np.asarray(s, float))]
+        return self._motion()[self.piece_of(np.asarray(s, float))]
 
     def velocity(self, s, y=0.0) -> np.ndarray:
         """(2, n) velocity (m/s) of the material points ``X(s) + y n(s)``."""

@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import InputError, SolverError
 from ..fem import uniform_nodes
 from ..geometry import MidCurve
-from .energy import post_impact
+from .energy import post_impact, product as momentum_product
 from .hinge import ROCKING_SIDES, opening_signs, pivot_fractions
 from .mechanism import Mechanism
 
@@ -161,11 +161,12 @@ def refine_four_hinge(before: Mechanism, start: Mechanism) -> tuple[float, Mecha
     """Maximise the exact ``r`` (17) over the four hinge positions of ``start`` (sides
     fixed) by L-BFGS-B; returns ``(r, mechanism)``, never worse than ``start``."""
     curve, L, sides = before.curve, before.curve.length, start.sides
+    lam = momentum_product(before, before)
 
     def f(x):
         s = curve.nearest_section(np.sort(np.clip(x, 0.0, 1.0)) * L)    # no hinge inside a crown wedge
         try:
-            return -post_impact(before, Mechanism(curve, tuple(s), sides)).r
+            return -post_impact(before, Mechanism(curve, tuple(s), sides), lam).r
         except SolverError:      # a degenerate linkage met by the line search (parallel lines): no motion
             return 0.0
 
