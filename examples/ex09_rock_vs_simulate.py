@@ -5,8 +5,8 @@ rock against simulate: when one mechanism is not enough
 ``fembeam rock`` moves the arch along one four-hinge mechanism between impacts;
 ``fembeam simulate`` moves every voussoir as a rigid body in contact with its
 neighbours, so hinges open and close anywhere. Here both follow a 7-voussoir arch
-(``beta = 157.5`` deg, ``t/R = 0.15``, ``R = 1`` m) under a rectangular pulse of ``1.1
-A_L`` lasting 0.2 s. While the pulse lasts, both move along the limit-analysis
+(``beta = 157.5`` deg, ``t/R = 0.15``, ``R = 1`` m) under a rectangular pulse of
+``1.1 A_L`` lasting 0.2 s. While the pulse lasts, both move along the limit-analysis
 mechanism; when it stops, the inertia of the rocking voussoirs pushes ``rock``'s dynamic
 thrust line out of the section, and ``simulate`` opens a fifth hinge.
 
