@@ -4,8 +4,8 @@ A 10 m semicircular bridge arch with fill
 
 A semicircular masonry arch of 10 m span (mid-curve radius ``R = 5`` m, ring
 ``t = 0.70`` m, masonry 2000 kg/m^3) filled with soil of 1800 kg/m^3 up to a road 0.5 m
-above the crown. Everything is per metre of barrel width. Three questions an assessor asks of
-such a bridge:
+above the crown. Everything is per metre of barrel width. Three questions an assessor
+asks of such a bridge:
 
 * where does one axle load do the most harm, and what multiple of it collapses the arch
   (``fembeam load-scan``)?
