@@ -92,20 +92,27 @@ PY
 }
 
 splice() {
-    # paste the transcripts in docs/data/*.txt into the Markdown that shows them
+    # paste the transcripts in docs/data/*.txt into the Markdown that shows them, their long
+    # lines folded to the site's 88 characters (docs/transcript.py)
     python - <<'PY'
 import pathlib
 import re
+import sys
+
+sys.path.insert(0, "docs")
+from transcript import fold  # noqa: E402
 
 data = pathlib.Path("docs/data")
 
 
 def replace_block(md_path, opening, new_text, fence):
     """Replace the fenced block of md_path whose first line is `opening` (a transcript's
-    header line, fixed by the command's arguments) by new_text."""
+    header line, fixed by the command's arguments) by new_text, both folded."""
+    first, new_text = fold(opening).splitlines()[0], fold(new_text)
     md = pathlib.Path(md_path)
     text = md.read_text()
-    pattern = re.compile(re.escape(fence) + r"\n" + re.escape(opening) + r"\n.*?```", re.S)
+    pattern = re.compile(re.escape(fence) + r"\n(?:" + re.escape(first) + "|" + re.escape(opening)
+                         + r")\n.*?```", re.S)
     text, n = pattern.subn(lambda _: fence + "\n" + new_text + "```", text, count=1)
     if n != 1:
         raise SystemExit(f"{md_path}: no block starting with {opening!r}")

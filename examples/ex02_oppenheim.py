@@ -2,11 +2,12 @@
 Oppenheim's arch: seven voussoirs
 =================================
 
-The discrete arch of the paper's Sect. 6.1: seven voussoirs, ``t/R = 0.15``, embrace 150 and
-157.5 deg. Hinges can open only at the eight joints. The paper gives ``A_L = 0.444`` g and
-``r_max = 0.532`` at 150 deg, ``A_L = 0.370`` g and ``r_max = 0.560`` at 157.5 deg, with five
-hinges open after the impact: the impact QP lets the arch choose its motion after the impact
-among all the compatible ones, not only among four-hinge mechanisms.
+The discrete arch of the paper's Sect. 6.1: seven voussoirs, ``t/R = 0.15``, embrace 150
+and 157.5 deg. Hinges can open only at the eight joints. The paper gives ``A_L = 0.444``
+g and ``r_max = 0.532`` at 150 deg, ``A_L = 0.370`` g and ``r_max = 0.560`` at 157.5
+deg, with five hinges open after the impact: the impact QP lets the arch choose its
+motion after the impact among all the compatible ones, not only among four-hinge
+mechanisms.
 
 Run as a script: ``python examples/ex02_oppenheim.py``.
 """
@@ -23,11 +24,14 @@ for beta, (A_L, r, n) in table.items():
 # %%
 # The hinges sit on joints, at multiples of ``beta / 7`` from the left springing:
 res = results[157.5]
-print("before:", [(round(h.angle_deg, 3), h.side) for h in res.hinges_before])
-print("after: ", [(round(h.angle_deg, 3), h.side) for h in res.hinges_after])
+print("before:",
+      ", ".join(f"{round(h.angle_deg, 3)} {h.side}" for h in res.hinges_before))
+print("after: ",
+      ", ".join(f"{round(h.angle_deg, 3)} {h.side}" for h in res.hinges_after))
 
 # %%
-# The paper's Fig. 10, drawn by ``fembeam analyze --embrace 150 --voussoirs 7 --figure``:
+# The paper's Fig. 10, drawn by ``fembeam analyze --embrace 150 --voussoirs 7
+# --figure``:
 if __name__ == "__main__":
     from fembeam.output.plotting import plot_paper_figure
 

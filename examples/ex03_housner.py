@@ -2,11 +2,11 @@
 A rocking block against Housner
 ===============================
 
-Housner's block is the simplest member the arch model contains: a straight member of height
-``h`` and width ``b`` on a rigid base, one voussoir, free at the top. Its impact on the
-opposite corner keeps the fraction ``r = (1 - 1.5 sin^2 a)^2`` of the kinetic energy, with
-``tan a = b/h`` (Housner 1963), and it starts to rock at ``A_L = tan a``. The impact QP,
-which knows nothing of blocks, must give the same numbers.
+Housner's block is the simplest member the arch model contains: a straight member of
+height ``h`` and width ``b`` on a rigid base, one voussoir, free at the top. Its impact
+on the opposite corner keeps the fraction ``r = (1 - 1.5 sin^2 a)^2`` of the kinetic
+energy, with ``tan a = b/h`` (Housner 1963), and it starts to rock at ``A_L = tan a``.
+The impact QP, which knows nothing of blocks, must give the same numbers.
 
 Run as a script: ``python examples/ex03_housner.py``.
 """
@@ -24,8 +24,8 @@ for bh, rm, rh in zip(slenderness, r_model, r_housner):
     print(f"b/h = {bh:4.2f}: r = {rm:.10f}  Housner {rh:.10f}  diff {abs(rm - rh):.1e}")
 
 # %%
-# Over the whole range of slenderness: above ``tan a = sqrt(2)`` no compatible motion does
-# positive work after the impact and the block is arrested (``r = 0``).
+# Over the whole range of slenderness: above ``tan a = sqrt(2)`` no compatible motion
+# does positive work after the impact and the block is arrested (``r = 0``).
 if __name__ == "__main__":
     import matplotlib.pyplot as plt
 

@@ -3,11 +3,11 @@ A pointed arch's minimum thickness, and a surveyed arch
 =======================================================
 
 Pointed arches of span 10 m and thickness 0.8 m, from the semicircle (rise 5 m) to the
-equilateral arch (rise 8.66 m): the incipient rocking acceleration ``A_L``, the restitution
-coefficient ``r`` and the minimum thickness ``t_min`` (the smallest thickness, scaling the
-given one, at which a thrust line fits inside the arch under its own weight). Then a surveyed
-arch: 40 points of a parabola (span 10 m, rise 3 m) whose crown has sagged by 5 cm, read from a
-CSV file, against the ideal parabola.
+equilateral arch (rise 8.66 m): the incipient rocking acceleration ``A_L``, the
+restitution coefficient ``r`` and the minimum thickness ``t_min`` (the smallest
+thickness, scaling the given one, at which a thrust line fits inside the arch under its
+own weight). Then a surveyed arch: 40 points of a parabola (span 10 m, rise 3 m) whose
+crown has sagged by 5 cm, read from a CSV file, against the ideal parabola.
 
 Run as a script: ``python examples/ex06_shapes.py``.
 """
@@ -58,10 +58,10 @@ if __name__ == "__main__":
 # %%
 # A surveyed arch
 # ---------------
-# A surveyed mid-curve is read from a CSV file (columns ``x,y`` and optionally ``t``, in m)
-# and interpolated by a spline (``fembeam analyze --midcurve points.csv``). A sag of 5 cm at
-# the crown, under 2 % of the rise, changes every answer: here it raises ``A_L`` and lowers
-# the minimum thickness.
+# A surveyed mid-curve is read from a CSV file (columns ``x,y`` and optionally ``t``, in
+# m) and interpolated by a spline (``fembeam analyze --midcurve points.csv``). A sag of
+# 5 cm at the crown, under 2 % of the rise, changes every answer: here it raises ``A_L``
+# and lowers the minimum thickness.
 def surveyed_parabola(sag: float = 0.05, points: int = 40) -> tuple:
     """The ideal parabola and the surveyed one (crown lowered smoothly by ``sag`` m)."""
     x = np.linspace(-SPAN / 2, SPAN / 2, points)

@@ -2,15 +2,16 @@
 Arches on spreading supports
 ============================
 
-The paper's arch (embrace ``157.5`` deg, ``t/R = 0.15``, ``R = 1`` m) and a semicircle of the
-same ring, on supports that move apart. Each is followed quasi-statically, with finite
-displacements of its rigid pieces, from rest to collapse (``fembeam supports --spread``): three
-hinges form at once (the minimum-thrust state), the crown drops, the thrust on the supports
-rises, hinges migrate on the way, and the arch collapses when its pieces form a mechanism
-under gravity alone. The method is in the documentation's page "Moving supports".
+The paper's arch (embrace ``157.5`` deg, ``t/R = 0.15``, ``R = 1`` m) and a semicircle
+of the same ring, on supports that move apart. Each is followed quasi-statically, with
+finite displacements of its rigid pieces, from rest to collapse (``fembeam supports
+--spread``): three hinges form at once (the minimum-thrust state), the crown drops, the
+thrust on the supports rises, hinges migrate on the way, and the arch collapses when its
+pieces form a mechanism under gravity alone. The method is in the documentation's page
+"Moving supports".
 
-Run as a script: ``python examples/ex11_supports.py`` prints the numbers below and writes
-``ex11_thrust.png`` and ``ex11_arch.png``.
+Run as a script: ``python examples/ex11_supports.py`` prints the numbers below and
+writes ``ex11_thrust.png`` and ``ex11_arch.png``.
 """
 import matplotlib
 

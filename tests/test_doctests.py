@@ -29,6 +29,7 @@ ROOT = Path(__file__).resolve().parent.parent
 # the modules whose docstrings have Examples
 MODULES = [
     "fembeam.analysis.pipeline",
+    "fembeam.analysis.qp",
     "fembeam.analysis.limit",
     "fembeam.analysis.impact",
     "fembeam.analysis.thickness",
@@ -59,6 +60,7 @@ MODULES = [
     "fembeam.auto.model",
     "fembeam.auto.manifold",
     "fembeam.simulation.stepper",
+    "fembeam.simulation.projection",
     "fembeam.simulation.result",
     "fembeam.studies.collapse",
     "fembeam.studies.assess",

@@ -36,8 +36,8 @@ def test_ex01_paper_arch_prints(tmp_path, monkeypatch, capsys):
     out = run_script("ex01_paper_arch", tmp_path, monkeypatch, capsys)
     assert out.splitlines() == [
         "A_L = 0.353384 g, r = 0.606517",
-        "hinges before: [(1.51, 'intrados'), (59.29, 'extrados'), (117.06, 'intrados'), (157.5, 'extrados')]",
-        "hinges after:  [(0.0, 'extrados'), (49.92, 'intrados'), (111.4, 'extrados'), (157.5, 'intrados')]",
+        "hinges before: 1.51 intrados, 59.29 extrados, 117.06 intrados, 157.5 extrados",
+        "hinges after:  0.0 extrados, 49.92 intrados, 111.4 extrados, 157.5 intrados",
     ]
     assert is_png(tmp_path / "ex01.png") and is_png(tmp_path / "ex01_arch.png")
 
@@ -83,8 +83,8 @@ def test_ex02_oppenheim(tmp_path, monkeypatch, capsys):
     assert out.splitlines() == [
         "beta = 150.0 deg: A_L = 0.4442 g, r_max = 0.5322, 5 hinges after the impact",
         "beta = 157.5 deg: A_L = 0.3700 g, r_max = 0.5592, 5 hinges after the impact",
-        "before: [(0.0, 'intrados'), (67.5, 'extrados'), (112.5, 'intrados'), (157.5, 'extrados')]",
-        "after:  [(0.0, 'extrados'), (45.0, 'intrados'), (67.5, 'intrados'), (112.5, 'extrados'), (157.5, 'intrados')]",
+        "before: 0.0 intrados, 67.5 extrados, 112.5 intrados, 157.5 extrados",
+        "after:  0.0 extrados, 45.0 intrados, 67.5 intrados, 112.5 extrados, 157.5 intrados",
     ]
     assert is_png(tmp_path / "ex02.png")
     ex = load("ex02_oppenheim")
@@ -124,7 +124,7 @@ def test_ex04_el_centro_rocking(tmp_path, monkeypatch, capsys):
     doc = (EXAMPLES.parent / "docs" / "dynamics.md").read_text()
     assert out.splitlines()[0] == "A_L = 0.353384 g; El Centro 1940 (PGA 0.281 g) scaled to:"
     assert "\n".join(out.splitlines()) in doc
-    lines = out.splitlines()[1:]
+    lines = [ln for ln in out.splitlines()[1:] if ln.startswith("  PGA")]   # not the continuations
     assert [ln.split(":")[1].split(";")[0].split()[0] for ln in lines] == ["rest", "rest", "rest", "overturned"]
     assert is_png(tmp_path / "ex04.png")
     from PIL import Image
@@ -139,9 +139,11 @@ def test_ex05_friction(tmp_path, monkeypatch, capsys):
     out = run_script("ex05_friction", tmp_path, monkeypatch, capsys)
     doc = (EXAMPLES.parent / "docs" / "friction.md").read_text()
     assert "\n".join(out.splitlines()) in doc
+    # two tables: t/r and h, then the hinge and the sliding, each value beside its reference
     rows = [ln.split(" | ") for ln in out.splitlines() if ln.startswith("| ") and not ln.startswith("| case")]
+    assert len(rows) == 8
     for r in rows:
-        for got, ref in ((r[1], r[2]), (r[3], r[4]), (r[5], r[6]), (r[7], r[8])):
+        for got, ref in ((r[1], r[2]), (r[3], r[4])):
             if ref.strip(" |") != "-":
                 d = len(ref.strip(" |").split(".")[1])
                 assert abs(float(got) - float(ref.strip(" |"))) <= 1.5 * 10.0 ** -min(d, len(got.split(".")[1]))

@@ -26,6 +26,45 @@ BACKENDS = ("clarabel", "osqp")
 
 @dataclass
 class QPSolution:
+    """The solution of :func:`solve_qp`, whichever the backend.
+
+    Attributes
+    ----------
+    x : ndarray
+        The minimiser.
+    lam : ndarray
+        The multipliers of ``A_eq x = b_eq``.
+    mu : ndarray
+        The multipliers (``>= 0``) of ``A_in x >= 0``: ``P x + q = A_eq^T lam + A_in^T mu``.
+    status : str
+        The backend's status (``"Solved"``, ``"solved"``, ``"solved (unpolished)"``).
+    iterations : int
+        The backend's iterations.
+    solve_time : float
+        The backend's own time (s).
+    backend : {"clarabel", "osqp"}
+        The backend that solved it.
+    infeasible : bool
+        No feasible point with the required normalisation.
+
+    Examples
+    --------
+    The projection of ``(1, 3)`` onto the segment ``x1 + x2 = 1``, ``x >= 0`` (minimise
+    ``1/2 |x|^2 - x1 - 3 x2``) is its end ``(0, 1)``; of the bounds, only ``x1 >= 0`` carries
+    a multiplier:
+
+    >>> import numpy as np
+    >>> import scipy.sparse as sp
+    >>> from fembeam.analysis.qp import solve_qp
+    >>> sol = solve_qp(sp.eye(2, format="csc"), np.array([-1.0, -3.0]),
+    ...                sp.csc_matrix([[1.0, 1.0]]), sp.eye(2, format="csc"), b_eq=[1.0])
+    >>> print(sol.backend, sol.status)
+    clarabel Solved
+    >>> print("x =", sol.x.round(6) + 0.0, "lam =", sol.lam.round(6) + 0.0,
+    ...       "mu =", sol.mu.round(6) + 0.0)
+    x = [0. 1.] lam = [-2.] mu = [1. 0.]
+    """
+
     x: np.ndarray
     lam: np.ndarray          # multipliers of A_eq x = 0
     mu: np.ndarray           # multipliers of A_in x >= 0 (>= 0)

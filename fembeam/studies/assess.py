@@ -51,7 +51,26 @@ class Snapshot:
     """The member at time ``t`` (s) of a verdict's motion, as the model in use (``model``) had it:
     ``polygons`` (each ``(2, k)``, m: one per rigid body, or one outline of a mechanism's pieces),
     ``pivots`` ``(2, n)`` (m, the hinges of a mechanism; none for the bodies) and the largest
-    rotation of a piece or body ``max_rotation`` (rad)."""
+    rotation of a piece or body ``max_rotation`` (rad).
+
+    Examples
+    --------
+    :func:`assess` keeps one per motion in :attr:`AssessResult.snapshots` (the member at its
+    peak rotation, or at overturning), taken by :func:`snapshot` from the runs. A block of
+    0.5 m x 2 m rocking on its right corner under a 0.4 g sine pulse of 0.5 s, at its peak:
+
+    >>> import fembeam
+    >>> from fembeam.auto.model import Segment
+    >>> from fembeam.dynamics import GroundMotion, Rocker
+    >>> from fembeam.studies.assess import snapshot
+    >>> block = fembeam.StraightMember(height=2.0, width=0.5)
+    >>> run = Rocker(block, voussoirs=1, qp=False).run(GroundMotion.sine(0.4, 0.5), t_end=1.0)
+    >>> snap = snapshot([("rock", run)], [Segment("rock", 0.0, 1.0, "end")], run.t_peak)
+    >>> print(snap.model, f"t = {snap.t:.2f} s, max rotation {snap.max_rotation:.4f} rad")
+    rock t = 0.77 s, max rotation 0.0895 rad
+    >>> print(len(snap.polygons), "outline, pivot at", snap.pivots[:, 0].round(3) + 0.0, "m")
+    1 outline, pivot at [0.25 0.  ] m
+    """
 
     t: float
     model: str
