@@ -667,11 +667,43 @@ def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol)
 
 
 @njit(cache=True, error_model="numpy")
-def _local(Wl, q, mu, active0, active1, Pl):
+def _small_solve(A, b, k, x) -> bool:
+    """``x[:k]`` with ``A[:k, :k] x = b[:k]`` (``k <= 3``; ``A``, ``b`` overwritten) by Gaussian
+    elimination with partial pivoting, as LAPACK's ``dgesv`` on the copy :func:`_local` used to
+    allocate.  False if a pivot vanishes (singular)."""
+    for j in range(k):
+        p = j
+        big = abs(A[j, j])
+        for i in range(j + 1, k):
+            if abs(A[i, j]) > big:
+                big, p = abs(A[i, j]), i
+        if big == 0.0:
+            return False
+        if p != j:
+            for cc in range(k):
+                A[j, cc], A[p, cc] = A[p, cc], A[j, cc]
+            b[j], b[p] = b[p], b[j]
+        for i in range(j + 1, k):
+            f = A[i, j] / A[j, j]
+            for cc in range(j + 1, k):
+                A[i, cc] -= f * A[j, cc]
+            b[i] -= f * b[j]
+    for i in range(k - 1, -1, -1):
+        acc = b[i]
+        for cc in range(i + 1, k):
+            acc -= A[i, cc] * x[cc]
+        x[i] = acc / A[i, i]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _local(Wl, q, mu, active0, active1, Pl, A, b, sol):
     """Exact solution of one joint's frictional problem ``w = Wl P + q`` (``P = (P_n0, P_n1, P_t)``,
     ``active0/1``: the corner is closed) by enumeration of its cases: which corners carry a
     percussion, and sticking or sliding either way.  ``Pl`` the solution; False if no case is
-    consistent (round-off), in which case ``Pl`` is the case with the smallest violation."""
+    consistent (round-off), in which case ``Pl`` is the case with the smallest violation.  ``A``
+    ``(3, 3)``, ``b``, ``sol`` ``(3,)``: scratch (no allocation per case: this runs once per joint
+    and sweep of :func:`nsgs`, thousands of sweeps on a hard step)."""
     best, bestP0, bestP1, bestPt = np.inf, 0.0, 0.0, 0.0
     d = max(Wl[0, 0], Wl[1, 1], Wl[2, 2])          # percussions times d: rates (violations in m/s)
     tol = 1e-10 * (abs(q[0]) + abs(q[1]) + abs(q[2]) + 1e-300)
@@ -685,51 +717,64 @@ def _local(Wl, q, mu, active0, active1, Pl):
             # unknowns x = (P_n0, P_n1, P_t) with the inactive ones zero; equations w_i = 0 on the
             # active normal rows and, when sticking, on the tangential row; when sliding
             # P_t = s mu (P_n0 + P_n1) is substituted.
-            A = np.zeros((3, 3))
-            b = np.zeros(3)
-            idx = np.zeros(3, np.int64)
+            i0, i1, i2 = 0, 0, 0                   # the unknowns' indices, in order
             k = 0
             if a0:
-                idx[k] = 0
+                i0 = 0
                 k += 1
             if a1:
-                idx[k] = 1
+                if k == 0:
+                    i0 = 1
+                else:
+                    i1 = 1
                 k += 1
             if s == 0 and corners != 0:
-                idx[k] = 2
+                if k == 0:
+                    i0 = 2
+                elif k == 1:
+                    i1 = 2
+                else:
+                    i2 = 2
                 k += 1
             for r in range(k):
-                row = idx[r]
+                row = i0 if r == 0 else (i1 if r == 1 else i2)
                 b[r] = -q[row]
                 for cc in range(k):
-                    col = idx[cc]
+                    col = i0 if cc == 0 else (i1 if cc == 1 else i2)
                     A[r, cc] = Wl[row, col]
                     if s != 0 and col < 2:
                         A[r, cc] += Wl[row, 2] * s * mu
-            x = np.zeros(3)
+            x0, x1, x2 = 0.0, 0.0, 0.0
             if k > 0:
-                sol = np.linalg.solve(A[:k, :k] + 0.0, b[:k])
+                if not _small_solve(A, b, k, sol):
+                    continue
                 for r in range(k):
-                    x[idx[r]] = sol[r]
-            N = x[0] + x[1]
+                    col = i0 if r == 0 else (i1 if r == 1 else i2)
+                    if col == 0:
+                        x0 = sol[r]
+                    elif col == 1:
+                        x1 = sol[r]
+                    else:
+                        x2 = sol[r]
+            N = x0 + x1
             if s != 0:
-                x[2] = s * mu * N
-            w0 = Wl[0, 0] * x[0] + Wl[0, 1] * x[1] + Wl[0, 2] * x[2] + q[0]
-            w1 = Wl[1, 0] * x[0] + Wl[1, 1] * x[1] + Wl[1, 2] * x[2] + q[1]
-            wt = Wl[2, 0] * x[0] + Wl[2, 1] * x[1] + Wl[2, 2] * x[2] + q[2]
-            viol = max(0.0, -x[0] * d, -x[1] * d)
+                x2 = s * mu * N
+            w0 = Wl[0, 0] * x0 + Wl[0, 1] * x1 + Wl[0, 2] * x2 + q[0]
+            w1 = Wl[1, 0] * x0 + Wl[1, 1] * x1 + Wl[1, 2] * x2 + q[1]
+            wt = Wl[2, 0] * x0 + Wl[2, 1] * x1 + Wl[2, 2] * x2 + q[2]
+            viol = max(0.0, -x0 * d, -x1 * d)
             if active0 and not a0:
                 viol = max(viol, -w0)
             if active1 and not a1:
                 viol = max(viol, -w1)
             if s == 0:
-                viol = max(viol, (abs(x[2]) - mu * N) * d)
+                viol = max(viol, (abs(x2) - mu * N) * d)
             else:
                 viol = max(viol, s * wt)
             if viol < best:
-                best, bestP0, bestP1, bestPt = viol, x[0], x[1], x[2]
+                best, bestP0, bestP1, bestPt = viol, x0, x1, x2
             if viol <= tol:
-                Pl[0], Pl[1], Pl[2] = x[0], x[1], x[2]
+                Pl[0], Pl[1], Pl[2] = x0, x1, x2
                 return True
     Pl[0], Pl[1], Pl[2] = bestP0, bestP1, bestPt
     return False
@@ -749,6 +794,9 @@ def nsgs(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     Wl = np.zeros((3, 3))
     ql = np.zeros(3)
     Pl = np.zeros(3)
+    As = np.zeros((3, 3))
+    bs = np.zeros(3)
+    xs = np.zeros(3)
     res = np.inf
     for j in range(J):
         if not closed_joint[j]:
@@ -782,7 +830,7 @@ def nsgs(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
             for r in range(3):
                 for cc in range(3):
                     ql[r] -= (Wl[r, cc] - (reg if r == cc else 0.0)) * P[base + cc]
-            _local(Wl, ql, mu, nonneg[base], nonneg[base + 1], Pl)
+            _local(Wl, ql, mu, nonneg[base], nonneg[base + 1], Pl, As, bs, xs)
             P[base], P[base + 1], P[base + 2] = Pl[0], Pl[1], Pl[2]
     return False, NSGS_SWEEPS, res
 
@@ -1137,9 +1185,15 @@ def _band_solve(A, b, kl, x):
     entries up to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian
     elimination with partial pivoting restricted to the band (LAPACK's ``dgbsv`` order:
     ``O(m kl^2)`` operations and ``O(m kl)`` storage; a dense ``m x m`` matrix cost ``O(m^2)`` per
-    Newton iteration only to be cleared).  False if a pivot vanishes (singular)."""
+    Newton iteration only to be cleared).  Each row's last nonzero column is tracked (``kl`` to the
+    right of the diagonal until a row swap moves a row up): the updates stop there, not at ``2 kl``
+    (the same arithmetic, the exact zeros beyond it skipped: half the work when few rows are
+    swapped).  False if a pivot vanishes (singular)."""
     m = b.size
     ku = 2 * kl
+    last = np.empty(m, np.int64)         # one past the last column of row i that may be nonzero
+    for i in range(m):
+        last[i] = min(m, i + kl + 1)
     for j in range(m):
         p = j
         big = abs(A[j, kl])
@@ -1148,22 +1202,26 @@ def _band_solve(A, b, kl, x):
                 big, p = abs(A[i, kl + j - i]), i
         if big == 0.0:
             return False
-        last = min(m, j + ku + 1)
         if p != j:
-            for k in range(j, last):
+            top = max(last[j], last[p])
+            for k in range(j, top):
                 A[j, kl + k - j], A[p, kl + k - p] = A[p, kl + k - p], A[j, kl + k - j]
             b[j], b[p] = b[p], b[j]
+            last[j], last[p] = last[p], last[j]
         piv = A[j, kl]
+        end = last[j]
         for i in range(j + 1, min(m, j + kl + 1)):
             f = A[i, kl + j - i] / piv
             if f != 0.0:
-                for k in range(j + 1, last):
+                for k in range(j + 1, end):
                     A[i, kl + k - i] -= f * A[j, kl + k - j]
                 b[i] -= f * b[j]
+                if end > last[i]:
+                    last[i] = end
             A[i, kl + j - i] = 0.0
     for i in range(m - 1, -1, -1):
         acc = b[i]
-        for k in range(i + 1, min(m, i + ku + 1)):
+        for k in range(i + 1, last[i]):
             acc -= A[i, kl + k - i] * x[k]
         x[i] = acc / A[i, kl]
     return True
@@ -1261,16 +1319,23 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
             d[i] -= P[i]
         alpha = 1.0
         f1 = f0
+        descent = False
         for ls in range(20):
             for i in range(m):
                 Pt[i] = P[i] + alpha * d[i]
             f1 = _ac_merit(ab, c, nonneg, closed_joint, mu, rho, Pt, wt)
             if f1 < (1.0 - 1e-4 * alpha) * f0:
+                descent = True
                 break
             alpha *= 0.5
         P[:] = Pt
         w[:] = wt
         f0 = f1
+        if not descent:
+            # the line search found no decrease in 20 halvings: stalled (the iterations after it
+            # only repeat steps of 1e-6, each a banded elimination and 20 merits; the later
+            # stages start from the sticking solution)
+            return False, it + 1, res
     return False, SSN_ITERATIONS, res
 
 
@@ -1462,6 +1527,9 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                 if ok:
                     ist[I_BY_FP] += 1
                 else:
+                    # Newton from the fixed point's best iterate (near the solution it converges in
+                    # one step and its polish: where the fixed point stalls within a few times the
+                    # tolerance, Gauss-Seidel from the sticking solution took 500-2000 sweeps), then
                     # non-smooth Gauss-Seidel from the stick solution, then from the fixed point's
                     # best iterate, then Lemke's pivots on the linear complementarity problem; a
                     # stalled step accepted at the best of them up to LOOSE x the tolerance
@@ -1469,7 +1537,17 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                     if res < best:
                         best = res
                         Pbest[:] = P
+                    ok, its, res = semismooth_newton(ab, c, nonneg, cj, mu, vscale, REG_FRICTION * dmax, coulomb_tol,
+                                                     P, w)
+                    ist[I_PIVOTS] += its
+                    if ok:
+                        ist[I_BY_SSN] += 1
+                    elif res < best:
+                        best = res
+                        Pbest[:] = P
                     for stage in range(3):
+                        if ok:
+                            break
                         P[:] = P0 if stage == 1 else Pstick
                         if stage < 2:
                             ok, its, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
