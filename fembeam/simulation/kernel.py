@@ -32,7 +32,8 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
    d. the Tresca fixed point (:func:`solve_friction`; Siconos' ``TFP``): with the bounds
       ``mu N^k`` frozen, the convex QP ``min 1/2 P^T W P + c^T P``, ``P_N >= 0``,
       ``|P_t| <= mu N^k`` by block principal pivoting on the box (projected Gauss-Seidel as
-      fallback), then ``N^{k+1}`` from its solution (relaxed after some iterations);
+      fallback), then ``N^{k+1}`` from its solution (relaxed after some iterations); where it
+      stalls near the solution, Newton (c) from its best iterate (one step and the polish);
    e. non-smooth Gauss-Seidel with an exact solver per joint (:func:`nsgs`; LMGC90's and
       Siconos' solver), from the sticking solution, then from the best iterate of (d);
    f. Lemke's complementary pivoting on the problem written as a linear complementarity
@@ -258,6 +259,8 @@ REG_FRICTION = 1e-9  # regularisation of the Tresca problems (relative to the la
 SSN_ITERATIONS = 50   # semi-smooth Newton iterations
 NSGS_SWEEPS = 2000   # non-smooth Gauss-Seidel sweeps (the last resort of the frictional problem)
 PGS_TOL = 1e-9       # projected gradient that ends the projected Gauss-Seidel, relative to the rates
+PIVOT_RATIO = 10.0         # Newton's banded elimination keeps the diagonal pivot unless a row below is this
+                           # many times larger (1: partial pivoting)
 SELF_STRESS_PIVOT = 1e-4   # a factor's pivot below this x W's largest diagonal entry: self-stress states sought
 
 
@@ -998,6 +1001,12 @@ def lemke_friction(ab, c, nonneg, closed_joint, mu, vscale, reg, P, w):
 
 @njit(cache=True, error_model="numpy")
 def self_stress(ab, F, reg, U, Z):
+    """:func:`self_stress_of` with ``W_FF + reg`` factorised here."""
+    return self_stress_of(ab, F, reg, U, Z, False)
+
+
+@njit(cache=True, error_model="numpy")
+def self_stress_of(ab, F, reg, U, Z, factored):
     """The self-stress states of the rows ``F``: an orthonormal basis of the null space of ``W``
     restricted to them (its columns ``Z[:, :k]``; returns ``k``; at most ``Z.shape[1]``), by three
     inverse iterations on ``W_FF + reg`` from fixed starting vectors and a Rayleigh-Ritz step
@@ -1009,9 +1018,10 @@ def self_stress(ab, F, reg, U, Z):
     dmax = 0.0
     for i in range(m):
         dmax = max(dmax, ab[BAND, i])
-    zero = np.zeros(m)
-    if not factor(ab, F, reg, zero, U):
-        return 0
+    if not factored:                     # (factored: U is already that factor, the sticking solve's)
+        zero = np.zeros(m)
+        if not factor(ab, F, reg, zero, U):
+            return 0
     # a null vector z of W_FF whose last entry is at row p makes W's leading block up to p singular:
     # the factor's pivot there (1 / U[p, 0]^2) is at most reg |z|^2 / z_p^2.  With every pivot
     # above SELF_STRESS_PIVOT of W's diagonal there is none unless its entries span four orders of
@@ -1181,49 +1191,61 @@ def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
 @njit(cache=True, error_model="numpy")
 def _band_solve(A, b, kl, x):
     """``x`` with ``A x = b`` for a square matrix whose entries vanish outside ``-kl <= k - i <= kl``,
-    stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: partial pivoting moves a row's
-    entries up to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian
-    elimination with partial pivoting restricted to the band (LAPACK's ``dgbsv`` order:
-    ``O(m kl^2)`` operations and ``O(m kl)`` storage; a dense ``m x m`` matrix cost ``O(m^2)`` per
-    Newton iteration only to be cleared).  Each row's last nonzero column is tracked (``kl`` to the
-    right of the diagonal until a row swap moves a row up): the updates stop there, not at ``2 kl``
-    (the same arithmetic, the exact zeros beyond it skipped: half the work when few rows are
-    swapped).  False if a pivot vanishes (singular)."""
+    stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: pivoting moves a row's entries up
+    to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian elimination
+    restricted to the band (LAPACK's ``dgbsv`` order: ``O(m kl^2)`` operations and ``O(m kl)``
+    storage; a dense ``m x m`` matrix cost ``O(m^2)`` per Newton iteration only to be cleared).
+    Threshold pivoting: the diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO`
+    times larger (partial pivoting swapped three rows in four of ``W``'s, whose tangential and
+    normal rows differ in scale, and each swap doubles the row's length); each row's last
+    nonzero column is tracked, and the updates stop there.  False if a pivot vanishes (singular)."""
     m = b.size
-    ku = 2 * kl
     last = np.empty(m, np.int64)         # one past the last column of row i that may be nonzero
     for i in range(m):
         last[i] = min(m, i + kl + 1)
     for j in range(m):
         p = j
         big = abs(A[j, kl])
+        keep = PIVOT_RATIO * big
         for i in range(j + 1, min(m, j + kl + 1)):
-            if abs(A[i, kl + j - i]) > big:
-                big, p = abs(A[i, kl + j - i]), i
+            v = abs(A[i, kl + j - i])
+            if v > big:
+                big, p = v, i
         if big == 0.0:
             return False
+        if big <= keep:
+            p = j
         if p != j:
             top = max(last[j], last[p])
-            for k in range(j, top):
-                A[j, kl + k - j], A[p, kl + k - p] = A[p, kl + k - p], A[j, kl + k - j]
+            rj, rp = A[j], A[p]
+            dp = kl + j - p
+            for o in range(top - j):
+                t = rj[kl + o]
+                rj[kl + o] = rp[dp + o]
+                rp[dp + o] = t
             b[j], b[p] = b[p], b[j]
             last[j], last[p] = last[p], last[j]
-        piv = A[j, kl]
-        end = last[j]
+        rj = A[j]
+        piv = rj[kl]
+        n = last[j] - j
+        bj = b[j]
         for i in range(j + 1, min(m, j + kl + 1)):
-            f = A[i, kl + j - i] / piv
+            ri = A[i]
+            di = kl + j - i
+            f = ri[di] / piv
             if f != 0.0:
-                for k in range(j + 1, end):
-                    A[i, kl + k - i] -= f * A[j, kl + k - j]
-                b[i] -= f * b[j]
-                if end > last[i]:
-                    last[i] = end
-            A[i, kl + j - i] = 0.0
+                for o in range(1, n):
+                    ri[di + o] -= f * rj[kl + o]
+                b[i] -= f * bj
+                if last[j] > last[i]:
+                    last[i] = last[j]
+            ri[di] = 0.0
     for i in range(m - 1, -1, -1):
+        ri = A[i]
         acc = b[i]
-        for k in range(i + 1, last[i]):
-            acc -= A[i, kl + k - i] * x[k]
-        x[i] = acc / A[i, kl]
+        for o in range(1, last[i] - i):
+            acc -= ri[kl + o] * x[i + o]
+        x[i] = acc / ri[kl]
     return True
 
 
@@ -1494,7 +1516,9 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
             for i in range(m):
                 pmax = max(pmax, abs(P[i]))
                 dmax = max(dmax, ab[BAND, i])
-            k = self_stress(ab, F, REG * dmax, U, Z)
+            # (U is the factor of W on F at REG when the block pivots solved the sticking problem:
+            # their last factorisation, of the working set they returned)
+            k = self_stress_of(ab, F, REG * dmax, U, Z, 1 <= piv <= block_pivots)
             Pstick = P.copy()
             if redistribute(P, Z, k, nonneg, F, cj, mu, 1e-9 * max(pmax, vscale / max(dmax, 1e-300))):
                 matvec(ab, P, w)             # the velocities must not have changed
