@@ -1257,7 +1257,9 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     or sliding either way) fix a linear system in ``P`` (sliding: ``P_t = -+ mu N``, a
     non-symmetric row, within the band of ``W``), solved by banded elimination in band storage
     (:func:`_band_solve`); the step damped by halving until ``|Phi|^2`` decreases (the merit and
-    the rates of the accepted step are those of the next iteration).
+    the rates of the accepted step are those of the next iteration).  The polish (one more step
+    with the cases of the answer) reuses the last solution when its cases are the answer's and
+    the step to it was full (the same system).
     From the ``P`` given; returns ``(converged, iterations, residual)``."""
     m = c.size
     J = closed_joint.size
@@ -1280,6 +1282,9 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     res0 = 0.0
     P0 = np.empty(m)
     w0 = np.empty(m)
+    last = np.full(m, -1, np.int64)      # the cases of the last system solved, its solution, and
+    dfull = np.empty(m)                  # whether the step to it was full
+    full = False
     for it in range(SSN_ITERATIONS + 2):
         pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
         res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
@@ -1312,6 +1317,17 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                 case[i] = 1
             else:
                 case[i] = 2 if y > 0 else 3
+        if polish and full:
+            same = True
+            for i in range(m):
+                if case[i] != last[i]:
+                    same = False
+                    break
+            if same:                      # the polish's system is the last one solved: its solution
+                P[:] = dfull
+                matvec(ab, P, w)
+                w += c
+                continue
         for i in range(m):
             for k in range(width):
                 A[i, k] = 0.0
@@ -1338,6 +1354,8 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
             w += c
             continue
         for i in range(m):                # the Newton step, damped on the merit |Phi|^2
+            dfull[i] = d[i]
+            last[i] = case[i]
             d[i] -= P[i]
         alpha = 1.0
         f1 = f0
@@ -1353,6 +1371,7 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
         P[:] = Pt
         w[:] = wt
         f0 = f1
+        full = descent and alpha == 1.0
         if not descent:
             # the line search found no decrease in 20 halvings: stalled (the iterations after it
             # only repeat steps of 1e-6, each a banded elimination and 20 merits; the later
