@@ -320,6 +320,38 @@ def test_the_step_reports_what_solved_it(redundant):
             assert matches(P, w, oracle(W, c, closed, mu), pscale, vscale, 1e-4), seed
 
 
+def test_newtons_banded_elimination_is_a_dense_solve():
+    """Newton's systems (:func:`~fembeam.simulation.kernel._band_solve`: threshold pivoting in band
+    storage, each row's last nonzero tracked) against NumPy's dense solve, on random band matrices
+    with rows of ``W``'s scales (a tangential row a quarter of the normal ones), identity rows
+    (``P_i = 0``) and sliding rows (``P_t -+ mu N = 0``), in the proportions of a step."""
+    rng = np.random.default_rng(0)
+    kl = C.BAND
+    for trial in range(200):
+        m = 3 * int(rng.integers(1, 40))
+        D = np.zeros((m, m))
+        for i in range(m):
+            for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                D[i, k] = rng.normal() * (0.25 if (i % 3 == 2) != (k % 3 == 2) else 1.0)
+            D[i, i] += 3.0
+            u = rng.random()
+            if u < 0.2:
+                D[i] = 0.0
+                D[i, i] = 1.0
+            elif u < 0.35 and i % 3 == 2:
+                D[i] = 0.0
+                D[i, i], D[i, i - 1], D[i, i - 2] = 1.0, -0.6, -0.6
+        A = np.zeros((m, 3 * kl + 1))
+        for i in range(m):
+            for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                A[i, kl + k - i] = D[i, k]
+        b = rng.normal(size=m)
+        x = np.zeros(m)
+        assert K._band_solve(A, b.copy(), kl, x)
+        exact = np.linalg.solve(D, b)
+        assert np.max(np.abs(x - exact)) <= 1e-12 * np.linalg.cond(D) * max(1.0, np.max(np.abs(exact))), trial
+
+
 def test_the_kernel_was_compiled_with_the_constants():
     """Numba froze :mod:`fembeam.simulation.constants` into the kernel; a stale cache would not
     see a change (the stepper rebuilds it; here it must agree)."""

@@ -32,7 +32,8 @@ contact dynamics code (the mechanical model, the one-step problem, its solvers):
    d. the Tresca fixed point (:func:`solve_friction`; Siconos' ``TFP``): with the bounds
       ``mu N^k`` frozen, the convex QP ``min 1/2 P^T W P + c^T P``, ``P_N >= 0``,
       ``|P_t| <= mu N^k`` by block principal pivoting on the box (projected Gauss-Seidel as
-      fallback), then ``N^{k+1}`` from its solution (relaxed after some iterations);
+      fallback), then ``N^{k+1}`` from its solution (relaxed after some iterations); where it
+      stalls near the solution, Newton (c) from its best iterate (one step and the polish);
    e. non-smooth Gauss-Seidel with an exact solver per joint (:func:`nsgs`; LMGC90's and
       Siconos' solver), from the sticking solution, then from the best iterate of (d);
    f. Lemke's complementary pivoting on the problem written as a linear complementarity
@@ -258,6 +259,8 @@ REG_FRICTION = 1e-9  # regularisation of the Tresca problems (relative to the la
 SSN_ITERATIONS = 50   # semi-smooth Newton iterations
 NSGS_SWEEPS = 2000   # non-smooth Gauss-Seidel sweeps (the last resort of the frictional problem)
 PGS_TOL = 1e-9       # projected gradient that ends the projected Gauss-Seidel, relative to the rates
+PIVOT_RATIO = 10.0         # Newton's banded elimination keeps the diagonal pivot unless a row below is this
+                           # many times larger (1: partial pivoting)
 SELF_STRESS_PIVOT = 1e-4   # a factor's pivot below this x W's largest diagonal entry: self-stress states sought
 
 
@@ -667,11 +670,43 @@ def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol)
 
 
 @njit(cache=True, error_model="numpy")
-def _local(Wl, q, mu, active0, active1, Pl):
+def _small_solve(A, b, k, x) -> bool:
+    """``x[:k]`` with ``A[:k, :k] x = b[:k]`` (``k <= 3``; ``A``, ``b`` overwritten) by Gaussian
+    elimination with partial pivoting, as LAPACK's ``dgesv`` on the copy :func:`_local` used to
+    allocate.  False if a pivot vanishes (singular)."""
+    for j in range(k):
+        p = j
+        big = abs(A[j, j])
+        for i in range(j + 1, k):
+            if abs(A[i, j]) > big:
+                big, p = abs(A[i, j]), i
+        if big == 0.0:
+            return False
+        if p != j:
+            for cc in range(k):
+                A[j, cc], A[p, cc] = A[p, cc], A[j, cc]
+            b[j], b[p] = b[p], b[j]
+        for i in range(j + 1, k):
+            f = A[i, j] / A[j, j]
+            for cc in range(j + 1, k):
+                A[i, cc] -= f * A[j, cc]
+            b[i] -= f * b[j]
+    for i in range(k - 1, -1, -1):
+        acc = b[i]
+        for cc in range(i + 1, k):
+            acc -= A[i, cc] * x[cc]
+        x[i] = acc / A[i, i]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _local(Wl, q, mu, active0, active1, Pl, A, b, sol):
     """Exact solution of one joint's frictional problem ``w = Wl P + q`` (``P = (P_n0, P_n1, P_t)``,
     ``active0/1``: the corner is closed) by enumeration of its cases: which corners carry a
     percussion, and sticking or sliding either way.  ``Pl`` the solution; False if no case is
-    consistent (round-off), in which case ``Pl`` is the case with the smallest violation."""
+    consistent (round-off), in which case ``Pl`` is the case with the smallest violation.  ``A``
+    ``(3, 3)``, ``b``, ``sol`` ``(3,)``: scratch (no allocation per case: this runs once per joint
+    and sweep of :func:`nsgs`, thousands of sweeps on a hard step)."""
     best, bestP0, bestP1, bestPt = np.inf, 0.0, 0.0, 0.0
     d = max(Wl[0, 0], Wl[1, 1], Wl[2, 2])          # percussions times d: rates (violations in m/s)
     tol = 1e-10 * (abs(q[0]) + abs(q[1]) + abs(q[2]) + 1e-300)
@@ -685,51 +720,64 @@ def _local(Wl, q, mu, active0, active1, Pl):
             # unknowns x = (P_n0, P_n1, P_t) with the inactive ones zero; equations w_i = 0 on the
             # active normal rows and, when sticking, on the tangential row; when sliding
             # P_t = s mu (P_n0 + P_n1) is substituted.
-            A = np.zeros((3, 3))
-            b = np.zeros(3)
-            idx = np.zeros(3, np.int64)
+            i0, i1, i2 = 0, 0, 0                   # the unknowns' indices, in order
             k = 0
             if a0:
-                idx[k] = 0
+                i0 = 0
                 k += 1
             if a1:
-                idx[k] = 1
+                if k == 0:
+                    i0 = 1
+                else:
+                    i1 = 1
                 k += 1
             if s == 0 and corners != 0:
-                idx[k] = 2
+                if k == 0:
+                    i0 = 2
+                elif k == 1:
+                    i1 = 2
+                else:
+                    i2 = 2
                 k += 1
             for r in range(k):
-                row = idx[r]
+                row = i0 if r == 0 else (i1 if r == 1 else i2)
                 b[r] = -q[row]
                 for cc in range(k):
-                    col = idx[cc]
+                    col = i0 if cc == 0 else (i1 if cc == 1 else i2)
                     A[r, cc] = Wl[row, col]
                     if s != 0 and col < 2:
                         A[r, cc] += Wl[row, 2] * s * mu
-            x = np.zeros(3)
+            x0, x1, x2 = 0.0, 0.0, 0.0
             if k > 0:
-                sol = np.linalg.solve(A[:k, :k] + 0.0, b[:k])
+                if not _small_solve(A, b, k, sol):
+                    continue
                 for r in range(k):
-                    x[idx[r]] = sol[r]
-            N = x[0] + x[1]
+                    col = i0 if r == 0 else (i1 if r == 1 else i2)
+                    if col == 0:
+                        x0 = sol[r]
+                    elif col == 1:
+                        x1 = sol[r]
+                    else:
+                        x2 = sol[r]
+            N = x0 + x1
             if s != 0:
-                x[2] = s * mu * N
-            w0 = Wl[0, 0] * x[0] + Wl[0, 1] * x[1] + Wl[0, 2] * x[2] + q[0]
-            w1 = Wl[1, 0] * x[0] + Wl[1, 1] * x[1] + Wl[1, 2] * x[2] + q[1]
-            wt = Wl[2, 0] * x[0] + Wl[2, 1] * x[1] + Wl[2, 2] * x[2] + q[2]
-            viol = max(0.0, -x[0] * d, -x[1] * d)
+                x2 = s * mu * N
+            w0 = Wl[0, 0] * x0 + Wl[0, 1] * x1 + Wl[0, 2] * x2 + q[0]
+            w1 = Wl[1, 0] * x0 + Wl[1, 1] * x1 + Wl[1, 2] * x2 + q[1]
+            wt = Wl[2, 0] * x0 + Wl[2, 1] * x1 + Wl[2, 2] * x2 + q[2]
+            viol = max(0.0, -x0 * d, -x1 * d)
             if active0 and not a0:
                 viol = max(viol, -w0)
             if active1 and not a1:
                 viol = max(viol, -w1)
             if s == 0:
-                viol = max(viol, (abs(x[2]) - mu * N) * d)
+                viol = max(viol, (abs(x2) - mu * N) * d)
             else:
                 viol = max(viol, s * wt)
             if viol < best:
-                best, bestP0, bestP1, bestPt = viol, x[0], x[1], x[2]
+                best, bestP0, bestP1, bestPt = viol, x0, x1, x2
             if viol <= tol:
-                Pl[0], Pl[1], Pl[2] = x[0], x[1], x[2]
+                Pl[0], Pl[1], Pl[2] = x0, x1, x2
                 return True
     Pl[0], Pl[1], Pl[2] = bestP0, bestP1, bestPt
     return False
@@ -749,6 +797,9 @@ def nsgs(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     Wl = np.zeros((3, 3))
     ql = np.zeros(3)
     Pl = np.zeros(3)
+    As = np.zeros((3, 3))
+    bs = np.zeros(3)
+    xs = np.zeros(3)
     res = np.inf
     for j in range(J):
         if not closed_joint[j]:
@@ -782,7 +833,7 @@ def nsgs(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
             for r in range(3):
                 for cc in range(3):
                     ql[r] -= (Wl[r, cc] - (reg if r == cc else 0.0)) * P[base + cc]
-            _local(Wl, ql, mu, nonneg[base], nonneg[base + 1], Pl)
+            _local(Wl, ql, mu, nonneg[base], nonneg[base + 1], Pl, As, bs, xs)
             P[base], P[base + 1], P[base + 2] = Pl[0], Pl[1], Pl[2]
     return False, NSGS_SWEEPS, res
 
@@ -950,6 +1001,12 @@ def lemke_friction(ab, c, nonneg, closed_joint, mu, vscale, reg, P, w):
 
 @njit(cache=True, error_model="numpy")
 def self_stress(ab, F, reg, U, Z):
+    """:func:`self_stress_of` with ``W_FF + reg`` factorised here."""
+    return self_stress_of(ab, F, reg, U, Z, False)
+
+
+@njit(cache=True, error_model="numpy")
+def self_stress_of(ab, F, reg, U, Z, factored):
     """The self-stress states of the rows ``F``: an orthonormal basis of the null space of ``W``
     restricted to them (its columns ``Z[:, :k]``; returns ``k``; at most ``Z.shape[1]``), by three
     inverse iterations on ``W_FF + reg`` from fixed starting vectors and a Rayleigh-Ritz step
@@ -961,9 +1018,10 @@ def self_stress(ab, F, reg, U, Z):
     dmax = 0.0
     for i in range(m):
         dmax = max(dmax, ab[BAND, i])
-    zero = np.zeros(m)
-    if not factor(ab, F, reg, zero, U):
-        return 0
+    if not factored:                     # (factored: U is already that factor, the sticking solve's)
+        zero = np.zeros(m)
+        if not factor(ab, F, reg, zero, U):
+            return 0
     # a null vector z of W_FF whose last entry is at row p makes W's leading block up to p singular:
     # the factor's pivot there (1 / U[p, 0]^2) is at most reg |z|^2 / z_p^2.  With every pivot
     # above SELF_STRESS_PIVOT of W's diagonal there is none unless its entries span four orders of
@@ -1133,39 +1191,61 @@ def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
 @njit(cache=True, error_model="numpy")
 def _band_solve(A, b, kl, x):
     """``x`` with ``A x = b`` for a square matrix whose entries vanish outside ``-kl <= k - i <= kl``,
-    stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: partial pivoting moves a row's
-    entries up to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian
-    elimination with partial pivoting restricted to the band (LAPACK's ``dgbsv`` order:
-    ``O(m kl^2)`` operations and ``O(m kl)`` storage; a dense ``m x m`` matrix cost ``O(m^2)`` per
-    Newton iteration only to be cleared).  False if a pivot vanishes (singular)."""
+    stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: pivoting moves a row's entries up
+    to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian elimination
+    restricted to the band (LAPACK's ``dgbsv`` order: ``O(m kl^2)`` operations and ``O(m kl)``
+    storage; a dense ``m x m`` matrix cost ``O(m^2)`` per Newton iteration only to be cleared).
+    Threshold pivoting: the diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO`
+    times larger (partial pivoting swapped three rows in four of ``W``'s, whose tangential and
+    normal rows differ in scale, and each swap doubles the row's length); each row's last
+    nonzero column is tracked, and the updates stop there.  False if a pivot vanishes (singular)."""
     m = b.size
-    ku = 2 * kl
+    last = np.empty(m, np.int64)         # one past the last column of row i that may be nonzero
+    for i in range(m):
+        last[i] = min(m, i + kl + 1)
     for j in range(m):
         p = j
         big = abs(A[j, kl])
+        keep = PIVOT_RATIO * big
         for i in range(j + 1, min(m, j + kl + 1)):
-            if abs(A[i, kl + j - i]) > big:
-                big, p = abs(A[i, kl + j - i]), i
+            v = abs(A[i, kl + j - i])
+            if v > big:
+                big, p = v, i
         if big == 0.0:
             return False
-        last = min(m, j + ku + 1)
+        if big <= keep:
+            p = j
         if p != j:
-            for k in range(j, last):
-                A[j, kl + k - j], A[p, kl + k - p] = A[p, kl + k - p], A[j, kl + k - j]
+            top = max(last[j], last[p])
+            rj, rp = A[j], A[p]
+            dp = kl + j - p
+            for o in range(top - j):
+                t = rj[kl + o]
+                rj[kl + o] = rp[dp + o]
+                rp[dp + o] = t
             b[j], b[p] = b[p], b[j]
-        piv = A[j, kl]
+            last[j], last[p] = last[p], last[j]
+        rj = A[j]
+        piv = rj[kl]
+        n = last[j] - j
+        bj = b[j]
         for i in range(j + 1, min(m, j + kl + 1)):
-            f = A[i, kl + j - i] / piv
+            ri = A[i]
+            di = kl + j - i
+            f = ri[di] / piv
             if f != 0.0:
-                for k in range(j + 1, last):
-                    A[i, kl + k - i] -= f * A[j, kl + k - j]
-                b[i] -= f * b[j]
-            A[i, kl + j - i] = 0.0
+                for o in range(1, n):
+                    ri[di + o] -= f * rj[kl + o]
+                b[i] -= f * bj
+                if last[j] > last[i]:
+                    last[i] = last[j]
+            ri[di] = 0.0
     for i in range(m - 1, -1, -1):
+        ri = A[i]
         acc = b[i]
-        for k in range(i + 1, min(m, i + ku + 1)):
-            acc -= A[i, kl + k - i] * x[k]
-        x[i] = acc / A[i, kl]
+        for o in range(1, last[i] - i):
+            acc -= ri[kl + o] * x[i + o]
+        x[i] = acc / ri[kl]
     return True
 
 
@@ -1177,7 +1257,9 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     or sliding either way) fix a linear system in ``P`` (sliding: ``P_t = -+ mu N``, a
     non-symmetric row, within the band of ``W``), solved by banded elimination in band storage
     (:func:`_band_solve`); the step damped by halving until ``|Phi|^2`` decreases (the merit and
-    the rates of the accepted step are those of the next iteration).
+    the rates of the accepted step are those of the next iteration).  The polish (one more step
+    with the cases of the answer) reuses the last solution when its cases are the answer's and
+    the step to it was full (the same system).
     From the ``P`` given; returns ``(converged, iterations, residual)``."""
     m = c.size
     J = closed_joint.size
@@ -1200,6 +1282,9 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     res0 = 0.0
     P0 = np.empty(m)
     w0 = np.empty(m)
+    last = np.full(m, -1, np.int64)      # the cases of the last system solved, its solution, and
+    dfull = np.empty(m)                  # whether the step to it was full
+    full = False
     for it in range(SSN_ITERATIONS + 2):
         pscale = max(_maxabs(P), vscale / max(dmax, 1e-300))
         res = coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale)
@@ -1232,6 +1317,17 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                 case[i] = 1
             else:
                 case[i] = 2 if y > 0 else 3
+        if polish and full:
+            same = True
+            for i in range(m):
+                if case[i] != last[i]:
+                    same = False
+                    break
+            if same:                      # the polish's system is the last one solved: its solution
+                P[:] = dfull
+                matvec(ab, P, w)
+                w += c
+                continue
         for i in range(m):
             for k in range(width):
                 A[i, k] = 0.0
@@ -1258,19 +1354,29 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
             w += c
             continue
         for i in range(m):                # the Newton step, damped on the merit |Phi|^2
+            dfull[i] = d[i]
+            last[i] = case[i]
             d[i] -= P[i]
         alpha = 1.0
         f1 = f0
+        descent = False
         for ls in range(20):
             for i in range(m):
                 Pt[i] = P[i] + alpha * d[i]
             f1 = _ac_merit(ab, c, nonneg, closed_joint, mu, rho, Pt, wt)
             if f1 < (1.0 - 1e-4 * alpha) * f0:
+                descent = True
                 break
             alpha *= 0.5
         P[:] = Pt
         w[:] = wt
         f0 = f1
+        full = descent and alpha == 1.0
+        if not descent:
+            # the line search found no decrease in 20 halvings: stalled (the iterations after it
+            # only repeat steps of 1e-6, each a banded elimination and 20 merits; the later
+            # stages start from the sticking solution)
+            return False, it + 1, res
     return False, SSN_ITERATIONS, res
 
 
@@ -1429,7 +1535,9 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
             for i in range(m):
                 pmax = max(pmax, abs(P[i]))
                 dmax = max(dmax, ab[BAND, i])
-            k = self_stress(ab, F, REG * dmax, U, Z)
+            # (U is the factor of W on F at REG when the block pivots solved the sticking problem:
+            # their last factorisation, of the working set they returned)
+            k = self_stress_of(ab, F, REG * dmax, U, Z, 1 <= piv <= block_pivots)
             Pstick = P.copy()
             if redistribute(P, Z, k, nonneg, F, cj, mu, 1e-9 * max(pmax, vscale / max(dmax, 1e-300))):
                 matvec(ab, P, w)             # the velocities must not have changed
@@ -1462,6 +1570,9 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                 if ok:
                     ist[I_BY_FP] += 1
                 else:
+                    # Newton from the fixed point's best iterate (near the solution it converges in
+                    # one step and its polish: where the fixed point stalls within a few times the
+                    # tolerance, Gauss-Seidel from the sticking solution took 500-2000 sweeps), then
                     # non-smooth Gauss-Seidel from the stick solution, then from the fixed point's
                     # best iterate, then Lemke's pivots on the linear complementarity problem; a
                     # stalled step accepted at the best of them up to LOOSE x the tolerance
@@ -1469,7 +1580,17 @@ def _project(rows, sides, minv, v_free, closed, F, warm, box, mu, floor, block_p
                     if res < best:
                         best = res
                         Pbest[:] = P
+                    ok, its, res = semismooth_newton(ab, c, nonneg, cj, mu, vscale, REG_FRICTION * dmax, coulomb_tol,
+                                                     P, w)
+                    ist[I_PIVOTS] += its
+                    if ok:
+                        ist[I_BY_SSN] += 1
+                    elif res < best:
+                        best = res
+                        Pbest[:] = P
                     for stage in range(3):
+                        if ok:
+                            break
                         P[:] = P0 if stage == 1 else Pstick
                         if stage < 2:
                             ok, its, res = nsgs(ab, c, nonneg, cj, mu, vscale, REG * dmax, coulomb_tol, P, w)
