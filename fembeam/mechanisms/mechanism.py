@@ -373,7 +373,8 @@ class Mechanism:
 
     def motion_at(self, s) -> np.ndarray:
         """(n, 3) motion of the piece containing each ``s``."""
-        return self._motion()[self.piece_of(np.asarray(s, float))]
+        return self._motion()[np.atleast_1d(self.piece_of(np.asarray(s, float)))].reshape(
+            np.shape(s) + (3,))
 
     def velocity(self, s, y=0.0) -> np.ndarray:
         """(2, n) velocity (m/s) of the material points ``X(s) + y n(s)``."""

@@ -1368,15 +1368,16 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                 descent = True
                 break
             alpha *= 0.5
-        P[:] = Pt
-        w[:] = wt
-        f0 = f1
-        full = descent and alpha == 1.0
         if not descent:
             # the line search found no decrease in 20 halvings: stalled (the iterations after it
             # only repeat steps of 1e-6, each a banded elimination and 20 merits; the later
-            # stages start from the sticking solution)
+            # stages start from the sticking solution). P and w stay at the iterate whose
+            # residual res is, so that a caller keeping the best answer keeps a measured one
             return False, it + 1, res
+        P[:] = Pt
+        w[:] = wt
+        f0 = f1
+        full = alpha == 1.0
     return False, SSN_ITERATIONS, res
 
 
