@@ -226,3 +226,16 @@ def test_block_impact_closed_form(tan_a):
     assert fig.compatible
     assert fig.alpha_ratio == pytest.approx(q, rel=1e-12)
     assert fig.r == pytest.approx(q**2, rel=1e-12)
+
+
+def test_the_cached_motion_is_never_exposed():
+    """``motion`` is computed once per mechanism; what callers get (scalar or array sections)
+    are copies: writing into them leaves the mechanism's motion unchanged."""
+    import fembeam
+    arch = fembeam.CircularArch(radius=1.0, thickness=0.15, embrace_deg=157.5)
+    m = fembeam.Mechanism.from_angles(arch, [0.0, 52.5, 118.125, 157.5],
+                                      ["intrados", "extrados", "intrados", "extrados"])
+    before = m.motion()
+    for got in (m.motion_at(1.5), m.motion_at(np.array([0.5, 1.5])), m.motion()):
+        got[...] = 99.0
+    assert np.array_equal(m.motion(), before) and m.motion_at(1.5).shape == (3,)
