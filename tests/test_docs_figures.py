@@ -33,22 +33,13 @@ from fembeam.fem import discretize, uniform_nodes
 from fembeam.analysis.limit import limit_analysis
 from fembeam.studies import convergence_study, rate_fit, richardson, sweep_case
 
+from doc_transcripts import unfold
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 REL = 1e-9          # full-precision numbers (CSV, JSON): reproducibility of the LP/QP solutions
 PAPER = (157.5, 0.15)
 LEVELS = (50, 100, 200)        # the cheap levels of the committed convergence study
-
-
-def _load_transcript():
-    """docs/transcript.py: the pages fold the transcripts' long lines, ``unfold`` joins them."""
-    spec = importlib.util.spec_from_file_location("docs_transcript", ROOT / "docs" / "transcript.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-unfold = _load_transcript().unfold
 
 
 # --------------------------------------------------------------------------- helpers

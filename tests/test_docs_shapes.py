@@ -3,7 +3,6 @@ cheapest rows of every table (and the minimum thicknesses) are recomputed."""
 from __future__ import annotations
 
 import csv
-import importlib.util
 import pathlib
 import re
 
@@ -12,23 +11,14 @@ import pytest
 from fembeam import analyze, minimum_thickness
 from fembeam.geometry import EllipticalArch, ParabolicArch, PointedArch
 
+from doc_transcripts import unfold
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DATA = ROOT / "docs" / "data"
 REL = 1e-9
 ARCHES = {"pointed": PointedArch(span=10.0, rise=7.0, thickness=0.8),
           "elliptical": EllipticalArch(span=10.0, rise=3.0, thickness=0.8),
           "parabolic": ParabolicArch(span=10.0, rise=3.0, thickness=0.6)}
-
-
-def _load_transcript():
-    """docs/transcript.py: the pages fold the transcripts' long lines, ``unfold`` joins them."""
-    spec = importlib.util.spec_from_file_location("docs_transcript", ROOT / "docs" / "transcript.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-unfold = _load_transcript().unfold
 
 
 def rows(name: str) -> dict[int, dict]:
