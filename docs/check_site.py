@@ -3,8 +3,7 @@
     python docs/check_site.py [docs/_build/html] [--max-line 88] [--api-strict]
 
 * every line of every code block (``<pre>``: listings, transcripts, gallery code and output)
-  is at most ``--max-line`` characters long, except on the pages given with ``--pending``
-  (pages whose code blocks are still to be wrapped: their long lines are reported only);
+  is at most ``--max-line`` characters long;
 * the landing page (``index.html``) shows a figure (an ``<img>`` in the article);
 * the API pages (``api/generated/*.html``) of functions have a Parameters and a Returns (or
   Yields) section, those of classes a Parameters (a class the user builds) or an Attributes
@@ -110,8 +109,6 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("site", nargs="?", default=str(Path(__file__).parent / "_build" / "html"))
     ap.add_argument("--max-line", type=int, default=MAX_LINE)
-    ap.add_argument("--pending", action="append", default=[], metavar="PAGE",
-                    help="a page (e.g. studies.html) whose long code lines are reported only")
     ap.add_argument("--api-strict", action="store_true",
                     help="fail (instead of reporting) on API pages without the sections")
     args = ap.parse_args(argv)
@@ -122,15 +119,12 @@ def main(argv: list[str] | None = None) -> int:
     failed = False
 
     total, bad = long_lines(site, args.max_line)
-    pending = set(args.pending)
     for rel, i, longest in bad:
-        label = "warning" if rel in pending else "error"
-        print(f"{rel}: {label}: code block {i} has a line of {longest} characters "
+        print(f"{rel}: error: code block {i} has a line of {longest} characters "
               f"(> {args.max_line})")
-    errors = [b for b in bad if b[0] not in pending]
     print(f"check_site: {len(bad)} of {total} code blocks have lines over {args.max_line} "
-          f"characters, {len(bad) - len(errors)} of them on pending pages (reported only)")
-    failed |= bool(errors)
+          "characters")
+    failed |= bool(bad)
 
     index = parse(site / "index.html")
     if index.article_imgs == 0:
