@@ -112,6 +112,33 @@ def test_rigid_translation_with_the_supports_is_exact(engine, direction):
         assert np.max(np.abs(x["V_left"] - weight / 2)) < 1e-5 * weight
 
 
+@pytest.mark.parametrize("engine", ["compiled", "reference"])
+def test_held_displaced_supports_keep_a_quasi_static_state(engine):
+    """A run from a state of the quasi-static path (``fembeam supports``, spread by 5 cm: three
+    hinges open) on supports :meth:`SupportMotion.held` there: the bodies placed by the chain's
+    exact rotations rest on their pivots, in equilibrium, so nothing moves (1e-12 m, measured
+    4e-16), and the mean forces on the supports are the path's thrust and weights (a
+    three-hinge state is statically determinate: 1e-9, measured 3e-13)."""
+    from fembeam.analysis.snaps import _state
+    d = 0.05
+    path = supports(CircularArch(), Movement.of("spread"), voussoirs=7, up_to=d, steps=10)
+    _, theta, count, side, _ = path.frames[-1]
+    assert count == 3 and path.path[-1][0] == pytest.approx(d)
+    ch = path.chain
+    q0, v0 = _state(ch, theta, side, -0.5 * d * np.array([1.0, 0.0]), np.zeros(ch.J))
+    held = SupportMotion.held("spread", d)
+    assert held.hold_after == 0 and np.allclose(held.supports_at_start(), [[-d / 2, 0], [d / 2, 0]])
+    sim = Simulator(CircularArch(), voussoirs=7)
+    res = sim.run(STILL, dt=2e-3, t_end=0.5, dt_out=0.05, q0=q0, v0=v0, engine=engine, support_motion=held)
+    assert res.outcome == "rest"
+    assert np.max(np.abs(np.asarray(res.positions[-1]) - q0[:-1])) < 1e-12
+    assert np.allclose(res.history["support_displacement"], d, rtol=0, atol=1e-15)
+    _, H, Vl, Vr = path.path[-1]
+    assert np.mean(res.history["H_left"][1:]) == pytest.approx(H, rel=1e-9)     # statically determinate
+    assert np.mean(res.history["V_left"][1:]) == pytest.approx(Vl, rel=1e-9)
+    assert np.mean(res.history["V_right"][1:]) == pytest.approx(Vr, rel=1e-9)
+
+
 def test_engines_agree_under_spreading():
     """The compiled loop and the NumPy reference: the same motion and forces on the supports."""
     sim = Simulator(CircularArch(), voussoirs=5)

@@ -68,14 +68,16 @@ import numpy as np
 from ..errors import InputError, SolverError
 from ..fem import nodes_through, uniform_nodes
 from ..geometry import MidCurve
-from ..units import kN
+from ..units import GRAVITY, kN
 from .load_factor import mass_nodes
 from .lp import HIGHS_OPTIONS, first_highs
 from .sizes import MAX_ELEMENTS, MIN_ELEMENTS, check_count
 
-__all__ = ["Movement", "SupportsResult", "Chain", "supports", "MOVEMENTS", "DEFAULT_STEPS", "MAX_STEPS"]
+__all__ = ["Movement", "SupportsResult", "Chain", "supports", "MOVEMENTS", "SNAP_MODELS", "DEFAULT_STEPS",
+           "MAX_STEPS"]
 
 MOVEMENTS = ("spread", "settle", "move")
+SNAP_MODELS = ("dynamic", "static")     # where a snap-through ends: the simulated pieces at rest, or the next joint
 DEFAULT_STEPS = 200
 MAX_STEPS = 100_000
 MIN_VOUSSOIRS_SUPPORTS = 2     # a single block cannot follow a support movement on two pivots
@@ -386,8 +388,12 @@ class SupportsResult:
     ``(delta, H, V_left, V_right)``; ``hinges``: the hinges at the start (joint, side, angle);
     ``migrations``: hinges that formed on the way without collapsing it (joint, side, the
     displacement, and the joint whose hinge closed, when it did); ``last_edge``: the joint and
-    side reached at collapse.  ``frames``: the rotations of the joints at each row of ``path``
-    (for the pictures).
+    side reached at collapse.  ``snaps``: the snap-throughs followed by the dynamics
+    (``snap_model`` ``"dynamic"``): the displacement, the hinges ``opened``, how it ``ended``
+    (``"rest"`` or ``"collapse"``), its duration ``time`` (s), the energy ``dissipated`` by its
+    impacts and the ``potential_drop`` from start to rest (J/m, equal up to the simulation's
+    energy error), and the ``hinges_after``.  ``frames``: the rotations of the joints at each
+    row of ``path`` (for the pictures).
 
     Examples
     --------
@@ -425,6 +431,8 @@ class SupportsResult:
     timings: dict = field(default_factory=dict)
     chain: Chain | None = None
     H_min: float | None = None
+    snaps: list = field(default_factory=list)
+    snap_model: str = "dynamic"
 
     @property
     def capacity_over_span(self) -> float | None:
@@ -439,17 +447,20 @@ class SupportsResult:
             "capacity_over_span": num(self.capacity_over_span),
             "hinges": self.hinges,
             "migrations": self.migrations,
+            "snaps": self.snaps,
             "last_edge": self.last_edge,
             "collapse": self.collapse,
             "path": [{"displacement": num(d), "H": num(H), "V": num(Vr if not self.movement.left else Vl),
                       "V_left": num(Vl), "V_right": num(Vr)} for d, H, Vl, Vr in self.path],
             "units": {"capacity": "m", "displacement": "m", "H": "kN/m", "V": "kN/m", "V_left": "kN/m",
-                      "V_right": "kN/m", "span": "m", "angle_deg": "deg", "H_min": "kN/m"},
+                      "V_right": "kN/m", "span": "m", "angle_deg": "deg", "H_min": "kN/m", "snaps.time": "s",
+                      "snaps.dissipated": "J/m", "snaps.potential_drop": "J/m"},
             "span": self.span,
             "H_min": num(self.H_min),
             "settings": {"movement": self.movement.describe(), "mode": self.mode,
                          ("voussoirs" if self.mode == "voussoirs" else "elements"): self.n,
-                         "steps": self.steps, "up_to": num(self.up_to), "geometry": self.geometry},
+                         "steps": self.steps, "up_to": num(self.up_to), "snaps": self.snap_model,
+                         "geometry": self.geometry},
             "verification": {k: float(v) for k, v in self.verification.items()},
         }
 
@@ -505,6 +516,7 @@ class _Path:
         self.theta = np.zeros(chain.J)
         self.side = np.zeros(chain.J, int)
         self.lam = np.zeros(3)
+        self.snaps = "static"
 
     def supports_at(self, d: float):
         return self.vL * d, self.vR * d
@@ -635,7 +647,8 @@ def _row_joint(ch: Chain, row: int) -> tuple[int, int]:
 
 
 def supports(curve: MidCurve, movement: Movement, elements: int | None = None, voussoirs: int | None = None,
-             up_to: float | None = None, steps: int = DEFAULT_STEPS, refine: bool = True) -> SupportsResult:
+             up_to: float | None = None, steps: int = DEFAULT_STEPS, refine: bool = True,
+             snaps: str = "dynamic") -> SupportsResult:
     """Follow ``movement`` of the supports of ``curve`` (an arch on two abutments, as built: fill
     and masses are dead loads moving with their pieces) from rest to collapse, or to ``up_to``
     (m); see the module docstring.
@@ -659,6 +672,12 @@ def supports(curve: MidCurve, movement: Movement, elements: int | None = None, v
         Locate the events inside the increments (default); False: an event is put at the end
         of the increment where it is first seen (the first-order variant of the convergence
         study).
+    snaps : {"dynamic", "static"}
+        Where a snap-through (an unstable hinge configuration with the supports held) ends:
+        ``"dynamic"`` (default), where the rigid-body simulation of the pieces, the supports
+        held, comes to rest (:mod:`.snaps`); ``"static"``, the admissible three-hinge state at
+        the same displacement in which the new hinge has taken the rotation of the nearest
+        older one (no simulation).
 
     Returns
     -------
@@ -674,6 +693,8 @@ def supports(curve: MidCurve, movement: Movement, elements: int | None = None, v
         raise InputError("a support movement needs an arch on two abutments")
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
+    if snaps not in SNAP_MODELS:
+        raise InputError(f"snaps must be one of {', '.join(SNAP_MODELS)}, got {snaps!r}")
     mode = "voussoirs" if voussoirs is not None else "continuous"
     n = (check_count(voussoirs, "voussoirs", MIN_VOUSSOIRS_SUPPORTS) if mode == "voussoirs"
          else check_count(200 if elements is None else elements, "elements", MIN_ELEMENTS))
@@ -695,6 +716,7 @@ def supports(curve: MidCurve, movement: Movement, elements: int | None = None, v
     desc = curve.describe() if hasattr(curve, "describe") else {}
     res = SupportsResult(desc, movement, mode, int(nodes.size - 1), int(steps), up_to, span, chain=ch)
     P = _Path(ch, movement, continuous=mode == "continuous")
+    P.snaps = res.snap_model = snaps
 
     # ---------------------------------------------------------------- at rest: the hinges
     A, b, eq = P.rows(0.0, P.theta, P.side)
@@ -1075,6 +1097,8 @@ def _handle(res: SupportsResult, P: _Path, d, th, lam, what) -> str:
         # older hinge closes; when that three-hinge state is admissible and lower in energy the
         # hinge has jumped (a snap-through migration: on the continuous arch a hinge rolling over
         # one element), else the arch collapses
+        if P.snaps == "dynamic":
+            return _dynamic(res, P, d, th, new, j, edge)
         snap = _snap(P, d, th, new, j)
         if snap is not None:
             a, side3, th3, lam3 = snap
@@ -1092,6 +1116,49 @@ def _handle(res: SupportsResult, P: _Path, d, th, lam, what) -> str:
     P.side, P.theta, P.lam = new, th2, lam2
     res.migrations.append({**edge, "displacement": float(d), "closed_joint": None, "closed_at": None,
                            "energy_curvature": curv * ch.Wtot * ch.L * 9.81 / 1000.0})
+    return "go"
+
+
+def _dynamic(res: SupportsResult, P: _Path, d: float, th: np.ndarray, new: np.ndarray, j: int, edge: dict) -> str:
+    """The snap from the hinge sides ``new`` at ``d`` followed by the rigid-body dynamics with
+    the supports held (:mod:`.snaps`): the state where the arch comes to rest (``"go"``), or
+    its collapse."""
+    from .snaps import dynamic_snap
+    ch = P.ch
+    # the other rows at their edge at this displacement (the mirror image of the new hinge on a
+    # symmetric arch) open with it
+    r0, _ = P.margins(d, th, P.side)
+    new = new.copy()
+    for a, s in (_row_joint(ch, int(r)) for r in np.flatnonzero(r0 <= ROW_TOL)):
+        if new[a] == 0:
+            new[a] = s
+    opened = [int(a) for a in np.flatnonzero((new != 0) & (P.side == 0))]
+    uL, _ = P.supports_at(d)
+    end = dynamic_snap(P, d, th, new, opened)
+    sol = None if end.collapsed or np.count_nonzero(end.side) < 3 else P.solve(d, end.theta, end.side, None)
+    if sol is not None and np.min(P.margins(d, sol[0], end.side)[0]) < -ROW_TOL:
+        sol = None                        # at rest only by the simulation's tolerances: not a state
+    record = {"displacement": float(d), "opened": [_hinge_dict(ch, a, new[a]) for a in opened],
+              "ended": "collapse" if sol is None else "rest", "time": end.time,
+              "dissipated": end.dissipated, "potential_drop": None, "hinges_after": None}
+    res.snaps.append(record)
+    if sol is None:
+        res.last_edge = edge
+        why = end.reason if end.collapsed else "where it stopped no line of thrust fits the hinges it rests on"
+        res.collapse = {"reason": f"a hinge formed at joint {j} ({edge['side']}, {edge['angle_deg']:.2f} deg) and "
+                                  f"the pieces snapped through with the supports held: {why}",
+                        "displacement": d, "hinges": [_hinge_dict(ch, i, new[i]) for i in np.flatnonzero(new)]}
+        return "collapsed"
+    side = end.side
+    record["hinges_after"] = [_hinge_dict(ch, i, side[i]) for i in np.flatnonzero(side)]
+    record["potential_drop"] = GRAVITY * (ch.potential(th, P.side, uL) - ch.potential(sol[0], side, uL))
+    old = np.flatnonzero((P.side != 0) & (side == 0))
+    for i in np.flatnonzero((side != 0) & (P.side == 0)):
+        closed = int(old[np.argmin(np.abs(old - i))]) if old.size else None
+        res.migrations.append({**_hinge_dict(ch, int(i), int(side[i])), "displacement": float(d),
+                               "closed_joint": closed, "closed_at": None if closed is None else float(d),
+                               "snap": True})
+    P.side, (P.theta, P.lam) = side, sol
     return "go"
 
 

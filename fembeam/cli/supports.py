@@ -72,6 +72,10 @@ def register(sub) -> None:
     mv.add_argument("--steps", type=_steps, default=DEFAULT_STEPS, metavar="N",
                     help=f"increments up to --up-to (or half the span), default {DEFAULT_STEPS}; the events in "
                          "between are located by bisection")
+    mv.add_argument("--snaps", choices=("dynamic", "static"), default="dynamic",
+                    help="where a snap-through ends: 'dynamic' (default), where the rigid-body simulation of "
+                         "the pieces with the supports held comes to rest; 'static', the three-hinge state "
+                         "with the new hinge in place of the nearest older one")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--csv", type=Path, default=None, metavar="PATH.csv", help="the path: displacement, H, V")
@@ -110,7 +114,7 @@ def run(args) -> int:
     from ..analysis.supports import supports
 
     res = supports(arch_from(args), movement, elements=args.elements, voussoirs=args.voussoirs,
-                   up_to=args.up_to, steps=args.steps)
+                   up_to=args.up_to, steps=args.steps, snaps=args.snaps)
     written = []
     if args.csv is not None:
         from ..output.files import write_table
@@ -167,6 +171,12 @@ def summary(res) -> str:
                          f"{m['side']}){frm}{snap}")
         if len(res.migrations) > 12:
             lines.append(f"    ... {len(res.migrations) - 12} more (--json)")
+    for sn in res.snaps:
+        opened = ", ".join(f"joint {h['joint']}" for h in sn["opened"])
+        end = ("came to rest on " + ", ".join(f"joint {h['joint']}" for h in sn["hinges_after"])
+               if sn["ended"] == "rest" else "collapsed")
+        lines.append(f"  snap-through at {sn['displacement']:.6g} m ({opened}), simulated with the supports "
+                     f"held: {end} after {sn['time']:.3g} s, {sn['dissipated']:.4g} J/m dissipated")
     dN, HN, VlN, VrN = res.path[-1]
     if res.outcome == "collapsed":
         lines.append(f"  CAPACITY: {res.capacity:.6g} m = {100 * res.capacity_over_span:.4g} % of the span")

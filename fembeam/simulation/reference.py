@@ -36,7 +36,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
     t0, t_end, dt, dt_out, q, v = checked_run(sim, ground, dt, t_end, dt_out, q0, v0)
     bodies, g = sim.bodies, sim.g
     con, q, v = supported(sim, q, v, motion)
-    t_hold = t0 + motion.hold_after if motion is not None else math.inf
+    t_hold = t0 + motion.hold_after if motion is not None and motion.hold_after > 0 else math.inf
     sup, sup_t, F_rows, W_sup = np.zeros(4), 0.0, [], 0.0
     V_over = overturn_level(sim.curve, bodies.mass, g)
     L = sim.curve.length

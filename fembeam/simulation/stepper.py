@@ -413,8 +413,10 @@ def supported(sim: Simulator, q: np.ndarray, v: np.ndarray, motion: SupportMotio
     if getattr(sim, "_split", None) is None:
         sim._split = sim.contacts.split_supports()
     q2, v2 = np.vstack([q, np.zeros((1, 3))]), np.vstack([v, np.zeros((1, 3))])
-    if motion is not None and motion.hold_after > 0:
-        v2[-2:] = motion.velocities()
+    if motion is not None:
+        q2[-2:, :2] = motion.supports_at_start()
+        if motion.hold_after > 0:
+            v2[-2:] = motion.velocities()
     return sim._split, q2, v2
 
 
@@ -437,7 +439,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     t_load = time.perf_counter() - clock
     bodies, g = sim.bodies, sim.g
     con, q, v = supported(sim, q, v, motion)     # the supports: rows n (left) and n + 1 (right)
-    t_hold = t0 + motion.hold_after if motion is not None else math.inf
+    t_hold = t0 + motion.hold_after if motion is not None and motion.hold_after > 0 else math.inf
     L = sim.curve.length
     n, J = bodies.n, con.J
     m, minv = bodies.m, con.minv

@@ -4,7 +4,8 @@ The two abutments are kinematic bodies: each moves by a prescribed translation `
 rotation) at the velocity ``du/dt`` (m/s), whatever the arch does; the contacts of a springing
 with its abutment use that velocity in their opening and sliding rates (the impact and smooth
 projections) and its position in their gaps.  The displacement is ``delta(t) = rate (t - t_0)``
-(m), held at ``up_to`` once reached; the supports move by ``delta`` times the unit vectors of a
+(m), held at ``up_to`` once reached (a motion :meth:`held` from the start: the supports already
+displaced by ``start`` and not moving); the supports move by ``delta`` times the unit vectors of a
 :class:`~fembeam.analysis.supports.Movement` (``spread``: each outward by ``delta / 2``;
 ``settle``: the right one down by ``delta``; ``move``: one of them along a direction), the same
 displacement as ``fembeam supports``'s, so the two are compared at equal ``delta``.  The impulses
@@ -63,7 +64,9 @@ class SupportMotion:
     rate : float
         ``d delta / dt`` (m/s), > 0.
     up_to : float or None
-        ``delta`` (m) held from ``up_to / rate`` after the start on.
+        ``delta`` (m) held from ``(up_to - start) / rate`` after the start on.
+    start : float
+        ``delta`` (m) at the start (0: from the supports' places at rest).
     """
 
     kind: str
@@ -71,6 +74,7 @@ class SupportMotion:
     right: tuple
     rate: float
     up_to: float | None = None
+    start: float = 0.0
 
     @classmethod
     def of(cls, kind: str, rate: float, *, vector=None, left: bool = False,
@@ -94,15 +98,26 @@ class SupportMotion:
         d = tuple(map(float, d / size))
         return cls("rigid", d, d, _rate(rate), _up_to(up_to))
 
+    @classmethod
+    def held(cls, kind: str, at: float, *, vector=None, left: bool = False) -> "SupportMotion":
+        """The supports of the movement ``kind`` (as :meth:`of`) displaced by ``at`` (m) from the
+        start on and held there (a run from a state on displaced supports, ``q0``)."""
+        m = cls.of(kind, 1.0, vector=vector, left=left, up_to=at)
+        return cls(m.kind, m.left, m.right, m.rate, m.up_to, m.up_to)
+
     @property
     def hold_after(self) -> float:
         """Time (s) after the start at which ``delta`` reaches ``up_to`` (inf: never)."""
-        return math.inf if self.up_to is None else self.up_to / self.rate
+        return math.inf if self.up_to is None else (self.up_to - self.start) / self.rate
 
     def displacement(self, elapsed) -> np.ndarray:
         """``delta`` (m) at the times ``elapsed`` (s) after the start."""
         e = np.maximum(np.asarray(elapsed, float), 0.0)
-        return self.rate * np.minimum(e, self.hold_after)
+        return self.start + self.rate * np.minimum(e, self.hold_after)
+
+    def supports_at_start(self) -> np.ndarray:
+        """``(2, 2)``: the displacements (m) of the left and right supports at the start."""
+        return self.start * np.array([self.left, self.right])
 
     def velocities(self) -> np.ndarray:
         """``(2, 3)``: the velocities ``vx, vy, omega`` (m/s, rad/s) of the left and right supports
@@ -114,4 +129,4 @@ class SupportMotion:
 
     def describe(self) -> dict:
         return {"kind": self.kind, "left_per_m": list(self.left), "right_per_m": list(self.right),
-                "rate_m_per_s": self.rate, "up_to_m": self.up_to}
+                "rate_m_per_s": self.rate, "up_to_m": self.up_to, "start_m": self.start}
