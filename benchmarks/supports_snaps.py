@@ -1,7 +1,8 @@
 """Where a snap-through of a voussoir arch on spreading supports ends: the multi-block simulation
-held just past the snap against the quasi-static path's next joint and the three-hinge state of
-least potential energy.  For each case it prints the intrados hinges at which the simulated
-arch comes to rest (or that it collapsed), and the potential energy (J/m) of the admissible
+held just past the snap against ``fembeam supports`` (its snaps simulated with the supports held
+at the event) and the three-hinge state of least potential energy.  For each case it prints the
+intrados hinges at which the simulated arch comes to rest (or that it collapsed), those of
+``fembeam supports`` at the same displacement, and the potential energy (J/m) of the admissible
 symmetric three-hinge states (crown hinge kept) at the held displacement, the least one marked.
 Run: ``python benchmarks/supports_snaps.py`` (about a minute of CPU on a warm kernel cache)."""
 from __future__ import annotations
@@ -11,7 +12,7 @@ import argparse
 import numpy as np
 
 from fembeam import CircularArch
-from fembeam.analysis.supports import Chain, Movement, _Path
+from fembeam.analysis.supports import Chain, Movement, _Path, supports
 from fembeam.dynamics.ground import GroundMotion
 from fembeam.fem import uniform_nodes
 from fembeam.simulation.stepper import Simulator
@@ -50,6 +51,15 @@ def energies(arch, n: int, held: float) -> list[tuple[int, float]]:
     return out
 
 
+def dynamic(arch, n: int, held: float) -> str:
+    """The hinges at ``held`` (m) of ``fembeam supports`` with its snaps simulated (the default),
+    or its collapse."""
+    res = supports(arch, Movement.of("spread"), voussoirs=n, up_to=held)
+    if res.outcome == "collapsed":
+        return f"collapsed at {res.capacity:.4f} m"
+    return "hinges at joints " + ", ".join(str(j) for j in np.flatnonzero(res.frames[-1][3]))
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--rate", type=float, default=0.0025, help="spreading rate (m/s)")
@@ -58,6 +68,7 @@ def main() -> None:
     arch = CircularArch()
     for n, held in CASES:
         print(f"{n} voussoirs held at {held} m: simulation {simulated(arch, n, held, a.rate, held / a.rate + a.hold)}")
+        print(f"  fembeam supports (dynamic snaps): {dynamic(arch, n, held)}")
         rows = energies(arch, n, held)
         least = min(rows, key=lambda r: r[1])[0] if rows else None
         print("  admissible states (joint k: V J/m): " + ", ".join(

@@ -142,6 +142,18 @@ def test_json_interface_and_up_to_beyond_capacity(capsys, tmp_path):
     assert set(d["path"][0]) >= {"displacement", "H", "V"}
     assert d["units"]["H"] == "kN/m" and d["units"]["capacity"] == "m"
     assert (tmp_path / "p.csv").read_text().startswith("displacement_m,H_kN_per_m")
+    # voussoirs: snaps simulated; the collapse is the last one, which ended in a fall
+    assert d["settings"]["snaps"] == "dynamic" and d["snaps"][-1]["ended"] == "collapse"
+    assert d["snaps"][-1]["displacement"] == d["capacity"] and d["units"]["snaps.dissipated"] == "J/m"
+
+
+def test_continuous_arch_snaps_statically_by_default():
+    """The continuous arch's hinges roll; its unstable events snap statically unless asked."""
+    a = supports(ARCH, Movement.of("spread"), elements=25)
+    b = supports(ARCH, Movement.of("spread"), elements=25, snaps="dynamic")
+    assert a.snap_model == "static" and a.snaps == [] and a.to_dict()["settings"]["snaps"] == "static"
+    assert b.snap_model == "dynamic" and b.snaps[-1]["ended"] == "collapse"
+    assert b.capacity == a.capacity        # its collapse: the fourth hinge at the springing, which falls
 
 
 @pytest.mark.parametrize("snaps", ["static", "dynamic"])

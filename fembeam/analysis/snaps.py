@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from ..dynamics.ground import GroundMotion
+from ..errors import SolverError
 from ..dynamics.outcomes import OVERTURN_DROP, mean_thickness
 from ..simulation.constants import REST_KINETIC
 from ..units import GRAVITY
@@ -90,8 +91,12 @@ def dynamic_snap(path, d: float, theta: np.ndarray, side: np.ndarray, new: list[
     drop = OVERTURN_DROP * sim.bodies.mass * mean_thickness(ch.curve)
     t, dissipated = 0.0, 0.0
     while t < MAX_TIME * period:
-        res = sim.run(still, dt=dt, t_start=t, t_end=t + CHUNK * period, dt_out=CHUNK * period, q0=q, v0=v,
-                      stop_at_overturn=False, support_motion=motion)
+        try:
+            res = sim.run(still, dt=dt, t_start=t, t_end=t + CHUNK * period, dt_out=CHUNK * period, q0=q, v0=v,
+                          stop_at_overturn=False, support_motion=motion)
+        except SolverError as e:
+            raise SolverError(f"the simulation of the snap-through at {d:.6g} m failed ({e}); --snaps static "
+                              "follows it without the simulation") from e
         q, v, t = res.q_end, res.v_end, res.t_end
         dissipated += res.dissipated
         if float(sim.bodies.m @ q[:-1, 1]) < y0 - drop:

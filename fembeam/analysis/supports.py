@@ -648,7 +648,7 @@ def _row_joint(ch: Chain, row: int) -> tuple[int, int]:
 
 def supports(curve: MidCurve, movement: Movement, elements: int | None = None, voussoirs: int | None = None,
              up_to: float | None = None, steps: int = DEFAULT_STEPS, refine: bool = True,
-             snaps: str = "dynamic") -> SupportsResult:
+             snaps: str | None = None) -> SupportsResult:
     """Follow ``movement`` of the supports of ``curve`` (an arch on two abutments, as built: fill
     and masses are dead loads moving with their pieces) from rest to collapse, or to ``up_to``
     (m); see the module docstring.
@@ -672,12 +672,12 @@ def supports(curve: MidCurve, movement: Movement, elements: int | None = None, v
         Locate the events inside the increments (default); False: an event is put at the end
         of the increment where it is first seen (the first-order variant of the convergence
         study).
-    snaps : {"dynamic", "static"}
+    snaps : {"dynamic", "static"}, optional
         Where a snap-through (an unstable hinge configuration with the supports held) ends:
-        ``"dynamic"`` (default), where the rigid-body simulation of the pieces, the supports
-        held, comes to rest (:mod:`.snaps`); ``"static"``, the admissible three-hinge state at
-        the same displacement in which the new hinge has taken the rotation of the nearest
-        older one (no simulation).
+        ``"dynamic"`` (default for voussoirs), where the rigid-body simulation of the pieces, the
+        supports held, comes to rest (:mod:`.snaps`); ``"static"`` (default for the continuous
+        arch, whose elements are not pieces), the admissible three-hinge state at the same
+        displacement in which the new hinge has taken the rotation of the nearest older one.
 
     Returns
     -------
@@ -693,9 +693,10 @@ def supports(curve: MidCurve, movement: Movement, elements: int | None = None, v
         raise InputError("a support movement needs an arch on two abutments")
     if elements is not None and voussoirs is not None:
         raise InputError("give either elements (continuous arch) or voussoirs (discrete arch), not both")
-    if snaps not in SNAP_MODELS:
+    if snaps is not None and snaps not in SNAP_MODELS:
         raise InputError(f"snaps must be one of {', '.join(SNAP_MODELS)}, got {snaps!r}")
     mode = "voussoirs" if voussoirs is not None else "continuous"
+    snaps = snaps or ("dynamic" if mode == "voussoirs" else "static")
     n = (check_count(voussoirs, "voussoirs", MIN_VOUSSOIRS_SUPPORTS) if mode == "voussoirs"
          else check_count(200 if elements is None else elements, "elements", MIN_ELEMENTS))
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:

@@ -72,10 +72,11 @@ def register(sub) -> None:
     mv.add_argument("--steps", type=_steps, default=DEFAULT_STEPS, metavar="N",
                     help=f"increments up to --up-to (or half the span), default {DEFAULT_STEPS}; the events in "
                          "between are located by bisection")
-    mv.add_argument("--snaps", choices=("dynamic", "static"), default="dynamic",
-                    help="where a snap-through ends: 'dynamic' (default), where the rigid-body simulation of "
-                         "the pieces with the supports held comes to rest; 'static', the three-hinge state "
-                         "with the new hinge in place of the nearest older one")
+    mv.add_argument("--snaps", choices=("dynamic", "static"), default=None,
+                    help="where a snap-through ends: 'dynamic' (default with --voussoirs), where the "
+                         "rigid-body simulation of the pieces with the supports held comes to rest; 'static' "
+                         "(default for the continuous arch), the three-hinge state with the new hinge in place "
+                         "of the nearest older one")
     o = p.add_argument_group("output")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--csv", type=Path, default=None, metavar="PATH.csv", help="the path: displacement, H, V")
