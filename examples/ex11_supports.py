@@ -7,7 +7,9 @@ of the same ring, on supports that move apart. Each is followed quasi-statically
 finite displacements of its rigid pieces, from rest to collapse (``fembeam supports
 --spread``): three hinges form at once (the minimum-thrust state), the crown drops, the
 thrust on the supports rises, hinges migrate on the way, and the arch collapses when its
-pieces form a mechanism under gravity alone. The method is in the documentation's page
+pieces form a mechanism under gravity alone. On voussoirs a hinge that jumps to another
+joint (a snap-through) is followed by the rigid-body simulation with the supports held:
+where the pieces come to rest, or that they fall. The method is in the documentation's page
 "Moving supports".
 
 Run as a script: ``python examples/ex11_supports.py`` prints the numbers below and
@@ -51,6 +53,9 @@ for (name, mesh), r in results.items():
     for m in r.migrations[:6]:
         print(f"    at {m['displacement']:.4f} m: hinge to {m['angle_deg']:.2f} deg"
               f" ({m['side']})")
+    for sn in r.snaps:            # voussoirs: each snap-through simulated, supports held
+        print(f"    snap-through at {sn['displacement']:.4f} m: {sn['ended']},"
+              f" {sn['dissipated']:.3f} J/m dissipated")
     e = r.last_edge
     if e is not None:
         print(f"    collapse: edge reached last at {e['angle_deg']:.2f} deg"
