@@ -222,3 +222,12 @@ def test_dynamic_snaps_agree_with_the_slow_simulation(snapping48):
 def test_snaps_input():
     with pytest.raises(InputError, match="snaps must be one of"):
         supports(ARCH, Movement.of("spread"), voussoirs=12, snaps="quasi")
+
+
+def test_move_with_a_negative_component(capsys):
+    """``--move -1,0.5`` is a value, not an option: the same answer as ``--move=-1,0.5``."""
+    a = _cli(["supports", "--voussoirs", "7", "--move", "-1,0.5", "--json"], capsys)
+    b = _cli(["supports", "--voussoirs", "7", "--move=-1,0.5", "--json"], capsys)
+    assert a[0] == b[0] == 0
+    da, db = json.loads(a[1]), json.loads(b[1])
+    assert da["capacity"] == db["capacity"] and da["settings"]["movement"]["direction"][0] < 0

@@ -45,7 +45,17 @@ def one_line(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
 
 
+# an argument that starts with a negative number is a value, not an option: "-0.5", "-1e-3",
+# and lists "-1,0.5" (``--move -1,0.5``; argparse's own pattern takes only single numbers)
+NEGATIVE_VALUE = r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?(,.*)?$"
+
+
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        import re
+        self._negative_number_matcher = re.compile(NEGATIVE_VALUE)
+
     def error(self, message):  # one line, no usage dump
         print(f"{self.prog}: error: {one_line(message)}", file=sys.stderr)
         raise SystemExit(2)
