@@ -53,7 +53,7 @@ for (name, mesh), r in results.items():
     for m in r.migrations[:6]:
         print(f"    at {m['displacement']:.4f} m: hinge to {m['angle_deg']:.2f} deg"
               f" ({m['side']})")
-    for sn in r.snaps:            # voussoirs: each snap-through simulated, supports held
+    for sn in r.snaps:      # voussoirs: each snap-through simulated, supports held
         print(f"    snap-through at {sn['displacement']:.4f} m: {sn['ended']},"
               f" {sn['dissipated']:.3f} J/m dissipated")
     e = r.last_edge
