@@ -9,8 +9,8 @@ finite displacements of its rigid pieces, from rest to collapse (``fembeam suppo
 thrust on the supports rises, hinges migrate on the way, and the arch collapses when its
 pieces form a mechanism under gravity alone. On voussoirs a hinge that jumps to another
 joint (a snap-through) is followed by the rigid-body simulation with the supports held:
-where the pieces come to rest, or that they fall. The method is in the documentation's page
-"Moving supports".
+where the pieces come to rest, or that they fall. The method is in the documentation's
+page "Moving supports".
 
 Run as a script: ``python examples/ex11_supports.py`` prints the numbers below and
 writes ``ex11_thrust.png`` and ``ex11_arch.png``.
