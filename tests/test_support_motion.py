@@ -5,6 +5,7 @@ the two engines agree, and a slow spreading (or settlement) collapses at the cap
 from __future__ import annotations
 
 import hashlib
+import math
 import json
 
 import numpy as np
@@ -114,13 +115,13 @@ def test_rigid_translation_with_the_supports_is_exact(engine, direction):
 
 @pytest.mark.parametrize("engine", ["compiled", "reference"])
 def test_held_displaced_supports_keep_a_quasi_static_state(engine):
-    """A run from a state of the quasi-static path (``fembeam supports``, spread by 5 cm: three
+    """A run from a state of the quasi-static path (``fembeam supports``, spread by 10 cm: three
     hinges open) on supports :meth:`SupportMotion.held` there: the bodies placed by the chain's
     exact rotations rest on their pivots, in equilibrium, so nothing moves (1e-12 m, measured
     4e-16), and the mean forces on the supports are the path's thrust and weights (a
     three-hinge state is statically determinate: 1e-9, measured 3e-13)."""
     from fembeam.analysis.snaps import _state
-    d = 0.05
+    d = 0.10         # deep enough that the crown is below the rest's overturning level: measured from the start
     path = supports(CircularArch(), Movement.of("spread"), voussoirs=7, up_to=d, steps=10)
     _, theta, count, side, _ = path.frames[-1]
     assert count == 3 and path.path[-1][0] == pytest.approx(d)
@@ -137,6 +138,15 @@ def test_held_displaced_supports_keep_a_quasi_static_state(engine):
     assert np.mean(res.history["H_left"][1:]) == pytest.approx(H, rel=1e-9)     # statically determinate
     assert np.mean(res.history["V_left"][1:]) == pytest.approx(Vl, rel=1e-9)
     assert np.mean(res.history["V_right"][1:]) == pytest.approx(Vr, rel=1e-9)
+
+
+def test_support_motion_start_checked():
+    held = SupportMotion.held("settle", 0.2, left=True)
+    assert held.is_held and held.describe()["rate_m_per_s"] is None and held.describe()["start_m"] == 0.2
+    assert not SupportMotion.of("settle", 0.01).is_held
+    for start in (-0.1, math.nan, 0.3):
+        with pytest.raises(InputError, match="at the start"):
+            SupportMotion("spread", (-0.5, 0.0), (0.5, 0.0), 1.0, 0.2, start)
 
 
 def test_engines_agree_under_spreading():

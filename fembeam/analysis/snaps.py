@@ -6,11 +6,15 @@ pieces turn at once: the quasi-static path has no say in where they stop.  Here 
 put, at that displacement, into the multi-block simulation (:mod:`fembeam.simulation`: rigid
 bodies in unilateral contact, inelastic impacts, joints that do not slide) with the supports
 held, and set moving along the free mode, downhill, with a kinetic energy of ``SEED`` times
-``W g L`` (``W``: the weight, ``L``: the span): the snap ends where the simulated arch comes to
-rest (kinetic energy below ``REST_KINETIC`` times ``W g`` times the arch's length, as
-:mod:`fembeam.simulation`'s rest; its hinges are the new state, refined to exact equilibrium), or the arch collapses when
-its pieces fall (the potential energy ``OVERTURN_DROP`` times ``W g t`` below the start's, ``t``
-the mean thickness) or do not come to rest within ``MAX_TIME`` periods ``sqrt(L / g)``.
+``W g L`` (``W``: the weight, ``L``: the span).  The run is checked every ``sqrt(L / g)``
+seconds.  The snap has ended when the arch is at rest (kinetic energy below ``REST_KINETIC``
+times ``W g`` times the arch's length, the simulation's own rest) or quiet (below ``QUIET``
+times ``W g L``, its joints' rotations steady within ``STEADY`` rad over the last check: a
+simulated arch can keep chattering at a closed joint); its hinges are then the joints turned
+by more than ``HINGE_ROT`` (or, if that reading is not an admissible state, the three turned
+most, or the joints turned by more than ``HINGE_ROT_FINE``).  The arch has collapsed when its pieces fall (the simulation's
+overturning: the potential energy ``OVERTURN_DROP`` times ``W g t`` below the start's, ``t``
+the mean thickness).  Neither within ``MAX_CHECKS`` checks: a :class:`~fembeam.errors.SolverError`.
 """
 from __future__ import annotations
 
@@ -20,27 +24,43 @@ import numpy as np
 
 from ..dynamics.ground import GroundMotion
 from ..errors import SolverError
-from ..dynamics.outcomes import OVERTURN_DROP, mean_thickness
 from ..simulation.constants import REST_KINETIC
 from ..units import GRAVITY
 
 __all__ = ["dynamic_snap", "SnapEnd"]
 
-SEED = 1e-8          # kinetic energy given along the free mode (units of W g L)
-CHUNK = 1.0          # the simulation is checked every CHUNK periods sqrt(L / g)
-MAX_TIME = 60.0      # not at rest after this many periods: taken as a collapse
-HINGE_ROT = 1e-6     # a joint of the state at rest is a hinge above this rotation (rad)
-DT = 1e-3            # time step (s) for L = 2 m, scaled with sqrt(L / 2 m)
+SEED = 1e-8            # kinetic energy given along the free mode (units of W g L)
+MAX_CHECKS = 60        # checks, one every sqrt(L / g) s, before the snap is given up
+QUIET = 1e-6           # kinetic energy (units of W g L) below which steady rotations are at rest
+STEADY = 1e-4          # rad: the largest change of a joint's rotation over a check when quiet
+HINGE_ROT = 1e-4       # rad: a joint of the arch at rest is a hinge above this rotation ...
+HINGE_ROT_FINE = 1e-7  # ... or, when that reading is not admissible, above this one
+DT = 1e-3              # time step (s) for L = 2 m, scaled with sqrt(L / 2 m)
 
 
 class SnapEnd:
-    """Where a snap ended: ``side`` (J,) and ``theta`` (J,) of the simulated arch at rest (hinge
-    sides as :class:`~fembeam.analysis.supports.Chain`), or ``collapsed``; ``time`` (s) of the
-    simulated snap, ``dissipated`` (J/m) by its impacts."""
+    """Where a snap ended: ``readings``, the hinge sides (J,) and rotations (J,) of the simulated
+    arch at rest read in three ways (:func:`_readings`; sides as
+    :class:`~fembeam.analysis.supports.Chain`), or ``collapsed``; ``time`` (s), the simulated
+    time at the check that found it at rest or fallen; ``dissipated`` (J/m) by its impacts."""
 
-    def __init__(self, side, theta, collapsed: bool, time: float, dissipated: float, reason: str = ""):
-        self.side, self.theta, self.collapsed = side, theta, collapsed
+    def __init__(self, readings: list, collapsed: bool, time: float, dissipated: float, reason: str = ""):
+        self.readings, self.collapsed = readings, collapsed
         self.time, self.dissipated, self.reason = time, dissipated, reason
+
+
+def _readings(q: np.ndarray) -> list:
+    """``(side, theta)`` of the bodies' positions ``q``: the joints turned by more than
+    ``HINGE_ROT``, the three turned most (a closed joint still chattering), and the joints
+    turned by more than ``HINGE_ROT_FINE``."""
+    th = np.diff(np.r_[0.0, q[:-1, 2], 0.0])
+    three = np.zeros(th.size, bool)
+    three[np.argsort(-np.abs(th))[:3]] = True
+    out = []
+    for keep in (np.abs(th) > HINGE_ROT, three, np.abs(th) > HINGE_ROT_FINE):
+        side = np.where(keep, np.where(th < 0, 1, -1), 0)
+        out.append((side, np.where(keep, th, 0.0)))
+    return out
 
 
 def _state(ch, theta, side, uL, rates):
@@ -80,31 +100,28 @@ def dynamic_snap(path, d: float, theta: np.ndarray, side: np.ndarray, new: list[
     g = GRAVITY
     sim = Simulator(ch.curve, nodes=ch.nodes)
     q, v = _state(ch, theta, side, uL, rates)
-    K1 = sim.bodies.kinetic_energy(v)
     WgL = sim.bodies.mass * g * ch.L
-    v *= math.sqrt(SEED * WgL / K1)
+    v *= math.sqrt(SEED * WgL / sim.bodies.kinetic_energy(v))
     motion = SupportMotion.held(mv.kind, d, vector=mv.direction if mv.kind == "move" else None, left=mv.left)
     period = math.sqrt(ch.L / g)
     dt = DT * math.sqrt(ch.L / 2.0)
     still = GroundMotion(np.array([0.0, 1.0]), np.zeros(2), "none", True)
-    y0 = float(sim.bodies.m @ q[:-1, 1])
-    drop = OVERTURN_DROP * sim.bodies.mass * mean_thickness(ch.curve)
-    t, dissipated = 0.0, 0.0
-    while t < MAX_TIME * period:
+    rest = REST_KINETIC * sim.bodies.mass * g * sim.curve.length
+    dissipated = 0.0
+    for k in range(MAX_CHECKS):
+        before = q[:-1, 2].copy()
         try:
-            res = sim.run(still, dt=dt, t_start=t, t_end=t + CHUNK * period, dt_out=CHUNK * period, q0=q, v0=v,
-                          stop_at_overturn=False, support_motion=motion)
+            res = sim.run(still, dt=dt, t_start=k * period, t_end=(k + 1) * period, dt_out=period, q0=q, v0=v,
+                          support_motion=motion)
         except SolverError as e:
             raise SolverError(f"the simulation of the snap-through at {d:.6g} m failed ({e}); --snaps static "
                               "follows it without the simulation") from e
-        q, v, t = res.q_end, res.v_end, res.t_end
+        q, v = res.q_end, res.v_end
         dissipated += res.dissipated
-        if float(sim.bodies.m @ q[:-1, 1]) < y0 - drop:
-            return SnapEnd(None, None, True, t, dissipated, "the pieces fell")
-        if sim.bodies.kinetic_energy(v) < REST_KINETIC * sim.bodies.mass * g * sim.curve.length:
-            phi = np.r_[0.0, q[:-1, 2], 0.0]
-            th = np.diff(phi)
-            side = np.where(th < -HINGE_ROT, 1, np.where(th > HINGE_ROT, -1, 0))
-            th = np.where(side != 0, th, 0.0)
-            return SnapEnd(side, th, False, t, dissipated)
-    return SnapEnd(None, None, True, t, dissipated, f"not at rest after {t:.3g} s")
+        if res.outcome in ("overturned", "collapsed_by_sliding"):
+            return SnapEnd([], True, res.t_end, dissipated, "the pieces fell")
+        K = sim.bodies.kinetic_energy(v)
+        if K < rest or (K < QUIET * WgL and np.max(np.abs(q[:-1, 2] - before)) < STEADY):
+            return SnapEnd(_readings(q), False, res.t_end, dissipated)
+    raise SolverError(f"the simulation of the snap-through at {d:.6g} m neither came to rest nor fell within "
+                      f"{MAX_CHECKS * period:.3g} s; --snaps static follows it without the simulation")

@@ -1099,7 +1099,7 @@ def _handle(res: SupportsResult, P: _Path, d, th, lam, what) -> str:
         # hinge has jumped (a snap-through migration: on the continuous arch a hinge rolling over
         # one element), else the arch collapses
         if P.snaps == "dynamic":
-            return _dynamic(res, P, d, th, new, j, edge)
+            return _dynamic(res, P, d, th, new, j, edge, curv * ch.Wtot * ch.L * GRAVITY / 1000.0)
         snap = _snap(P, d, th, new, j)
         if snap is not None:
             a, side3, th3, lam3 = snap
@@ -1111,19 +1111,20 @@ def _handle(res: SupportsResult, P: _Path, d, th, lam, what) -> str:
         res.collapse = {"reason": f"a hinge formed at joint {j} ({edge['side']}, {edge['angle_deg']:.2f} deg): with "
                                   f"the supports held the pieces form a mechanism on which gravity does positive work",
                         "displacement": d, "hinges": [_hinge_dict(ch, i, new[i]) for i in np.flatnonzero(new)],
-                        "energy_curvature": curv * ch.Wtot * ch.L * 9.81 / 1000.0,
+                        "energy_curvature": curv * ch.Wtot * ch.L * GRAVITY / 1000.0,
                         "energy_curvature_unit": "kJ/m per rad^2 along the free mode"}
         return "collapsed"
     P.side, P.theta, P.lam = new, th2, lam2
     res.migrations.append({**edge, "displacement": float(d), "closed_joint": None, "closed_at": None,
-                           "energy_curvature": curv * ch.Wtot * ch.L * 9.81 / 1000.0})
+                           "energy_curvature": curv * ch.Wtot * ch.L * GRAVITY / 1000.0})
     return "go"
 
 
-def _dynamic(res: SupportsResult, P: _Path, d: float, th: np.ndarray, new: np.ndarray, j: int, edge: dict) -> str:
+def _dynamic(res: SupportsResult, P: _Path, d: float, th: np.ndarray, new: np.ndarray, j: int, edge: dict,
+             curvature: float) -> str:
     """The snap from the hinge sides ``new`` at ``d`` followed by the rigid-body dynamics with
     the supports held (:mod:`.snaps`): the state where the arch comes to rest (``"go"``), or
-    its collapse."""
+    its collapse; ``curvature`` (kJ/m per rad^2) of the potential energy along the free mode."""
     from .snaps import dynamic_snap
     ch = P.ch
     # the other rows at their edge at this displacement (the mirror image of the new hinge on a
@@ -1136,26 +1137,38 @@ def _dynamic(res: SupportsResult, P: _Path, d: float, th: np.ndarray, new: np.nd
     opened = [int(a) for a in np.flatnonzero((new != 0) & (P.side == 0))]
     uL, _ = P.supports_at(d)
     end = dynamic_snap(P, d, th, new, opened)
-    sol = None if end.collapsed or np.count_nonzero(end.side) < 3 else P.solve(d, end.theta, end.side, None)
-    if sol is not None and np.min(P.margins(d, sol[0], end.side)[0]) < -ROW_TOL:
-        sol = None                        # at rest only by the simulation's tolerances: not a state
     record = {"displacement": float(d), "opened": [_hinge_dict(ch, a, new[a]) for a in opened],
-              "ended": "collapse" if sol is None else "rest", "time": end.time,
-              "dissipated": end.dissipated, "potential_drop": None, "hinges_after": None}
+              "ended": "collapse" if end.collapsed else "rest", "time": end.time, "dissipated": end.dissipated,
+              "potential_drop": None, "hinges_after": None}
     res.snaps.append(record)
-    if sol is None:
+    if end.collapsed:
         res.last_edge = edge
-        why = end.reason if end.collapsed else "where it stopped no line of thrust fits the hinges it rests on"
         res.collapse = {"reason": f"a hinge formed at joint {j} ({edge['side']}, {edge['angle_deg']:.2f} deg) and "
-                                  f"the pieces snapped through with the supports held: {why}",
-                        "displacement": d, "hinges": [_hinge_dict(ch, i, new[i]) for i in np.flatnonzero(new)]}
+                                  f"the pieces snapped through with the supports held: {end.reason}",
+                        "displacement": d, "hinges": [_hinge_dict(ch, i, new[i]) for i in np.flatnonzero(new)],
+                        "energy_curvature": curvature, "energy_curvature_unit": "kJ/m per rad^2 along the free mode"}
         return "collapsed"
-    side = end.side
+    side = sol = None
+    for side, theta in end.readings:          # the hinges at rest: an admissible state, not the one before
+        h = np.flatnonzero(side)
+        if h.size < 3 or np.array_equal(side, P.side):
+            continue
+        sol = P.solve(d, theta, side, None)
+        if sol is not None and not np.any(sol[0][h] * side[h] > 0) \
+                and np.min(P.margins(d, sol[0], side)[0]) >= -ROW_TOL:
+            break
+        sol = None
+    if sol is None:
+        raise SolverError(f"supports: the snap-through at {d:.6g} m came to rest in the simulation in a state that "
+                          "is not an admissible hinge configuration of the path (hinges at joints "
+                          f"{', '.join(map(str, np.flatnonzero(end.readings[0][0])))}); --snaps static follows "
+                          "it without the simulation")
     record["hinges_after"] = [_hinge_dict(ch, i, side[i]) for i in np.flatnonzero(side)]
     record["potential_drop"] = GRAVITY * (ch.potential(th, P.side, uL) - ch.potential(sol[0], side, uL))
     old = np.flatnonzero((P.side != 0) & (side == 0))
     for i in np.flatnonzero((side != 0) & (P.side == 0)):
-        closed = int(old[np.argmin(np.abs(old - i))]) if old.size else None
+        same = old[P.side[old] == side[i]]               # the closed hinge of the same side nearest to it
+        closed = int(same[np.argmin(np.abs(same - i))]) if same.size else None
         res.migrations.append({**_hinge_dict(ch, int(i), int(side[i])), "displacement": float(d),
                                "closed_joint": closed, "closed_at": None if closed is None else float(d),
                                "snap": True})

@@ -15,7 +15,7 @@ from .constants import BAND, BLOCK_PIVOTS, GAP_TOL, IMPACT_PIVOTS, OFF_FACE, REG
 from .contacts import Contacts
 from .projection import banded_solve, solve_mlcp
 from .result import SimulationResult
-from .stepper import MIN_STEP, checked_run, support_history, supported
+from .stepper import MIN_STEP, checked_run, start_heights, support_history, supported
 
 
 def _roots(gap, vn, an):
@@ -44,7 +44,7 @@ def run_reference(sim, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_at_
     minv = con.minv
     m = bodies.m
     mass = bodies.mass
-    y0 = bodies.G0[1]
+    y0 = start_heights(bodies, q, motion)
     E_unit = mass * g * L
     thick = bodies.thickness[:, None]
     gap_tol = GAP_TOL * thick

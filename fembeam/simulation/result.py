@@ -225,9 +225,9 @@ class SimulationResult:
         if self.support_motion is not None:
             out["support_motion"] = self.support_block()
             out["units"].update({"support_motion.rate_m_per_s": "m/s", "support_motion.up_to_m": "m",
-                                 "support_motion.start_m": "m", "support_displacement_at_collapse": "m", "history.support_displacement": "m",
-                                 "history.H_left": "kN/m", "history.V_left": "kN/m", "history.H_right": "kN/m",
-                                 "history.V_right": "kN/m"})
+                                 "support_motion.start_m": "m", "support_displacement_at_collapse": "m",
+                                 "history.support_displacement": "m", "history.H_left": "kN/m",
+                                 "history.V_left": "kN/m", "history.H_right": "kN/m", "history.V_right": "kN/m"})
             out["support_displacement_at_collapse"] = out["support_motion"]["displacement_at_collapse"]
         if history:
             out["history"] = {k: [float(x) for x in v] for k, v in h.items()}

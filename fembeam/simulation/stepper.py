@@ -420,6 +420,15 @@ def supported(sim: Simulator, q: np.ndarray, v: np.ndarray, motion: SupportMotio
     return sim._split, q2, v2
 
 
+def start_heights(bodies, q: np.ndarray, motion: SupportMotion | None) -> np.ndarray:
+    """The centroids' heights (m) from which the potential energy ``V`` and the overturning are
+    measured: at rest, or, on supports displaced from the start (:meth:`SupportMotion.held`),
+    at the start ``q`` (the arch cannot return to its rest geometry there)."""
+    if motion is not None and motion.start != 0.0:
+        return q[:bodies.n, 1].copy()
+    return bodies.G0[1].copy()
+
+
 def support_history(res: SimulationResult, motion: SupportMotion, t0: float, F) -> None:
     """Adds :data:`.support_motion.SUPPORT_COLUMNS` to ``res.history``: the displacement (m) at
     its times and, from the mean forces ``F`` ``(rows, 4)`` (N/m) of the arch on the supports
@@ -446,7 +455,7 @@ def _run(sim: Simulator, ground: GroundMotion, dt, t_end, dt_out, q0, v0, stop_a
     mv = np.zeros((n + 2, 3))
     mv[:n, 0] = mv[:n, 1] = m
     mv[:n, 2] = bodies.I
-    y0 = bodies.G0[1].copy()
+    y0 = start_heights(bodies, q, motion)
     E_unit = bodies.mass * g * L
     thick = bodies.thickness.copy()
     mu = math.inf if sim.friction is None else sim.friction

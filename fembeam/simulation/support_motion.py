@@ -98,12 +98,25 @@ class SupportMotion:
         d = tuple(map(float, d / size))
         return cls("rigid", d, d, _rate(rate), _up_to(up_to))
 
+    def __post_init__(self):
+        if not (math.isfinite(self.start) and 0.0 <= self.start
+                and (self.up_to is None or self.start <= self.up_to)):
+            raise InputError(f"the support displacement at the start must be a finite number of m in "
+                             f"[0, up_to], got {self.start!r}")
+
     @classmethod
     def held(cls, kind: str, at: float, *, vector=None, left: bool = False) -> "SupportMotion":
         """The supports of the movement ``kind`` (as :meth:`of`) displaced by ``at`` (m) from the
-        start on and held there (a run from a state on displaced supports, ``q0``)."""
+        start on and held there: a run from a state on displaced supports (``q0``), whose
+        potential energy and overturning are measured from that state (``rate`` is then
+        irrelevant: 1 m/s)."""
         m = cls.of(kind, 1.0, vector=vector, left=left, up_to=at)
         return cls(m.kind, m.left, m.right, m.rate, m.up_to, m.up_to)
+
+    @property
+    def is_held(self) -> bool:
+        """The supports displaced from the start and not moving."""
+        return self.up_to is not None and self.start == self.up_to
 
     @property
     def hold_after(self) -> float:
@@ -129,4 +142,5 @@ class SupportMotion:
 
     def describe(self) -> dict:
         return {"kind": self.kind, "left_per_m": list(self.left), "right_per_m": list(self.right),
-                "rate_m_per_s": self.rate, "up_to_m": self.up_to, "start_m": self.start}
+                "rate_m_per_s": None if self.is_held else self.rate, "up_to_m": self.up_to,
+                "start_m": self.start}
