@@ -352,6 +352,71 @@ def test_newtons_banded_elimination_is_a_dense_solve():
         assert np.max(np.abs(x - exact)) <= 1e-12 * np.linalg.cond(D) * max(1.0, np.max(np.abs(exact))), trial
 
 
+def test_a_resumed_banded_factorisation_is_a_dense_solve():
+    """Newton's iterations change a few rows of their system (a corner pressed or released, a joint
+    sliding or sticking): :func:`~fembeam.simulation.kernel._band_factor` resumes the last
+    factorisation at the checkpoint before the first changed row less the bandwidth.  On random
+    band matrices as above, after rows replaced from a random row on (1-3 of them, rank-k
+    changes, and once all rows from there), the resumed factorisation solves as NumPy's dense
+    solve of the new matrix does and is bitwise the factorisation from column 0."""
+    rng = np.random.default_rng(1)
+    kl, width, S = C.BAND, 3 * C.BAND + 1, K.CHECKPOINT
+
+    def band_rows(m):
+        D = np.zeros((m, m))
+        for i in range(m):
+            u = rng.random()
+            if u < 0.2:
+                D[i, i] = 1.0                                  # P_i = 0
+            elif u < 0.35 and i % 3 == 2:
+                D[i, i], D[i, i - 1], D[i, i - 2] = 1.0, -0.6, -0.6  # sliding
+            else:
+                for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                    D[i, k] = rng.normal() * (0.25 if (i % 3 == 2) != (k % 3 == 2) else 1.0)
+                D[i, i] += 3.0
+        return D
+
+    def stored(D, A, i0):
+        m = D.shape[0]
+        for i in range(i0, m):
+            A[i] = 0.0
+            for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                A[i, kl + k - i] = D[i, k]
+
+    def factor(A, j0, last, piv, saved, saved_last):
+        m = A.shape[0]
+        last[j0:] = np.minimum(np.arange(j0, m) + kl + 1, m)
+        assert K._band_factor(A, kl, j0, last, piv, saved, saved_last)
+
+    for trial in range(100):
+        m = 3 * int(rng.integers(4, 60))
+        D = band_rows(m)
+        A = np.zeros((m, width))
+        last, piv = np.zeros(m, np.int64), np.zeros(m, np.int64)
+        saved, saved_last = np.zeros((m // S + 1, kl, width)), np.zeros((m // S + 1, kl), np.int64)
+        stored(D, A, 0)
+        factor(A, 0, last, piv, saved, saved_last)
+        for change in range(3):
+            first = int(rng.integers(0, m))
+            new = band_rows(m)
+            rows = np.arange(first, m) if change == 2 else \
+                np.unique(np.r_[first, rng.integers(first, m, size=int(rng.integers(0, 3)))])
+            D[rows] = new[rows]
+            j0 = max(first - kl, 0) // S * S
+            stored(D, A, j0)
+            factor(A, j0, last, piv, saved, saved_last)
+            b = rng.normal(size=m)
+            x = np.zeros(m)
+            K._band_lu_solve(A, kl, last, piv, b.copy(), x)
+            exact = np.linalg.solve(D, b)
+            assert np.max(np.abs(x - exact)) <= 1e-12 * np.linalg.cond(D) * max(1.0, np.max(np.abs(exact))), trial
+            A0 = np.zeros((m, width))
+            stored(D, A0, 0)
+            x0 = np.zeros(m)
+            assert K._band_solve(A0, b.copy(), kl, x0)
+            assert np.array_equal(x, x0), trial
+
+
 def test_the_kernel_was_compiled_with_the_constants():
     """Numba froze :mod:`fembeam.simulation.constants` into the kernel; a stale cache would not
     see a change (the stepper rebuilds it; here it must agree)."""

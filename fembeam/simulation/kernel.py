@@ -261,6 +261,8 @@ NSGS_SWEEPS = 2000   # non-smooth Gauss-Seidel sweeps (the last resort of the fr
 PGS_TOL = 1e-9       # projected gradient that ends the projected Gauss-Seidel, relative to the rates
 PIVOT_RATIO = 10.0         # Newton's banded elimination keeps the diagonal pivot unless a row below is this
                            # many times larger (1: partial pivoting)
+CHECKPOINT = 8             # ... and saves the rows it is eliminating every this many columns: a Newton
+                           # iteration whose cases differ from the last one's from row r on resumes there
 SELF_STRESS_PIVOT = 1e-4   # a factor's pivot below this x W's largest diagonal entry: self-stress states sought
 
 
@@ -1189,21 +1191,40 @@ def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
 
 
 @njit(cache=True, error_model="numpy")
-def _band_solve(A, b, kl, x):
-    """``x`` with ``A x = b`` for a square matrix whose entries vanish outside ``-kl <= k - i <= kl``,
+def _band_factor(A, kl, j0, last, piv, saved, saved_last) -> bool:
+    """LU factorisation in place of a square matrix whose entries vanish outside ``-kl <= k - i <= kl``,
     stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: pivoting moves a row's entries up
-    to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian elimination
-    restricted to the band (LAPACK's ``dgbsv`` order: ``O(m kl^2)`` operations and ``O(m kl)``
-    storage; a dense ``m x m`` matrix cost ``O(m^2)`` per Newton iteration only to be cleared).
-    Threshold pivoting: the diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO`
-    times larger (partial pivoting swapped three rows in four of ``W``'s, whose tangential and
-    normal rows differ in scale, and each swap doubles the row's length); each row's last
-    nonzero column is tracked, and the updates stop there.  False if a pivot vanishes (singular)."""
-    m = b.size
-    last = np.empty(m, np.int64)         # one past the last column of row i that may be nonzero
-    for i in range(m):
-        last[i] = min(m, i + kl + 1)
-    for j in range(m):
+    to ``2 kl`` to the right of the diagonal), by Gaussian elimination restricted to the band
+    (LAPACK's ``dgbtrf`` order: ``O(m kl^2)`` operations and ``O(m kl)`` storage; a dense ``m x m``
+    matrix cost ``O(m^2)`` per Newton iteration only to be cleared).  Threshold pivoting: the
+    diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO` times larger (partial
+    pivoting swapped three rows in four of ``W``'s, whose tangential and normal rows differ in
+    scale, and each swap doubles the row's length); ``piv[j]`` the row swapped with ``j``; each
+    row's last nonzero column tracked (``last[i]``: one past it), and the updates stop there; the
+    multipliers kept at the entries they eliminate (for :func:`_band_lu_solve`).
+
+    From column ``j0`` (a multiple of :data:`CHECKPOINT`): every :data:`CHECKPOINT` columns the
+    rows the elimination has begun but not finished (``j .. j + kl - 1``) and their ``last`` are
+    saved (``saved[j // CHECKPOINT]``, ``saved_last``); a call with ``j0 > 0`` restores them and
+    keeps the columns before ``j0`` of the last factorisation (valid when rows ``< j0 + kl`` are
+    those it factored: the rows from ``j0 + kl`` on are the caller's, as assembled, with
+    ``last[i] = min(m, i + kl + 1)``).  The same operations in the same order as a factorisation
+    from column 0.  False if a pivot vanishes (singular)."""
+    m = A.shape[0]
+    for j in range(j0, m):
+        if j % CHECKPOINT == 0:
+            s = j // CHECKPOINT
+            restore = j == j0 and j0 > 0
+            for i in range(j, min(m, j + kl)):
+                row, keep_row = A[i], saved[s, i - j]
+                if restore:
+                    last[i] = saved_last[s, i - j]
+                    for k in range(row.size):
+                        row[k] = keep_row[k]
+                else:
+                    saved_last[s, i - j] = last[i]
+                    for k in range(row.size):
+                        keep_row[k] = row[k]
         p = j
         big = abs(A[j, kl])
         keep = PIVOT_RATIO * big
@@ -1215,6 +1236,7 @@ def _band_solve(A, b, kl, x):
             return False
         if big <= keep:
             p = j
+        piv[j] = p
         if p != j:
             top = max(last[j], last[p])
             rj, rp = A[j], A[p]
@@ -1223,29 +1245,57 @@ def _band_solve(A, b, kl, x):
                 t = rj[kl + o]
                 rj[kl + o] = rp[dp + o]
                 rp[dp + o] = t
-            b[j], b[p] = b[p], b[j]
             last[j], last[p] = last[p], last[j]
         rj = A[j]
-        piv = rj[kl]
+        pivot = rj[kl]
         n = last[j] - j
-        bj = b[j]
         for i in range(j + 1, min(m, j + kl + 1)):
             ri = A[i]
             di = kl + j - i
-            f = ri[di] / piv
+            f = ri[di] / pivot
             if f != 0.0:
                 for o in range(1, n):
                     ri[di + o] -= f * rj[kl + o]
-                b[i] -= f * bj
                 if last[j] > last[i]:
                     last[i] = last[j]
-            ri[di] = 0.0
+            ri[di] = f
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _band_lu_solve(A, kl, last, piv, b, x):
+    """``x`` with ``A x = b`` from the factorisation of :func:`_band_factor` (``b`` overwritten)."""
+    m = b.size
+    for j in range(m):
+        p = piv[j]
+        if p != j:
+            b[j], b[p] = b[p], b[j]
+        bj = b[j]
+        for i in range(j + 1, min(m, j + kl + 1)):
+            f = A[i, kl + j - i]
+            if f != 0.0:
+                b[i] -= f * bj
     for i in range(m - 1, -1, -1):
         ri = A[i]
         acc = b[i]
         for o in range(1, last[i] - i):
             acc -= ri[kl + o] * x[i + o]
         x[i] = acc / ri[kl]
+
+
+@njit(cache=True, error_model="numpy")
+def _band_solve(A, b, kl, x):
+    """``x`` with ``A x = b`` (:func:`_band_factor` from column 0, then :func:`_band_lu_solve`;
+    ``A`` and ``b`` overwritten).  False if a pivot vanishes (singular)."""
+    m = b.size
+    last = np.empty(m, np.int64)
+    for i in range(m):
+        last[i] = min(m, i + kl + 1)
+    piv = np.empty(m, np.int64)
+    saved = np.empty((m // CHECKPOINT + 1, kl, A.shape[1]))
+    if not _band_factor(A, kl, 0, last, piv, saved, np.empty((m // CHECKPOINT + 1, kl), np.int64)):
+        return False
+    _band_lu_solve(A, kl, last, piv, b, x)
     return True
 
 
@@ -1274,6 +1324,11 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     case = np.zeros(m, np.int64)
     width = 3 * BAND + 1
     A = np.zeros((m, width))
+    built = np.full(m, -1, np.int64)     # the cases of the system factored in A
+    rowend = np.empty(m, np.int64)       # and its factorisation (_band_factor)
+    piv = np.empty(m, np.int64)
+    saved = np.empty((m // CHECKPOINT + 1, BAND, width))
+    saved_last = np.empty((m // CHECKPOINT + 1, BAND), np.int64)
     rhs = np.zeros(m)
     d = np.zeros(m)
     res = np.inf
@@ -1328,26 +1383,34 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                 matvec(ab, P, w)
                 w += c
                 continue
+        first = 0                         # the system differs from the one factored from row first on
+        while first < m and case[first] == built[first]:
+            first += 1
+        if first < m:                     # its factorisation resumed at the checkpoint before first - BAND
+            j0 = max(first - BAND, 0) // CHECKPOINT * CHECKPOINT
+            for i in range(j0, m):
+                for k in range(width):
+                    A[i, k] = 0.0
+                if case[i] == 1:              # w_i = 0: row i of W (W[k, i] at ab[BAND + k - i, i], k <= i)
+                    A[i, BAND] = ab[BAND, i] + reg
+                    for o in range(1, min(BAND, i) + 1):
+                        A[i, BAND - o] = ab[BAND - o, i]
+                    for o in range(1, min(BAND, m - 1 - i) + 1):
+                        A[i, BAND + o] = ab[BAND - o, i + o]
+                elif case[i] == 0:            # P_i = 0
+                    A[i, BAND] = 1.0
+                else:                         # P_t -+ mu (P_n0 + P_n1) = 0
+                    s = 1.0 if case[i] == 2 else -1.0
+                    A[i, BAND] = 1.0
+                    A[i, BAND - 1] = -s * mu
+                    A[i, BAND - 2] = -s * mu
+                rowend[i] = min(m, i + BAND + 1)
+                built[i] = case[i]
+            if not _band_factor(A, BAND, j0, rowend, piv, saved, saved_last):
+                return polish, it, res
         for i in range(m):
-            for k in range(width):
-                A[i, k] = 0.0
-            if case[i] == 1:                  # w_i = 0
-                for k in range(max(0, i - BAND), min(m, i + BAND + 1)):
-                    lo, hi = min(i, k), max(i, k)
-                    A[i, BAND + k - i] = ab[BAND + lo - hi, hi]
-                A[i, BAND] += reg
-                rhs[i] = -c[i]
-            elif case[i] == 0:                # P_i = 0
-                A[i, BAND] = 1.0
-                rhs[i] = 0.0
-            else:                             # P_t -+ mu (P_n0 + P_n1) = 0
-                s = 1.0 if case[i] == 2 else -1.0
-                A[i, BAND] = 1.0
-                A[i, BAND - 1] = -s * mu
-                A[i, BAND - 2] = -s * mu
-                rhs[i] = 0.0
-        if not _band_solve(A, rhs, BAND, d):
-            return polish, it, res
+            rhs[i] = -c[i] if case[i] == 1 else 0.0
+        _band_lu_solve(A, BAND, rowend, piv, rhs, d)
         if polish:
             P[:] = d
             matvec(ab, P, w)
