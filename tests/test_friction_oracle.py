@@ -417,6 +417,43 @@ def test_a_resumed_banded_factorisation_is_a_dense_solve():
             assert np.array_equal(x, x0), trial
 
 
+def test_a_resumed_cholesky_factor_is_a_dense_solve():
+    """The box pivots of the Tresca fixed point change the free rows a few at a time:
+    :func:`~fembeam.simulation.kernel.factor` resumed at the first changed row less the bandwidth
+    solves ``W`` restricted to the new free rows (identity rows elsewhere) as NumPy's dense solve
+    does, and is bitwise the factor from row 0, on random positive definite band matrices."""
+    rng = np.random.default_rng(2)
+    kl = C.BAND
+    for trial in range(100):
+        m = 3 * int(rng.integers(4, 60))
+        H = np.zeros((m, m + kl))
+        for i in range(m):
+            H[i, i:i + kl + 1] = rng.normal(size=kl + 1)
+        W = H @ H.T + 0.1 * np.eye(m)                    # half-bandwidth kl
+        ab = np.zeros((kl + 1, m))
+        for k in range(m):
+            for i in range(max(0, k - kl), k + 1):
+                ab[kl + i - k, k] = W[i, k]
+        keep = rng.random(m) < 0.7
+        U = np.zeros((m, kl + 1))
+        zero = np.zeros(m)
+        assert K.factor(ab, keep, 1e-9, zero, U)
+        for change in range(3):
+            first = int(rng.integers(0, m))
+            keep[first] = not keep[first]
+            flip = rng.integers(first, m, size=int(rng.integers(0, 3)))
+            keep[flip] = ~keep[flip]
+            assert K.factor(ab, keep, 1e-9, zero, U, max(first - kl, 0))
+            U0 = np.zeros((m, kl + 1))
+            assert K.factor(ab, keep, 1e-9, zero, U0)
+            assert np.array_equal(U, U0), trial
+            D = np.where(np.outer(keep, keep), W + 1e-9 * np.eye(m), np.diag((~keep).astype(float)))
+            b = rng.normal(size=m)
+            x = np.zeros(m)
+            K.solve(U, b, x)
+            assert np.allclose(x, np.linalg.solve(D, b), rtol=1e-9, atol=1e-12 * np.linalg.cond(D)), trial
+
+
 def test_the_kernel_was_compiled_with_the_constants():
     """Numba froze :mod:`fembeam.simulation.constants` into the kernel; a stale cache would not
     see a change (the stepper rebuilds it; here it must agree)."""

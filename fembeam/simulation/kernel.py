@@ -201,12 +201,15 @@ def matvec(ab, x, out):
 
 
 @njit(cache=True, error_model="numpy")
-def factor(ab, keep, reg, extra, U) -> bool:
+def factor(ab, keep, reg, extra, U, j0=0) -> bool:
     """Cholesky ``U^T U`` of ``W`` restricted to the rows ``keep`` (the others identity rows) plus
     ``reg + extra`` on the kept diagonal; ``U[j, d]`` = ``U[j, j + d]`` for ``d > 0`` and ``U[j, 0]``
-    the inverse of the diagonal entry ``1 / U[j, j]``.  False if not positive definite."""
+    the inverse of the diagonal entry ``1 / U[j, j]``.  From row ``j0`` on, the rows before it
+    kept (row ``j`` depends on ``keep[j:j + BAND + 1]`` and the rows above: ``U`` of a ``keep``
+    whose first change is at row ``r`` is resumed at ``r - BAND``).  False if not positive
+    definite."""
     m = keep.size
-    for j in range(m):
+    for j in range(j0, m):
         if not keep[j]:                  # an identity row: U's row and column j are e_j
             U[j, 0] = 1.0
             for d in range(1, BAND + 1):
@@ -526,10 +529,11 @@ def coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale):
 
 
 @njit(cache=True, error_model="numpy")
-def _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w):
+def _box_pivots(ab, c, lo, hi, state, reg, vscale, U, built, P, w):
     """``min 1/2 P^T (W + reg) P + c^T P`` with ``lo <= P <= hi`` (rows with ``lo = hi`` fixed) by block
     principal pivoting: ``state`` 0 free, 1 at ``lo``, 2 at ``hi`` (in: a start; out: the optimum's).
-    True when converged."""
+    ``U`` the factor (:func:`factor`, at ``reg``) of the free rows ``built`` (1 free, 0 not, -1
+    unknown; in and out: each pivot's factorisation resumes the last one).  True when converged."""
     m = c.size
     dmax = 0.0
     for i in range(m):
@@ -549,8 +553,15 @@ def _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w):
         matvec(ab, PB, rhs)
         for i in range(m):
             rhs[i] = -(rhs[i] + reg * PB[i] + c[i]) if F[i] else PB[i]
-        if not factor(ab, F, reg, zero, U):
-            return False
+        first = 0                        # U resumed where F first differs from the rows it has
+        while first < m and built[first] == F[first]:
+            first += 1
+        if first < m:
+            if not factor(ab, F, reg, zero, U, max(first - BAND, 0)):
+                built[:] = -1
+                return False
+            for i in range(first, m):
+                built[i] = F[i]
         solve(U, rhs, P)
         _rates(ab, P, c, reg, w)
         ztol = 1e-12 * max(_maxabs(P), vscale / max(dmax, 1e-300))
@@ -628,6 +639,7 @@ def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol)
     lo = np.zeros(m)
     hi = np.zeros(m)
     N = np.empty(J)
+    built = np.full(m, -1, np.int64)     # the free rows U was factored on (_box_pivots)
     best = np.inf
     Pbest = P.copy()
     for j in range(J):
@@ -641,11 +653,11 @@ def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol)
             i = 3 * j + 2
             b = mu * N[j] if closed_joint[j] else 0.0
             lo[i], hi[i] = -b, b
-        ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w)
+        ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, built, P, w)
         solves += 1
         if not ok:                       # the pivots from all rows free, then Gauss-Seidel
             state[:] = 0
-            ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w)
+            ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, built, P, w)
             solves += 1
         if not ok:
             ok = _pgs(ab, c, lo, hi, reg, vscale, P, w)
