@@ -355,10 +355,11 @@ def test_newtons_banded_elimination_is_a_dense_solve():
 def test_a_resumed_banded_factorisation_is_a_dense_solve():
     """Newton's iterations change a few rows of their system (a corner pressed or released, a joint
     sliding or sticking): :func:`~fembeam.simulation.kernel._band_factor` resumes the last
-    factorisation at the checkpoint before the first changed row less the bandwidth.  On random
-    band matrices as above, after rows replaced from a random row on (1-3 of them, rank-k
-    changes, and once all rows from there), the resumed factorisation solves as NumPy's dense
-    solve of the new matrix does and is bitwise the factorisation from column 0."""
+    elimination at the checkpoint before the first changed row less the bandwidth.  On random
+    band matrices as above, after rows of the matrix and the right-hand side replaced from a
+    random row on (1-3 of them, rank-k changes, and once all rows from there), the resumed
+    elimination solves as NumPy's dense solve of the new system does and is bitwise the
+    elimination from column 0."""
     rng = np.random.default_rng(1)
     kl, width, S = C.BAND, 3 * C.BAND + 1, K.CHECKPOINT
 
@@ -376,42 +377,39 @@ def test_a_resumed_banded_factorisation_is_a_dense_solve():
                 D[i, i] += 3.0
         return D
 
-    def stored(D, A, i0):
+    def eliminate(D, b, A, y, j0, last, saved, saved_last):
+        """Rows j0.. of D and b stored (as Newton assembles them), the elimination resumed at j0."""
         m = D.shape[0]
-        for i in range(i0, m):
+        for i in range(j0, m):
             A[i] = 0.0
             for k in range(max(0, i - kl), min(m, i + kl + 1)):
                 A[i, kl + k - i] = D[i, k]
-
-    def factor(A, j0, last, piv, saved, saved_last):
-        m = A.shape[0]
+        y[j0:] = b[j0:]
         last[j0:] = np.minimum(np.arange(j0, m) + kl + 1, m)
-        assert K._band_factor(A, kl, j0, last, piv, saved, saved_last)
+        assert K._band_factor(A, y, kl, j0, last, saved, saved_last)
 
     for trial in range(100):
         m = 3 * int(rng.integers(4, 60))
-        D = band_rows(m)
-        A = np.zeros((m, width))
-        last, piv = np.zeros(m, np.int64), np.zeros(m, np.int64)
-        saved, saved_last = np.zeros((m // S + 1, kl, width)), np.zeros((m // S + 1, kl), np.int64)
-        stored(D, A, 0)
-        factor(A, 0, last, piv, saved, saved_last)
+        D, b = band_rows(m), rng.normal(size=m)
+        A, y, last = np.zeros((m, width)), np.zeros(m), np.zeros(m, np.int64)
+        saved, saved_last = np.zeros((m // S + 1, kl, width + 1)), np.zeros((m // S + 1, kl), np.int64)
+        eliminate(D, b, A, y, 0, last, saved, saved_last)
         for change in range(3):
             first = int(rng.integers(0, m))
             new = band_rows(m)
             rows = np.arange(first, m) if change == 2 else \
                 np.unique(np.r_[first, rng.integers(first, m, size=int(rng.integers(0, 3)))])
             D[rows] = new[rows]
-            j0 = max(first - kl, 0) // S * S
-            stored(D, A, j0)
-            factor(A, j0, last, piv, saved, saved_last)
-            b = rng.normal(size=m)
+            b[rows] = rng.normal(size=rows.size)
+            eliminate(D, b, A, y, max(first - kl, 0) // S * S, last, saved, saved_last)
             x = np.zeros(m)
-            K._band_lu_solve(A, kl, last, piv, b.copy(), x)
+            K._band_back(A, kl, last, y, x)
             exact = np.linalg.solve(D, b)
             assert np.max(np.abs(x - exact)) <= 1e-12 * np.linalg.cond(D) * max(1.0, np.max(np.abs(exact))), trial
             A0 = np.zeros((m, width))
-            stored(D, A0, 0)
+            for i in range(m):
+                for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                    A0[i, kl + k - i] = D[i, k]
             x0 = np.zeros(m)
             assert K._band_solve(A0, b.copy(), kl, x0)
             assert np.array_equal(x, x0), trial

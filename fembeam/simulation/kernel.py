@@ -1203,26 +1203,27 @@ def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
 
 
 @njit(cache=True, error_model="numpy")
-def _band_factor(A, kl, j0, last, piv, saved, saved_last) -> bool:
-    """LU factorisation in place of a square matrix whose entries vanish outside ``-kl <= k - i <= kl``,
-    stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: pivoting moves a row's entries up
-    to ``2 kl`` to the right of the diagonal), by Gaussian elimination restricted to the band
-    (LAPACK's ``dgbtrf`` order: ``O(m kl^2)`` operations and ``O(m kl)`` storage; a dense ``m x m``
-    matrix cost ``O(m^2)`` per Newton iteration only to be cleared).  Threshold pivoting: the
-    diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO` times larger (partial
-    pivoting swapped three rows in four of ``W``'s, whose tangential and normal rows differ in
-    scale, and each swap doubles the row's length); ``piv[j]`` the row swapped with ``j``; each
-    row's last nonzero column tracked (``last[i]``: one past it), and the updates stop there; the
-    multipliers kept at the entries they eliminate (for :func:`_band_lu_solve`).
+def _band_factor(A, b, kl, j0, last, saved, saved_last) -> bool:
+    """Forward elimination of ``A x = b`` in place, for a square matrix whose entries vanish outside
+    ``-kl <= k - i <= kl``, stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: pivoting
+    moves a row's entries up to ``2 kl`` to the right of the diagonal): Gaussian elimination
+    restricted to the band (LAPACK's ``dgbsv`` order: ``O(m kl^2)`` operations and ``O(m kl)``
+    storage; a dense ``m x m`` matrix cost ``O(m^2)`` per Newton iteration only to be cleared),
+    leaving ``U`` in ``A`` and ``L^-1 b`` in ``b`` (:func:`_band_back` then solves).  Threshold
+    pivoting: the diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO` times larger
+    (partial pivoting swapped three rows in four of ``W``'s, whose tangential and normal rows
+    differ in scale, and each swap doubles the row's length); each row's last nonzero column
+    tracked (``last[i]``: one past it), and the updates stop there.
 
     From column ``j0`` (a multiple of :data:`CHECKPOINT`): every :data:`CHECKPOINT` columns the
-    rows the elimination has begun but not finished (``j .. j + kl - 1``) and their ``last`` are
-    saved (``saved[j // CHECKPOINT]``, ``saved_last``); a call with ``j0 > 0`` restores them and
-    keeps the columns before ``j0`` of the last factorisation (valid when rows ``< j0 + kl`` are
-    those it factored: the rows from ``j0 + kl`` on are the caller's, as assembled, with
-    ``last[i] = min(m, i + kl + 1)``).  The same operations in the same order as a factorisation
-    from column 0.  False if a pivot vanishes (singular)."""
-    m = A.shape[0]
+    rows the elimination has begun but not finished (``j .. j + kl - 1``: ``A``'s, then ``b``'s in
+    the last column of ``saved[j // CHECKPOINT]``) and their ``last`` (``saved_last``) are saved; a
+    call with ``j0 > 0`` restores them and keeps the columns before ``j0`` of the last elimination
+    (valid when the rows ``< j0 + kl`` of ``A`` and ``b`` are those it eliminated: the rows from
+    ``j0 + kl`` on are the caller's, as assembled, with ``last[i] = min(m, i + kl + 1)``).  The
+    same operations in the same order as an elimination from column 0.  False if a pivot
+    vanishes (singular)."""
+    m, width = A.shape
     for j in range(j0, m):
         if j % CHECKPOINT == 0:
             s = j // CHECKPOINT
@@ -1231,12 +1232,14 @@ def _band_factor(A, kl, j0, last, piv, saved, saved_last) -> bool:
                 row, keep_row = A[i], saved[s, i - j]
                 if restore:
                     last[i] = saved_last[s, i - j]
-                    for k in range(row.size):
+                    for k in range(width):
                         row[k] = keep_row[k]
+                    b[i] = keep_row[width]
                 else:
                     saved_last[s, i - j] = last[i]
-                    for k in range(row.size):
+                    for k in range(width):
                         keep_row[k] = row[k]
+                    keep_row[width] = b[i]
         p = j
         big = abs(A[j, kl])
         keep = PIVOT_RATIO * big
@@ -1248,7 +1251,6 @@ def _band_factor(A, kl, j0, last, piv, saved, saved_last) -> bool:
             return False
         if big <= keep:
             p = j
-        piv[j] = p
         if p != j:
             top = max(last[j], last[p])
             rj, rp = A[j], A[p]
@@ -1257,10 +1259,12 @@ def _band_factor(A, kl, j0, last, piv, saved, saved_last) -> bool:
                 t = rj[kl + o]
                 rj[kl + o] = rp[dp + o]
                 rp[dp + o] = t
+            b[j], b[p] = b[p], b[j]
             last[j], last[p] = last[p], last[j]
         rj = A[j]
         pivot = rj[kl]
         n = last[j] - j
+        bj = b[j]
         for i in range(j + 1, min(m, j + kl + 1)):
             ri = A[i]
             di = kl + j - i
@@ -1268,26 +1272,17 @@ def _band_factor(A, kl, j0, last, piv, saved, saved_last) -> bool:
             if f != 0.0:
                 for o in range(1, n):
                     ri[di + o] -= f * rj[kl + o]
+                b[i] -= f * bj
                 if last[j] > last[i]:
                     last[i] = last[j]
-            ri[di] = f
+            ri[di] = 0.0
     return True
 
 
 @njit(cache=True, error_model="numpy")
-def _band_lu_solve(A, kl, last, piv, b, x):
-    """``x`` with ``A x = b`` from the factorisation of :func:`_band_factor` (``b`` overwritten)."""
-    m = b.size
-    for j in range(m):
-        p = piv[j]
-        if p != j:
-            b[j], b[p] = b[p], b[j]
-        bj = b[j]
-        for i in range(j + 1, min(m, j + kl + 1)):
-            f = A[i, kl + j - i]
-            if f != 0.0:
-                b[i] -= f * bj
-    for i in range(m - 1, -1, -1):
+def _band_back(A, kl, last, b, x):
+    """``x`` from the elimination of :func:`_band_factor` (back substitution; ``b`` kept)."""
+    for i in range(b.size - 1, -1, -1):
         ri = A[i]
         acc = b[i]
         for o in range(1, last[i] - i):
@@ -1297,17 +1292,17 @@ def _band_lu_solve(A, kl, last, piv, b, x):
 
 @njit(cache=True, error_model="numpy")
 def _band_solve(A, b, kl, x):
-    """``x`` with ``A x = b`` (:func:`_band_factor` from column 0, then :func:`_band_lu_solve`;
-    ``A`` and ``b`` overwritten).  False if a pivot vanishes (singular)."""
+    """``x`` with ``A x = b`` (:func:`_band_factor` from column 0, then :func:`_band_back`; ``A``
+    and ``b`` overwritten).  False if a pivot vanishes (singular)."""
     m = b.size
     last = np.empty(m, np.int64)
     for i in range(m):
         last[i] = min(m, i + kl + 1)
-    piv = np.empty(m, np.int64)
-    saved = np.empty((m // CHECKPOINT + 1, kl, A.shape[1]))
-    if not _band_factor(A, kl, 0, last, piv, saved, np.empty((m // CHECKPOINT + 1, kl), np.int64)):
+    checkpoints = m // CHECKPOINT + 1
+    if not _band_factor(A, b, kl, 0, last, np.empty((checkpoints, kl, A.shape[1] + 1)),
+                        np.empty((checkpoints, kl), np.int64)):
         return False
-    _band_lu_solve(A, kl, last, piv, b, x)
+    _band_back(A, kl, last, b, x)
     return True
 
 
@@ -1318,7 +1313,8 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     Newton method: the cases those projections pick (a corner pressed or free, a joint sticking
     or sliding either way) fix a linear system in ``P`` (sliding: ``P_t = -+ mu N``, a
     non-symmetric row, within the band of ``W``), solved by banded elimination in band storage
-    (:func:`_band_solve`); the step damped by halving until ``|Phi|^2`` decreases (the merit and
+    (:func:`_band_factor`, resumed where the cases first differ from the last system's: an
+    iteration changes a few of them); the step damped by halving until ``|Phi|^2`` decreases (the merit and
     the rates of the accepted step are those of the next iteration).  The polish (one more step
     with the cases of the answer) reuses the last solution when its cases are the answer's and
     the step to it was full (the same system).
@@ -1337,9 +1333,8 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     width = 3 * BAND + 1
     A = np.zeros((m, width))
     built = np.full(m, -1, np.int64)     # the cases of the system factored in A
-    rowend = np.empty(m, np.int64)       # and its factorisation (_band_factor)
-    piv = np.empty(m, np.int64)
-    saved = np.empty((m // CHECKPOINT + 1, BAND, width))
+    rowend = np.empty(m, np.int64)       # and its elimination (_band_factor)
+    saved = np.empty((m // CHECKPOINT + 1, BAND, width + 1))
     saved_last = np.empty((m // CHECKPOINT + 1, BAND), np.int64)
     rhs = np.zeros(m)
     d = np.zeros(m)
@@ -1403,6 +1398,7 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
             for i in range(j0, m):
                 for k in range(width):
                     A[i, k] = 0.0
+                rhs[i] = -c[i] if case[i] == 1 else 0.0
                 if case[i] == 1:              # w_i = 0: row i of W (W[k, i] at ab[BAND + k - i, i], k <= i)
                     A[i, BAND] = ab[BAND, i] + reg
                     for o in range(1, min(BAND, i) + 1):
@@ -1418,11 +1414,9 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                     A[i, BAND - 2] = -s * mu
                 rowend[i] = min(m, i + BAND + 1)
                 built[i] = case[i]
-            if not _band_factor(A, BAND, j0, rowend, piv, saved, saved_last):
+            if not _band_factor(A, rhs, BAND, j0, rowend, saved, saved_last):
                 return polish, it, res
-        for i in range(m):
-            rhs[i] = -c[i] if case[i] == 1 else 0.0
-        _band_lu_solve(A, BAND, rowend, piv, rhs, d)
+        _band_back(A, BAND, rowend, rhs, d)
         if polish:
             P[:] = d
             matvec(ab, P, w)
