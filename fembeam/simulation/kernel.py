@@ -1213,14 +1213,14 @@ def _band_factor(A, b, kl, j0, last, saved, saved_last) -> bool:
     pivoting: the diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO` times larger
     (partial pivoting swapped three rows in four of ``W``'s, whose tangential and normal rows
     differ in scale, and each swap doubles the row's length); each row's last nonzero column
-    tracked (``last[i]``: one past it), and the updates stop there.
+    tracked (``last[i]``: one past it, as given, then as filled), and the updates stop there.
 
     From column ``j0`` (a multiple of :data:`CHECKPOINT`): every :data:`CHECKPOINT` columns the
     rows the elimination has begun but not finished (``j .. j + kl - 1``: ``A``'s, then ``b``'s in
     the last column of ``saved[j // CHECKPOINT]``) and their ``last`` (``saved_last``) are saved; a
     call with ``j0 > 0`` restores them and keeps the columns before ``j0`` of the last elimination
     (valid when the rows ``< j0 + kl`` of ``A`` and ``b`` are those it eliminated: the rows from
-    ``j0 + kl`` on are the caller's, as assembled, with ``last[i] = min(m, i + kl + 1)``).  The
+    ``j0 + kl`` on are the caller's, as assembled, with their ``last``).  The
     same operations in the same order as an elimination from column 0.  False if a pivot
     vanishes (singular)."""
     m, width = A.shape
@@ -1399,12 +1399,15 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                 for k in range(width):
                     A[i, k] = 0.0
                 rhs[i] = -c[i] if case[i] == 1 else 0.0
+                rowend[i] = i + 1             # one past the row's last nonzero (the elimination's work)
                 if case[i] == 1:              # w_i = 0: row i of W (W[k, i] at ab[BAND + k - i, i], k <= i)
                     A[i, BAND] = ab[BAND, i] + reg
                     for o in range(1, min(BAND, i) + 1):
                         A[i, BAND - o] = ab[BAND - o, i]
                     for o in range(1, min(BAND, m - 1 - i) + 1):
                         A[i, BAND + o] = ab[BAND - o, i + o]
+                        if A[i, BAND + o] != 0.0:
+                            rowend[i] = i + o + 1
                 elif case[i] == 0:            # P_i = 0
                     A[i, BAND] = 1.0
                 else:                         # P_t -+ mu (P_n0 + P_n1) = 0
@@ -1412,7 +1415,6 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                     A[i, BAND] = 1.0
                     A[i, BAND - 1] = -s * mu
                     A[i, BAND - 2] = -s * mu
-                rowend[i] = min(m, i + BAND + 1)
                 built[i] = case[i]
             if not _band_factor(A, rhs, BAND, j0, rowend, saved, saved_last):
                 return polish, it, res
