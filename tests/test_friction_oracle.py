@@ -352,6 +352,106 @@ def test_newtons_banded_elimination_is_a_dense_solve():
         assert np.max(np.abs(x - exact)) <= 1e-12 * np.linalg.cond(D) * max(1.0, np.max(np.abs(exact))), trial
 
 
+def test_a_resumed_banded_factorisation_is_a_dense_solve():
+    """Newton's iterations change a few rows of their system (a corner pressed or released, a joint
+    sliding or sticking): :func:`~fembeam.simulation.kernel._band_factor` resumes the last
+    elimination at the checkpoint before the first changed row less the bandwidth.  On random
+    band matrices as above, after rows of the matrix and the right-hand side replaced from a
+    random row on (1-3 of them, rank-k changes, and once all rows from there), the resumed
+    elimination solves as NumPy's dense solve of the new system does and is bitwise the
+    elimination from column 0."""
+    rng = np.random.default_rng(1)
+    kl, width, S = C.BAND, 3 * C.BAND + 1, K.CHECKPOINT
+
+    def band_rows(m):
+        D = np.zeros((m, m))
+        for i in range(m):
+            u = rng.random()
+            if u < 0.2:
+                D[i, i] = 1.0                                  # P_i = 0
+            elif u < 0.35 and i % 3 == 2:
+                D[i, i], D[i, i - 1], D[i, i - 2] = 1.0, -0.6, -0.6  # sliding
+            else:
+                for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                    D[i, k] = rng.normal() * (0.25 if (i % 3 == 2) != (k % 3 == 2) else 1.0)
+                D[i, i] += 3.0
+        return D
+
+    def eliminate(D, b, A, y, j0, last, saved, saved_last):
+        """Rows j0.. of D and b stored (as Newton assembles them), the elimination resumed at j0."""
+        m = D.shape[0]
+        for i in range(j0, m):
+            A[i] = 0.0
+            for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                A[i, kl + k - i] = D[i, k]
+        y[j0:] = b[j0:]
+        last[j0:] = np.minimum(np.arange(j0, m) + kl + 1, m)
+        assert K._band_factor(A, y, kl, j0, last, saved, saved_last)
+
+    for trial in range(100):
+        m = 3 * int(rng.integers(4, 60))
+        D, b = band_rows(m), rng.normal(size=m)
+        A, y, last = np.zeros((m, width)), np.zeros(m), np.zeros(m, np.int64)
+        saved, saved_last = np.zeros((m // S + 1, kl, width + 1)), np.zeros((m // S + 1, kl), np.int64)
+        eliminate(D, b, A, y, 0, last, saved, saved_last)
+        for change in range(3):
+            first = int(rng.integers(0, m))
+            new = band_rows(m)
+            rows = np.arange(first, m) if change == 2 else \
+                np.unique(np.r_[first, rng.integers(first, m, size=int(rng.integers(0, 3)))])
+            D[rows] = new[rows]
+            b[rows] = rng.normal(size=rows.size)
+            eliminate(D, b, A, y, max(first - kl, 0) // S * S, last, saved, saved_last)
+            x = np.zeros(m)
+            K._band_back(A, kl, last, y, x)
+            exact = np.linalg.solve(D, b)
+            assert np.max(np.abs(x - exact)) <= 1e-12 * np.linalg.cond(D) * max(1.0, np.max(np.abs(exact))), trial
+            A0 = np.zeros((m, width))
+            for i in range(m):
+                for k in range(max(0, i - kl), min(m, i + kl + 1)):
+                    A0[i, kl + k - i] = D[i, k]
+            x0 = np.zeros(m)
+            assert K._band_solve(A0, b.copy(), kl, x0)
+            assert np.array_equal(x, x0), trial
+
+
+def test_a_resumed_cholesky_factor_is_a_dense_solve():
+    """The box pivots of the Tresca fixed point change the free rows a few at a time:
+    :func:`~fembeam.simulation.kernel.factor` resumed at the first changed row less the bandwidth
+    solves ``W`` restricted to the new free rows (identity rows elsewhere) as NumPy's dense solve
+    does, and is bitwise the factor from row 0, on random positive definite band matrices."""
+    rng = np.random.default_rng(2)
+    kl = C.BAND
+    for trial in range(100):
+        m = 3 * int(rng.integers(4, 60))
+        H = np.zeros((m, m + kl))
+        for i in range(m):
+            H[i, i:i + kl + 1] = rng.normal(size=kl + 1)
+        W = H @ H.T + 0.1 * np.eye(m)                    # half-bandwidth kl
+        ab = np.zeros((kl + 1, m))
+        for k in range(m):
+            for i in range(max(0, k - kl), k + 1):
+                ab[kl + i - k, k] = W[i, k]
+        keep = rng.random(m) < 0.7
+        U = np.zeros((m, kl + 1))
+        zero = np.zeros(m)
+        assert K.factor(ab, keep, 1e-9, zero, U)
+        for change in range(3):
+            first = int(rng.integers(0, m))
+            keep[first] = not keep[first]
+            flip = rng.integers(first, m, size=int(rng.integers(0, 3)))
+            keep[flip] = ~keep[flip]
+            assert K.factor(ab, keep, 1e-9, zero, U, max(first - kl, 0))
+            U0 = np.zeros((m, kl + 1))
+            assert K.factor(ab, keep, 1e-9, zero, U0)
+            assert np.array_equal(U, U0), trial
+            D = np.where(np.outer(keep, keep), W + 1e-9 * np.eye(m), np.diag((~keep).astype(float)))
+            b = rng.normal(size=m)
+            x = np.zeros(m)
+            K.solve(U, b, x)
+            assert np.allclose(x, np.linalg.solve(D, b), rtol=1e-9, atol=1e-12 * np.linalg.cond(D)), trial
+
+
 def test_the_kernel_was_compiled_with_the_constants():
     """Numba froze :mod:`fembeam.simulation.constants` into the kernel; a stale cache would not
     see a change (the stepper rebuilds it; here it must agree)."""

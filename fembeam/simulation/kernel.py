@@ -201,12 +201,15 @@ def matvec(ab, x, out):
 
 
 @njit(cache=True, error_model="numpy")
-def factor(ab, keep, reg, extra, U) -> bool:
+def factor(ab, keep, reg, extra, U, j0=0) -> bool:
     """Cholesky ``U^T U`` of ``W`` restricted to the rows ``keep`` (the others identity rows) plus
     ``reg + extra`` on the kept diagonal; ``U[j, d]`` = ``U[j, j + d]`` for ``d > 0`` and ``U[j, 0]``
-    the inverse of the diagonal entry ``1 / U[j, j]``.  False if not positive definite."""
+    the inverse of the diagonal entry ``1 / U[j, j]``.  From row ``j0`` on, the rows before it
+    kept (row ``j`` depends on ``keep[j:j + BAND + 1]`` and the rows above: ``U`` of a ``keep``
+    whose first change is at row ``r`` is resumed at ``r - BAND``).  False if not positive
+    definite."""
     m = keep.size
-    for j in range(m):
+    for j in range(j0, m):
         if not keep[j]:                  # an identity row: U's row and column j are e_j
             U[j, 0] = 1.0
             for d in range(1, BAND + 1):
@@ -261,6 +264,8 @@ NSGS_SWEEPS = 2000   # non-smooth Gauss-Seidel sweeps (the last resort of the fr
 PGS_TOL = 1e-9       # projected gradient that ends the projected Gauss-Seidel, relative to the rates
 PIVOT_RATIO = 10.0         # Newton's banded elimination keeps the diagonal pivot unless a row below is this
                            # many times larger (1: partial pivoting)
+CHECKPOINT = 8             # ... and saves the rows it is eliminating every this many columns: a Newton
+                           # iteration whose cases differ from the last one's from row r on resumes there
 SELF_STRESS_PIVOT = 1e-4   # a factor's pivot below this x W's largest diagonal entry: self-stress states sought
 
 
@@ -524,10 +529,11 @@ def coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale):
 
 
 @njit(cache=True, error_model="numpy")
-def _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w):
+def _box_pivots(ab, c, lo, hi, state, reg, vscale, U, built, P, w):
     """``min 1/2 P^T (W + reg) P + c^T P`` with ``lo <= P <= hi`` (rows with ``lo = hi`` fixed) by block
     principal pivoting: ``state`` 0 free, 1 at ``lo``, 2 at ``hi`` (in: a start; out: the optimum's).
-    True when converged."""
+    ``U`` the factor (:func:`factor`, at ``reg``) of the free rows ``built`` (1 free, 0 not, -1
+    unknown; in and out: each pivot's factorisation resumes the last one).  True when converged."""
     m = c.size
     dmax = 0.0
     for i in range(m):
@@ -547,8 +553,15 @@ def _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w):
         matvec(ab, PB, rhs)
         for i in range(m):
             rhs[i] = -(rhs[i] + reg * PB[i] + c[i]) if F[i] else PB[i]
-        if not factor(ab, F, reg, zero, U):
-            return False
+        first = 0                        # U resumed where F first differs from the rows it has
+        while first < m and built[first] == F[first]:
+            first += 1
+        if first < m:
+            if not factor(ab, F, reg, zero, U, max(first - BAND, 0)):
+                built[:] = -1
+                return False
+            for i in range(first, m):
+                built[i] = F[i]
         solve(U, rhs, P)
         _rates(ab, P, c, reg, w)
         ztol = 1e-12 * max(_maxabs(P), vscale / max(dmax, 1e-300))
@@ -626,6 +639,7 @@ def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol)
     lo = np.zeros(m)
     hi = np.zeros(m)
     N = np.empty(J)
+    built = np.full(m, -1, np.int64)     # the free rows U was factored on (_box_pivots)
     best = np.inf
     Pbest = P.copy()
     for j in range(J):
@@ -639,11 +653,11 @@ def solve_friction(ab, c, nonneg, closed_joint, mu, vscale, state, U, P, w, tol)
             i = 3 * j + 2
             b = mu * N[j] if closed_joint[j] else 0.0
             lo[i], hi[i] = -b, b
-        ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w)
+        ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, built, P, w)
         solves += 1
         if not ok:                       # the pivots from all rows free, then Gauss-Seidel
             state[:] = 0
-            ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, P, w)
+            ok = _box_pivots(ab, c, lo, hi, state, reg, vscale, U, built, P, w)
             solves += 1
         if not ok:
             ok = _pgs(ab, c, lo, hi, reg, vscale, P, w)
@@ -1189,21 +1203,43 @@ def _ac_merit(ab, c, nonneg, closed_joint, mu, rho, P, w):
 
 
 @njit(cache=True, error_model="numpy")
-def _band_solve(A, b, kl, x):
-    """``x`` with ``A x = b`` for a square matrix whose entries vanish outside ``-kl <= k - i <= kl``,
-    stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: pivoting moves a row's entries up
-    to ``2 kl`` to the right of the diagonal; ``A`` and ``b`` overwritten), by Gaussian elimination
+def _band_factor(A, b, kl, j0, last, saved, saved_last) -> bool:
+    """Forward elimination of ``A x = b`` in place, for a square matrix whose entries vanish outside
+    ``-kl <= k - i <= kl``, stored by rows as ``A[i, kl + k - i]`` (``m x (3 kl + 1)``: pivoting
+    moves a row's entries up to ``2 kl`` to the right of the diagonal): Gaussian elimination
     restricted to the band (LAPACK's ``dgbsv`` order: ``O(m kl^2)`` operations and ``O(m kl)``
-    storage; a dense ``m x m`` matrix cost ``O(m^2)`` per Newton iteration only to be cleared).
-    Threshold pivoting: the diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO`
-    times larger (partial pivoting swapped three rows in four of ``W``'s, whose tangential and
-    normal rows differ in scale, and each swap doubles the row's length); each row's last
-    nonzero column is tracked, and the updates stop there.  False if a pivot vanishes (singular)."""
-    m = b.size
-    last = np.empty(m, np.int64)         # one past the last column of row i that may be nonzero
-    for i in range(m):
-        last[i] = min(m, i + kl + 1)
-    for j in range(m):
+    storage; a dense ``m x m`` matrix cost ``O(m^2)`` per Newton iteration only to be cleared),
+    leaving ``U`` in ``A`` and ``L^-1 b`` in ``b`` (:func:`_band_back` then solves).  Threshold
+    pivoting: the diagonal is kept unless a row below has an entry :data:`PIVOT_RATIO` times larger
+    (partial pivoting swapped three rows in four of ``W``'s, whose tangential and normal rows
+    differ in scale, and each swap doubles the row's length); each row's last nonzero column
+    tracked (``last[i]``: one past it, as given, then as filled), and the updates stop there.
+
+    From column ``j0`` (a multiple of :data:`CHECKPOINT`): every :data:`CHECKPOINT` columns the
+    rows the elimination has begun but not finished (``j .. j + kl - 1``: ``A``'s, then ``b``'s in
+    the last column of ``saved[j // CHECKPOINT]``) and their ``last`` (``saved_last``) are saved; a
+    call with ``j0 > 0`` restores them and keeps the columns before ``j0`` of the last elimination
+    (valid when the rows ``< j0 + kl`` of ``A`` and ``b`` are those it eliminated: the rows from
+    ``j0 + kl`` on are the caller's, as assembled, with their ``last``).  The
+    same operations in the same order as an elimination from column 0.  False if a pivot
+    vanishes (singular)."""
+    m, width = A.shape
+    for j in range(j0, m):
+        if j % CHECKPOINT == 0:
+            s = j // CHECKPOINT
+            restore = j == j0 and j0 > 0
+            for i in range(j, min(m, j + kl)):
+                row, keep_row = A[i], saved[s, i - j]
+                if restore:
+                    last[i] = saved_last[s, i - j]
+                    for k in range(width):
+                        row[k] = keep_row[k]
+                    b[i] = keep_row[width]
+                else:
+                    saved_last[s, i - j] = last[i]
+                    for k in range(width):
+                        keep_row[k] = row[k]
+                    keep_row[width] = b[i]
         p = j
         big = abs(A[j, kl])
         keep = PIVOT_RATIO * big
@@ -1226,13 +1262,13 @@ def _band_solve(A, b, kl, x):
             b[j], b[p] = b[p], b[j]
             last[j], last[p] = last[p], last[j]
         rj = A[j]
-        piv = rj[kl]
+        pivot = rj[kl]
         n = last[j] - j
         bj = b[j]
         for i in range(j + 1, min(m, j + kl + 1)):
             ri = A[i]
             di = kl + j - i
-            f = ri[di] / piv
+            f = ri[di] / pivot
             if f != 0.0:
                 for o in range(1, n):
                     ri[di + o] -= f * rj[kl + o]
@@ -1240,12 +1276,33 @@ def _band_solve(A, b, kl, x):
                 if last[j] > last[i]:
                     last[i] = last[j]
             ri[di] = 0.0
-    for i in range(m - 1, -1, -1):
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _band_back(A, kl, last, b, x):
+    """``x`` from the elimination of :func:`_band_factor` (back substitution; ``b`` kept)."""
+    for i in range(b.size - 1, -1, -1):
         ri = A[i]
         acc = b[i]
         for o in range(1, last[i] - i):
             acc -= ri[kl + o] * x[i + o]
         x[i] = acc / ri[kl]
+
+
+@njit(cache=True, error_model="numpy")
+def _band_solve(A, b, kl, x):
+    """``x`` with ``A x = b`` (:func:`_band_factor` from column 0, then :func:`_band_back`; ``A``
+    and ``b`` overwritten).  False if a pivot vanishes (singular)."""
+    m = b.size
+    last = np.empty(m, np.int64)
+    for i in range(m):
+        last[i] = min(m, i + kl + 1)
+    checkpoints = m // CHECKPOINT + 1
+    if not _band_factor(A, b, kl, 0, last, np.empty((checkpoints, kl, A.shape[1] + 1)),
+                        np.empty((checkpoints, kl), np.int64)):
+        return False
+    _band_back(A, kl, last, b, x)
     return True
 
 
@@ -1256,7 +1313,8 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     Newton method: the cases those projections pick (a corner pressed or free, a joint sticking
     or sliding either way) fix a linear system in ``P`` (sliding: ``P_t = -+ mu N``, a
     non-symmetric row, within the band of ``W``), solved by banded elimination in band storage
-    (:func:`_band_solve`); the step damped by halving until ``|Phi|^2`` decreases (the merit and
+    (:func:`_band_factor`, resumed where the cases first differ from the last system's: an
+    iteration changes a few of them); the step damped by halving until ``|Phi|^2`` decreases (the merit and
     the rates of the accepted step are those of the next iteration).  The polish (one more step
     with the cases of the answer) reuses the last solution when its cases are the answer's and
     the step to it was full (the same system).
@@ -1274,6 +1332,10 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
     case = np.zeros(m, np.int64)
     width = 3 * BAND + 1
     A = np.zeros((m, width))
+    built = np.full(m, -1, np.int64)     # the cases of the system factored in A
+    rowend = np.empty(m, np.int64)       # and its elimination (_band_factor)
+    saved = np.empty((m // CHECKPOINT + 1, BAND, width + 1))
+    saved_last = np.empty((m // CHECKPOINT + 1, BAND), np.int64)
     rhs = np.zeros(m)
     d = np.zeros(m)
     res = np.inf
@@ -1328,26 +1390,35 @@ def semismooth_newton(ab, c, nonneg, closed_joint, mu, vscale, reg, tol, P, w):
                 matvec(ab, P, w)
                 w += c
                 continue
-        for i in range(m):
-            for k in range(width):
-                A[i, k] = 0.0
-            if case[i] == 1:                  # w_i = 0
-                for k in range(max(0, i - BAND), min(m, i + BAND + 1)):
-                    lo, hi = min(i, k), max(i, k)
-                    A[i, BAND + k - i] = ab[BAND + lo - hi, hi]
-                A[i, BAND] += reg
-                rhs[i] = -c[i]
-            elif case[i] == 0:                # P_i = 0
-                A[i, BAND] = 1.0
-                rhs[i] = 0.0
-            else:                             # P_t -+ mu (P_n0 + P_n1) = 0
-                s = 1.0 if case[i] == 2 else -1.0
-                A[i, BAND] = 1.0
-                A[i, BAND - 1] = -s * mu
-                A[i, BAND - 2] = -s * mu
-                rhs[i] = 0.0
-        if not _band_solve(A, rhs, BAND, d):
-            return polish, it, res
+        first = 0                         # the system differs from the one factored from row first on
+        while first < m and case[first] == built[first]:
+            first += 1
+        if first < m:                     # its factorisation resumed at the checkpoint before first - BAND
+            j0 = max(first - BAND, 0) // CHECKPOINT * CHECKPOINT
+            for i in range(j0, m):
+                for k in range(width):
+                    A[i, k] = 0.0
+                rhs[i] = -c[i] if case[i] == 1 else 0.0
+                rowend[i] = i + 1             # one past the row's last nonzero (the elimination's work)
+                if case[i] == 1:              # w_i = 0: row i of W (W[k, i] at ab[BAND + k - i, i], k <= i)
+                    A[i, BAND] = ab[BAND, i] + reg
+                    for o in range(1, min(BAND, i) + 1):
+                        A[i, BAND - o] = ab[BAND - o, i]
+                    for o in range(1, min(BAND, m - 1 - i) + 1):
+                        A[i, BAND + o] = ab[BAND - o, i + o]
+                        if A[i, BAND + o] != 0.0:
+                            rowend[i] = i + o + 1
+                elif case[i] == 0:            # P_i = 0
+                    A[i, BAND] = 1.0
+                else:                         # P_t -+ mu (P_n0 + P_n1) = 0
+                    s = 1.0 if case[i] == 2 else -1.0
+                    A[i, BAND] = 1.0
+                    A[i, BAND - 1] = -s * mu
+                    A[i, BAND - 2] = -s * mu
+                built[i] = case[i]
+            if not _band_factor(A, rhs, BAND, j0, rowend, saved, saved_last):
+                return polish, it, res
+        _band_back(A, BAND, rowend, rhs, d)
         if polish:
             P[:] = d
             matvec(ab, P, w)
