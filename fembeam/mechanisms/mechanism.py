@@ -251,7 +251,11 @@ class Mechanism:
 
     def with_alpha(self, alpha: float) -> "Mechanism":
         """The same hinges moving with free-parameter rate ``alpha`` (rad/s)."""
-        return replace(self, alpha=float(alpha))
+        out = replace(self, alpha=float(alpha))
+        for name in ("_breaks_cache", "_moving_cache", "_omegas_cache"):   # the same hinges: the same
+            if name in self.__dict__:                                       # pieces and centres
+                object.__setattr__(out, name, self.__dict__[name])
+        return out
 
     def closing(self) -> "Mechanism":
         """The same hinges moving in the sense that closes them (rate ``-compatible_sign``,
@@ -294,14 +298,31 @@ class Mechanism:
     @property
     def breaks(self) -> np.ndarray:
         """Ends of the pieces (m): ``[0, *s, L]``."""
-        return np.array([0.0, *self.s, self.curve.length])
+        return self._breaks().copy()
+
+    def _breaks(self) -> np.ndarray:
+        return self._cached("_breaks_cache", lambda: np.array([0.0, *self.s, self.curve.length]))
 
     @property
     def moving(self) -> np.ndarray:
         """Booleans: which pieces (between consecutive ``breaks``) move."""
-        if self.n_hinges == 4:
-            return np.array([False, True, True, True, False])
-        return np.array([False, True]) if self.curve.ends[1] == "free" else np.array([True, False])
+        return self._moving().copy()
+
+    def _moving(self) -> np.ndarray:
+        def moving():
+            if self.n_hinges == 4:
+                return np.array([False, True, True, True, False])
+            return np.array([False, True]) if self.curve.ends[1] == "free" else np.array([True, False])
+        return self._cached("_moving_cache", moving)
+
+    def _cached(self, name: str, compute):
+        # the fields are frozen, so what depends on them alone is computed once per mechanism
+        # (the hinge searches ask for it thousands of times); never handed out without a copy
+        cached = self.__dict__.get(name)
+        if cached is None:
+            cached = compute()
+            object.__setattr__(self, name, cached)
+        return cached
 
     def angles_deg(self) -> np.ndarray:
         return np.asarray(self.curve.angle_deg(np.asarray(self.s, float)), float)
@@ -322,6 +343,13 @@ class Mechanism:
     def omegas(self) -> tuple[np.ndarray, np.ndarray]:
         """Angular velocities of the moving pieces for ``alpha = 1`` and their centres
         (2, k): for four hinges ``(1, Omega_III, Omega_II)`` about ``(C1, C3, C2)``."""
+        om, C = self._omegas()
+        return om.copy(), C.copy()
+
+    def _omegas(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._cached("_omegas_cache", self._compute_omegas)
+
+    def _compute_omegas(self) -> tuple[np.ndarray, np.ndarray]:
         P = self.points()
         if self.n_hinges == 1:
             return np.array([1.0]), P
@@ -338,8 +366,9 @@ class Mechanism:
 
     def piece_omegas(self) -> np.ndarray:
         """Angular velocity of every piece (rad/s) for ``alpha = 1`` (0 at rest)."""
-        out = np.zeros(self.moving.size)
-        out[self.moving] = self.omegas()[0]
+        moving = self._moving()
+        out = np.zeros(moving.size)
+        out[moving] = self._omegas()[0]
         return out
 
     def jumps(self) -> np.ndarray:
@@ -358,18 +387,18 @@ class Mechanism:
     def _motion(self) -> np.ndarray:
         # computed once per mechanism (the fields are frozen): the impact's pairings and the
         # hinge searches ask for it thousands of times
-        cached = self.__dict__.get("_motion_cache")
-        if cached is None:
-            om, C = self.omegas()
+        def motion():
+            om, C = self._omegas()
             w = self.alpha * om
-            cached = np.zeros((self.moving.size, 3))
-            cached[self.moving] = np.column_stack([w * C[1], -w * C[0], w])   # rotation w about C
-            object.__setattr__(self, "_motion_cache", cached)
-        return cached
+            moving = self._moving()
+            out = np.zeros((moving.size, 3))
+            out[moving] = np.column_stack([w * C[1], -w * C[0], w])   # rotation w about C
+            return out
+        return self._cached("_motion_cache", motion)
 
     def piece_of(self, s) -> np.ndarray:
         """Index of the piece containing each section ``s`` (left piece at a hinge)."""
-        return np.clip(np.searchsorted(self.breaks, s) - 1, 0, self.moving.size - 1)
+        return np.clip(np.searchsorted(self._breaks(), s) - 1, 0, self._moving().size - 1)
 
     def motion_at(self, s) -> np.ndarray:
         """(n, 3) motion of the piece containing each ``s``."""
