@@ -398,7 +398,8 @@ class Mechanism:
 
     def piece_of(self, s) -> np.ndarray:
         """Index of the piece containing each section ``s`` (left piece at a hinge)."""
-        return np.clip(np.searchsorted(self._breaks(), s) - 1, 0, self._moving().size - 1)
+        i = np.searchsorted(self._breaks(), s) - 1
+        return np.minimum(np.maximum(i, 0), self._moving().size - 1)   # np.clip, without its overhead
 
     def motion_at(self, s) -> np.ndarray:
         """(n, 3) motion of the piece containing each ``s``."""
