@@ -22,6 +22,7 @@ finite rotation ``theta`` of the free parameter (exact four-bar linkage).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -103,16 +104,17 @@ class Mechanism:
                              f"{'s' if n > 1 else ''}, got {len(self.s)}")
         if any(k not in ROCKING_SIDES for k in self.sides):
             raise InputError(f"hinge sides must be 'intrados' or 'extrados', got {self.sides}")
-        s = np.asarray(self.s)
-        if not np.all(np.isfinite(s)):
+        s = self.s                  # a few floats: checked in Python (the hinge searches build thousands)
+        if not all(math.isfinite(x) for x in s):
             raise InputError(f"hinge positions must be finite numbers, got s = {self.s}")
-        if np.any(np.diff(s) < 0):
+        if any(b < a for a, b in zip(s, s[1:])):
             raise InputError(f"the hinges must be in increasing order along the member, got s = {self.s}")
         L = float(self.curve.length)
-        if np.any(s < -END_TOL * L) or np.any(s > (1 + END_TOL) * L):
+        lo, hi = -END_TOL * L, (1 + END_TOL) * L
+        if any(x < lo or x > hi for x in s):
             raise InputError(f"hinges must lie on the member, s in [0, {L:g}] m, got {self.s}")
-        if np.any(s < 0) or np.any(s > L):        # past an end by round-off (a length summed another way)
-            object.__setattr__(self, "s", tuple(float(x) for x in np.clip(s, 0.0, L)))
+        if any(x < 0 or x > L for x in s):        # past an end by round-off (a length summed another way)
+            object.__setattr__(self, "s", tuple(float(x) for x in np.clip(np.asarray(s), 0.0, L)))
 
     # ------------------------------------------------------------------ construction
     @staticmethod
@@ -252,8 +254,8 @@ class Mechanism:
     def with_alpha(self, alpha: float) -> "Mechanism":
         """The same hinges moving with free-parameter rate ``alpha`` (rad/s)."""
         out = replace(self, alpha=float(alpha))
-        for name in ("_breaks_cache", "_moving_cache", "_omegas_cache"):   # the same hinges: the same
-            if name in self.__dict__:                                       # pieces and centres
+        for name in ("_breaks_cache", "_moving_cache", "_omegas_cache", "_sign_cache"):   # the same hinges:
+            if name in self.__dict__:                                                     # the same pieces
                 object.__setattr__(out, name, self.__dict__[name])
         return out
 
@@ -377,8 +379,10 @@ class Mechanism:
 
     def compatible_sign(self) -> float:
         """+1 or -1: the sign of ``alpha`` for which every hinge opens; 0 if none does."""
-        q = opening_signs(self.sides) * self.jumps()
-        return 1.0 if np.all(q >= 0) else (-1.0 if np.all(q <= 0) else 0.0)
+        def sign():
+            q = (opening_signs(self.sides) * self.jumps()).tolist()
+            return 1.0 if all(v >= 0 for v in q) else (-1.0 if all(v <= 0 for v in q) else 0.0)
+        return self._cached("_sign_cache", sign)
 
     def motion(self) -> np.ndarray:
         """(pieces, 3): ``(V_x, V_y, Omega)`` of each piece (m/s, rad/s) at rate ``alpha``."""
