@@ -26,8 +26,8 @@ from .energy import post_impact, product as momentum_product
 from .hinge import ROCKING_SIDES, opening_signs, pivot_fractions
 from .mechanism import Mechanism
 
-__all__ = ["RestrictedResult", "ExhaustiveGeometry", "best_four_hinge_discrete", "best_four_hinge_continuous", "refine_four_hinge",
-           "qp_with_hinges_only_at", "exhaustive_candidates", "MAX_EXHAUSTIVE_JOINTS"]
+__all__ = ["RestrictedResult", "ExhaustiveGeometry", "best_four_hinge_discrete", "best_four_hinge_continuous",
+           "refine_four_hinge", "qp_with_hinges_only_at", "exhaustive_candidates", "MAX_EXHAUSTIVE_JOINTS"]
 
 MAX_EXHAUSTIVE_JOINTS = 81   # 80 voussoirs: 16 C(81, 4) = 26.6 million candidates, ~30 s
 
