@@ -96,7 +96,10 @@ def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
     left: at most one case per worker is finished after the signal, the queue is dropped.
     The cases finished are in the journal and a re-run completes from them to the result
     of an uninterrupted run."""
-    cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.005",
+    # 33 cases (3 embraces, 11 ratios, standing and not): each interruption finishes at most a few
+    # of them, so both signals land mid-sweep and the re-run has cases left to complete; a finer
+    # grid only repeats the same check on more cases, in two full sweeps
+    cmd = [sys.executable, "-m", "fembeam", "sweep", "--embrace", "90,150,180", "--t-over-r", "0.1:0.3:0.02",
            "--elements", "24", "--tmin-elements", "24", "--workers", "2", "--quiet"]
     journal = tmp_path / "a" / ".fembeam-sweep-journal.jsonl"
 

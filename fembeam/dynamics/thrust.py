@@ -112,10 +112,13 @@ class _Kinematics:
         Mo = _cross(s_r - m * p, c) - al * (j_r - np.sum(p * s_r, 1)) - om2 * _cross(p, s_r)
         return F, Mo
 
-    def frame(self, curve, s: np.ndarray):
-        """Moved mid points (n, 2, k), tangents and normals of the sections ``s`` (k,)."""
-        P = self.A[:, :, None] + _rot(self.phi, curve.position(s) - self.X0[:, None])
-        return P, _rot(self.phi, curve.tangent(s)), _rot(self.phi, curve.normal(s))
+    def frame(self, curve, s: np.ndarray, geometry=None):
+        """Moved mid points (n, 2, k), tangents and normals of the sections ``s`` (k,);
+        ``geometry``: their position, tangent and normal in the reference configuration, when
+        known."""
+        X, tg, nm = geometry if geometry is not None else (curve.position(s), curve.tangent(s), curve.normal(s))
+        P = self.A[:, :, None] + _rot(self.phi, X - self.X0[:, None])
+        return P, _rot(self.phi, tg), _rot(self.phi, nm)
 
 
 def _pieces(eq: EquationOfMotion, theta, rate, accel):
@@ -212,9 +215,35 @@ def section_forces_many(eq: EquationOfMotion, theta, rate, accel, a_g, s) -> Sec
     gvec = np.stack([-a_g * eq.g, np.full(theta.size, -eq.g)], 1)
 
     def loads(k, sa, sb, P):
-        return kin[k].loads(curve.segment_inertia(sa, sb), P, gvec)
+        inertia = _reference(eq, ("inertia", sa.tobytes(), sb.tobytes()), lambda: curve.segment_inertia(sa, sb))
+        return kin[k].loads(inertia, P, gvec)
 
-    return _internal(eq.mechanism, s, [kn.A for kn in kin], H, loads, lambda k, si: kin[k].frame(curve, si))
+    def frame(k, si):
+        geometry = _reference(eq, ("frame", si.tobytes()),
+                              lambda: (curve.position(si), curve.tangent(si), curve.normal(si)))
+        return kin[k].frame(curve, si, geometry)
+
+    return _internal(eq.mechanism, s, [kn.A for kn in kin], H, loads, frame)
+
+
+REFERENCE_MEMO = 64   # arcs and sections whose reference geometry an equation of motion keeps
+
+
+def _reference(eq: EquationOfMotion, key: tuple, compute):
+    """What ``compute()`` gives for the reference configuration (the inertia of arcs, the frames
+    of sections: arrays that do not depend on the instant), kept on ``eq`` under ``key`` (the
+    exact bytes of the arc lengths): the thrust-line scans of a motion ask for the same arcs and
+    sections of a mechanism at every step.  The arrays kept are read-only."""
+    memo = eq.__dict__.setdefault("_reference_memo", {})
+    out = memo.get(key)
+    if out is None:
+        out = tuple(np.array(a) for a in compute())    # copies: never an array the member keeps
+        for a in out:
+            a.setflags(write=False)
+        if len(memo) >= REFERENCE_MEMO:
+            memo.pop(next(iter(memo)))
+        memo[key] = out
+    return out
 
 
 def section_forces(eq: EquationOfMotion, theta: float, rate: float, accel: float, a_g: float,

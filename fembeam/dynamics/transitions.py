@@ -20,11 +20,13 @@ from ..errors import InputError
 from ..fem import discretize, nodes_through, uniform_nodes
 from ..geometry import MidCurve
 from ..mechanisms import ROCKING_SIDES, Mechanism, merge_adjacent, post_impact
-from ..mechanisms.restricted import best_four_hinge_continuous, best_four_hinge_discrete
+from ..mechanisms.restricted import ExhaustiveGeometry, best_four_hinge_continuous, best_four_hinge_discrete
 
 __all__ = ["Transition", "ImpactModel", "HINGE_GRID"]
 
 HINGE_GRID = 100_000  # continuous member: hinge positions after an impact on L / HINGE_GRID
+SEARCH_GRID = 31      # continuous member: voussoirs of the exhaustive search that starts the local one
+KEEP_GEOMETRY = 40    # discrete arch: the exhaustive search's geometry kept up to this many voussoirs (~20 MB)
 
 
 @dataclass(frozen=True)
@@ -108,6 +110,14 @@ class ImpactModel:
         self.curve, self.voussoirs, self.elements = curve, voussoirs, int(elements)
         self.backend, self.qp = backend, qp
         self._cache: dict[tuple, Transition] = {}
+        self._geometry: ExhaustiveGeometry | None = None   # of the exhaustive search, once for all
+
+    def _exhaustive(self, joints) -> ExhaustiveGeometry:
+        """The geometry of the exhaustive search on ``joints`` (the same for every mechanism
+        of the member), computed on first use."""
+        if self._geometry is None:
+            self._geometry = ExhaustiveGeometry(self.curve, joints)
+        return self._geometry
 
     def __call__(self, before: Mechanism) -> Transition:
         key = before.key
@@ -145,7 +155,8 @@ class ImpactModel:
         curve, L = self.curve, self.curve.length
         starts = [Mechanism.from_hinges(curve, hinges_qp)] if len(hinges_qp) == 4 and all(
             h.side in ROCKING_SIDES for h in hinges_qp) else []
-        rr = best_four_hinge_continuous(pre, starts=starts)
+        grid = uniform_nodes(curve, SEARCH_GRID)
+        rr = best_four_hinge_continuous(pre, grid=SEARCH_GRID, starts=starts, geometry=self._exhaustive(grid))
         found = [rr.after] if rr.after is not None else []
         return [Mechanism(curve, tuple(np.round(np.asarray(m.s) / L * HINGE_GRID) * L / HINGE_GRID), m.sides)
                 for m in found]
@@ -160,7 +171,9 @@ class ImpactModel:
         if before.n_hinges == 1:                 # a block: the other corners of the base
             cands = [Mechanism(curve, before.s, (k,)) for k in ROCKING_SIDES]
         elif self.voussoirs is not None:
-            rr = best_four_hinge_discrete(uniform_nodes(curve, self.voussoirs), pre)
+            joints = uniform_nodes(curve, self.voussoirs)
+            rr = best_four_hinge_discrete(joints, pre, geometry=self._exhaustive(joints)
+                                          if self.voussoirs <= KEEP_GEOMETRY else None)
             cands = [rr.after] if rr.after is not None else []
         else:
             cands = self._continuous(pre, hinges_qp)

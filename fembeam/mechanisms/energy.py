@@ -30,9 +30,10 @@ def _same_curve(a: Mechanism, b: Mechanism):
 def product(a: Mechanism, b: Mechanism) -> float:
     """Momentum pairing ``int rho vel_a . vel_b dA`` (so ``2K = product(a, a)``)."""
     curve = _same_curve(a, b)
-    br = np.union1d(a.breaks, b.breaks)
+    br = np.unique(a._breaks()) if a is b else np.union1d(a._breaks(), b._breaks())
     mid = 0.5 * (br[:-1] + br[1:])
-    ma, mb = a.motion_at(mid), b.motion_at(mid)
+    ma = a.motion_at(mid)
+    mb = ma if a is b else b.motion_at(mid)
     m, S, J = curve.segment_inertia(br[:-1], br[1:])
     kS = np.array([-S[1], S[0]])
     return float(np.sum(m * (ma[:, 0] * mb[:, 0] + ma[:, 1] * mb[:, 1])
@@ -118,7 +119,7 @@ def post_impact(before: Mechanism, after: Mechanism, Lambda: float | None = None
     """Closed-form impact (Sect. 4.2): alpha' and r for prescribed hinges ``after``;
     ``Lambda``: ``product(before, before)`` when known (a search over ``after``)."""
     sgn = after.compatible_sign()
-    pa = after.with_alpha(1.0)
+    pa = after if after.alpha == 1.0 else after.with_alpha(1.0)
     gamma = product(before, pa)
     lam = product(before, before) if Lambda is None else Lambda
     lam_a = product(pa, pa)

@@ -22,6 +22,7 @@ finite rotation ``theta`` of the free parameter (exact four-bar linkage).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -103,16 +104,17 @@ class Mechanism:
                              f"{'s' if n > 1 else ''}, got {len(self.s)}")
         if any(k not in ROCKING_SIDES for k in self.sides):
             raise InputError(f"hinge sides must be 'intrados' or 'extrados', got {self.sides}")
-        s = np.asarray(self.s)
-        if not np.all(np.isfinite(s)):
+        s = self.s                  # a few floats: checked in Python (the hinge searches build thousands)
+        if not all(math.isfinite(x) for x in s):
             raise InputError(f"hinge positions must be finite numbers, got s = {self.s}")
-        if np.any(np.diff(s) < 0):
+        if any(b < a for a, b in zip(s, s[1:])):
             raise InputError(f"the hinges must be in increasing order along the member, got s = {self.s}")
         L = float(self.curve.length)
-        if np.any(s < -END_TOL * L) or np.any(s > (1 + END_TOL) * L):
+        lo, hi = -END_TOL * L, (1 + END_TOL) * L
+        if any(x < lo or x > hi for x in s):
             raise InputError(f"hinges must lie on the member, s in [0, {L:g}] m, got {self.s}")
-        if np.any(s < 0) or np.any(s > L):        # past an end by round-off (a length summed another way)
-            object.__setattr__(self, "s", tuple(float(x) for x in np.clip(s, 0.0, L)))
+        if any(x < 0 or x > L for x in s):        # past an end by round-off (a length summed another way)
+            object.__setattr__(self, "s", tuple(float(x) for x in np.clip(np.asarray(s), 0.0, L)))
 
     # ------------------------------------------------------------------ construction
     @staticmethod
@@ -251,7 +253,11 @@ class Mechanism:
 
     def with_alpha(self, alpha: float) -> "Mechanism":
         """The same hinges moving with free-parameter rate ``alpha`` (rad/s)."""
-        return replace(self, alpha=float(alpha))
+        out = replace(self, alpha=float(alpha))
+        for name in ("_breaks_cache", "_moving_cache", "_omegas_cache", "_sign_cache"):   # the same hinges:
+            if name in self.__dict__:                                                     # the same pieces
+                object.__setattr__(out, name, self.__dict__[name])
+        return out
 
     def closing(self) -> "Mechanism":
         """The same hinges moving in the sense that closes them (rate ``-compatible_sign``,
@@ -294,14 +300,31 @@ class Mechanism:
     @property
     def breaks(self) -> np.ndarray:
         """Ends of the pieces (m): ``[0, *s, L]``."""
-        return np.array([0.0, *self.s, self.curve.length])
+        return self._breaks().copy()
+
+    def _breaks(self) -> np.ndarray:
+        return self._cached("_breaks_cache", lambda: np.array([0.0, *self.s, self.curve.length]))
 
     @property
     def moving(self) -> np.ndarray:
         """Booleans: which pieces (between consecutive ``breaks``) move."""
-        if self.n_hinges == 4:
-            return np.array([False, True, True, True, False])
-        return np.array([False, True]) if self.curve.ends[1] == "free" else np.array([True, False])
+        return self._moving().copy()
+
+    def _moving(self) -> np.ndarray:
+        def moving():
+            if self.n_hinges == 4:
+                return np.array([False, True, True, True, False])
+            return np.array([False, True]) if self.curve.ends[1] == "free" else np.array([True, False])
+        return self._cached("_moving_cache", moving)
+
+    def _cached(self, name: str, compute):
+        # the fields are frozen, so what depends on them alone is computed once per mechanism
+        # (the hinge searches ask for it thousands of times); never handed out without a copy
+        cached = self.__dict__.get(name)
+        if cached is None:
+            cached = compute()
+            object.__setattr__(self, name, cached)
+        return cached
 
     def angles_deg(self) -> np.ndarray:
         return np.asarray(self.curve.angle_deg(np.asarray(self.s, float)), float)
@@ -322,6 +345,13 @@ class Mechanism:
     def omegas(self) -> tuple[np.ndarray, np.ndarray]:
         """Angular velocities of the moving pieces for ``alpha = 1`` and their centres
         (2, k): for four hinges ``(1, Omega_III, Omega_II)`` about ``(C1, C3, C2)``."""
+        om, C = self._omegas()
+        return om.copy(), C.copy()
+
+    def _omegas(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._cached("_omegas_cache", self._compute_omegas)
+
+    def _compute_omegas(self) -> tuple[np.ndarray, np.ndarray]:
         P = self.points()
         if self.n_hinges == 1:
             return np.array([1.0]), P
@@ -338,8 +368,9 @@ class Mechanism:
 
     def piece_omegas(self) -> np.ndarray:
         """Angular velocity of every piece (rad/s) for ``alpha = 1`` (0 at rest)."""
-        out = np.zeros(self.moving.size)
-        out[self.moving] = self.omegas()[0]
+        moving = self._moving()
+        out = np.zeros(moving.size)
+        out[moving] = self._omegas()[0]
         return out
 
     def jumps(self) -> np.ndarray:
@@ -348,8 +379,10 @@ class Mechanism:
 
     def compatible_sign(self) -> float:
         """+1 or -1: the sign of ``alpha`` for which every hinge opens; 0 if none does."""
-        q = opening_signs(self.sides) * self.jumps()
-        return 1.0 if np.all(q >= 0) else (-1.0 if np.all(q <= 0) else 0.0)
+        def sign():
+            q = (opening_signs(self.sides) * self.jumps()).tolist()
+            return 1.0 if all(v >= 0 for v in q) else (-1.0 if all(v <= 0 for v in q) else 0.0)
+        return self._cached("_sign_cache", sign)
 
     def motion(self) -> np.ndarray:
         """(pieces, 3): ``(V_x, V_y, Omega)`` of each piece (m/s, rad/s) at rate ``alpha``."""
@@ -358,18 +391,19 @@ class Mechanism:
     def _motion(self) -> np.ndarray:
         # computed once per mechanism (the fields are frozen): the impact's pairings and the
         # hinge searches ask for it thousands of times
-        cached = self.__dict__.get("_motion_cache")
-        if cached is None:
-            om, C = self.omegas()
+        def motion():
+            om, C = self._omegas()
             w = self.alpha * om
-            cached = np.zeros((self.moving.size, 3))
-            cached[self.moving] = np.column_stack([w * C[1], -w * C[0], w])   # rotation w about C
-            object.__setattr__(self, "_motion_cache", cached)
-        return cached
+            moving = self._moving()
+            out = np.zeros((moving.size, 3))
+            out[moving] = np.column_stack([w * C[1], -w * C[0], w])   # rotation w about C
+            return out
+        return self._cached("_motion_cache", motion)
 
     def piece_of(self, s) -> np.ndarray:
         """Index of the piece containing each section ``s`` (left piece at a hinge)."""
-        return np.clip(np.searchsorted(self.breaks, s) - 1, 0, self.moving.size - 1)
+        i = np.searchsorted(self._breaks(), s) - 1
+        return np.minimum(np.maximum(i, 0), self._moving().size - 1)   # np.clip, without its overhead
 
     def motion_at(self, s) -> np.ndarray:
         """(n, 3) motion of the piece containing each ``s``."""
