@@ -20,6 +20,7 @@ import inspect
 import pkgutil
 import re
 import time
+import warnings
 from pathlib import Path
 
 import pytest
@@ -99,8 +100,8 @@ RESULTS = [
     "fembeam.studies.suites.Suite",
 ]
 
-# the longest a docstring's examples may take: they are written to take under 2 s on an idle
-# machine; the margin is for a loaded runner
+# docstring examples are written to take under 2 s on an idle machine; one slower than this
+# is reported as a warning (not a failure: no test depends on the machine's speed)
 SLOW_S = 5.0
 
 
@@ -119,7 +120,8 @@ def test_examples_run(module):
             slow.append(f"{test.name}: {dt:.1f} s")
     result = runner.summarize(verbose=False)
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples of {module} failed"
-    assert not slow, f"examples slower than {SLOW_S} s: " + ", ".join(slow)
+    if slow:
+        warnings.warn(f"examples slower than {SLOW_S} s of wall time: " + ", ".join(slow), stacklevel=1)
 
 
 def api_names() -> list[str]:
