@@ -72,6 +72,7 @@ from ..units import GRAVITY, kN
 from .load_factor import mass_nodes
 from .lp import HIGHS_OPTIONS, first_highs
 from .sizes import MAX_ELEMENTS, MIN_ELEMENTS, check_count
+from .snaps import dynamic_snap
 
 __all__ = ["Movement", "SupportsResult", "Chain", "supports", "MOVEMENTS", "SNAP_MODELS", "DEFAULT_STEPS",
            "MAX_STEPS"]
@@ -1125,7 +1126,6 @@ def _dynamic(res: SupportsResult, P: _Path, d: float, th: np.ndarray, new: np.nd
     """The snap from the hinge sides ``new`` at ``d`` followed by the rigid-body dynamics with
     the supports held (:mod:`.snaps`): the state where the arch comes to rest (``"go"``), or
     its collapse; ``curvature`` (kJ/m per rad^2) of the potential energy along the free mode."""
-    from .snaps import dynamic_snap
     ch = P.ch
     # the other rows at their edge at this displacement (the mirror image of the new hinge on a
     # symmetric arch) open with it
