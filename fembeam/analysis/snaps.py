@@ -66,9 +66,9 @@ def _readings(q: np.ndarray) -> list:
 def _state(ch, theta, side, uL, rates):
     """Positions and velocities ``(n + 1, 3)`` of the simulation's bodies (the last row the
     ground) for the chain placed by ``theta`` and turning at the hinge rates ``rates`` (J,)."""
-    phi, c, Rj, P = ch.place(theta, side, uL)
+    phi, _, _, P = ch.place(theta, side, uL)
     n = ch.W.size
-    G = np.einsum("ijk,jk->ik", Rj[:, :, :-1], ch.C) + c[:, :-1]
+    G = ch.centroids(theta, side, uL)
     q = np.zeros((n + 1, 3))
     v = np.zeros((n + 1, 3))
     q[:n, :2], q[:n, 2] = G.T, phi[:-1]
