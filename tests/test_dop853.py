@@ -103,3 +103,20 @@ def test_poly_is_the_increment():
     for t0, h, y0, F in dense.steps:
         assert poly(F[0], 0.0) == 0.0
         assert y0[0] + poly(F[0], 1.0) == pytest.approx(dense(t0 + h)[0], abs=1e-15)
+
+
+def test_three_components_written_out_are_the_general_step():
+    """The stages written out for three components (the one-mechanism motion) give bitwise the
+    stages of the general loop, here run on the same system with a fourth, idle component."""
+    def fun3(t, y):
+        return y[1], -math.sin(y[0]) + 0.3 * math.cos(1.3 * t) - 0.05 * y[1] * abs(y[1]), -0.3 * y[1]
+
+    def fun4(t, y):
+        return (*fun3(t, y[:3]), 0.0)
+
+    st3, st4 = Dop853(fun3, (1e-12,) * 3, 1e-10), Dop853(fun4, (1e-12,) * 4, 1e-10)
+    for t, y, h in ((0.0, (1.0, 0.0, 0.0), 0.1), (2.5, (-0.3, 1.7, 0.25), 1e-4), (7.0, (3.0, -2.0, -1.0), 0.7)):
+        y3, K3, _ = st3.step(t, y, fun3(t, y), h)
+        y4, K4, _ = st4.step(t, (*y, 0.0), fun4(t, (*y, 0.0)), h)
+        assert y3 == y4[:3] and [list(k) for k in K3] == [list(k) for k in K4[:3]]
+        assert len(K3[0]) == N_STAGES + 1

@@ -76,6 +76,7 @@ D = (   # dense output: the interpolant's coefficients F3 .. F6 from the 16 stag
      93.40532418362432, -37.45832313645163, 104.0996495089623, 29.8402934266605, -43.53345659001114,
      96.32455395918828, -39.17726167561544, -149.72683625798564),
 )
+STAGES = tuple(zip(A[:N_STAGES - 1], C[1:N_STAGES]))     # (a_s, c_s) of the stages 1 .. 11 of a step
 
 
 def poly(F: Sequence[float], x: float) -> float:
@@ -109,13 +110,16 @@ class Dop853:
         """One step ``h`` from ``(t, y)`` (``f = fun(t, y)``): ``(y_new, K, error norm)`` with
         ``K`` the 13 stage derivatives of each component (the last: ``fun`` at ``t + h``).  The
         step is accepted where the norm is below 1."""
-        fun, K = self.fun, tuple([v] for v in f)
-        for a, c in zip(A[:N_STAGES - 1], C[1:N_STAGES]):
-            for Ki, v in zip(K, fun(t + c * h, tuple(u + h * sum(map(mul, a, Ki)) for u, Ki in zip(y, K)))):
+        if len(y) == 3:
+            y1, K = self._stages3(t, y, f, h)
+        else:
+            fun, K = self.fun, tuple([v] for v in f)
+            for a, c in STAGES:
+                for Ki, v in zip(K, fun(t + c * h, tuple([u + h * sum(map(mul, a, Ki)) for u, Ki in zip(y, K)]))):
+                    Ki.append(v)
+            y1 = tuple([u + h * sum(map(mul, B, Ki)) for u, Ki in zip(y, K)])
+            for Ki, v in zip(K, fun(t + h, y1)):
                 Ki.append(v)
-        y1 = tuple(u + h * sum(map(mul, B, Ki)) for u, Ki in zip(y, K))
-        for Ki, v in zip(K, fun(t + h, y1)):
-            Ki.append(v)
         e5 = e3 = 0.0
         for Ki, a, u, v in zip(K, self.atol, y, y1):
             sc = a + max(abs(u), abs(v)) * self.rtol
@@ -123,6 +127,25 @@ class Dop853:
             e3 += (sum(map(mul, E3, Ki)) / sc) ** 2
         err = 0.0 if e5 == 0.0 and e3 == 0.0 else abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * len(y))
         return y1, K, err
+
+    def _stages3(self, t: float, y: tuple, f: tuple, h: float):
+        """The stages of :meth:`step` written out for three components (the one-mechanism
+        motion: rotation, rate, ground work), the same operations in the same order."""
+        fun = self.fun
+        u0, u1, u2 = y
+        K0, K1, K2 = [f[0]], [f[1]], [f[2]]
+        for a, c in STAGES:
+            v0, v1, v2 = fun(t + c * h, (u0 + h * sum(map(mul, a, K0)), u1 + h * sum(map(mul, a, K1)),
+                                         u2 + h * sum(map(mul, a, K2))))
+            K0.append(v0)
+            K1.append(v1)
+            K2.append(v2)
+        y1 = (u0 + h * sum(map(mul, B, K0)), u1 + h * sum(map(mul, B, K1)), u2 + h * sum(map(mul, B, K2)))
+        v0, v1, v2 = fun(t + h, y1)
+        K0.append(v0)
+        K1.append(v1)
+        K2.append(v2)
+        return y1, (K0, K1, K2)
 
     @staticmethod
     def next_step(h: float, err: float, rejected: bool) -> float:
