@@ -107,7 +107,8 @@ def test_poly_is_the_increment():
 
 def test_three_components_written_out_are_the_general_step():
     """The stages written out for three components (the one-mechanism motion) give bitwise the
-    stages of the general loop, here run on the same system with a fourth, idle component."""
+    stages of the general loop (step and dense output), here run on the same system with a
+    fourth, idle component."""
     def fun3(t, y):
         return y[1], -math.sin(y[0]) + 0.3 * math.cos(1.3 * t) - 0.05 * y[1] * abs(y[1]), -0.3 * y[1]
 
@@ -120,3 +121,4 @@ def test_three_components_written_out_are_the_general_step():
         y4, K4, _ = st4.step(t, (*y, 0.0), fun4(t, (*y, 0.0)), h)
         assert y3 == y4[:3] and [list(k) for k in K3] == [list(k) for k in K4[:3]]
         assert len(K3[0]) == N_STAGES + 1
+        assert st3.dense(t, h, y, y3, K3) == st4.dense(t, h, (*y, 0.0), y4, K4)[:3]

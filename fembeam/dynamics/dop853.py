@@ -77,6 +77,7 @@ D = (   # dense output: the interpolant's coefficients F3 .. F6 from the 16 stag
      96.32455395918828, -39.17726167561544, -149.72683625798564),
 )
 STAGES = tuple(zip(A[:N_STAGES - 1], C[1:N_STAGES]))     # (a_s, c_s) of the stages 1 .. 11 of a step
+DENSE_STAGES = tuple(zip(A[N_STAGES:], C[N_STAGES + 1:]))     # ... and of the dense output's 3
 
 
 def poly(F: Sequence[float], x: float) -> float:
@@ -106,20 +107,32 @@ class Dop853:
         h1 = max(1e-6, h0 * 1e-3) if max(d1, d2) <= 1e-15 else (0.01 / max(d1, d2)) ** (1 / 8)
         return min(100 * h0, h1, span)
 
+    def _stage(self, t: float, y: tuple, K: tuple, h: float, a: Sequence[float], c: float) -> None:
+        """Append to each component's ``K`` the derivative of the stage ``(a, c)``:
+        ``fun(t + c h, y + h sum_j a_j K_j)``; written out for three components (the
+        one-mechanism motion: rotation, rate, ground work), the same operations in the same
+        order."""
+        if len(y) == 3:
+            (u0, u1, u2), (K0, K1, K2) = y, K
+            v0, v1, v2 = self.fun(t + c * h, (u0 + h * sum(map(mul, a, K0)), u1 + h * sum(map(mul, a, K1)),
+                                              u2 + h * sum(map(mul, a, K2))))
+            K0.append(v0)
+            K1.append(v1)
+            K2.append(v2)
+        else:
+            for Ki, v in zip(K, self.fun(t + c * h, tuple([u + h * sum(map(mul, a, Ki)) for u, Ki in zip(y, K)]))):
+                Ki.append(v)
+
     def step(self, t: float, y: tuple, f: tuple, h: float):
         """One step ``h`` from ``(t, y)`` (``f = fun(t, y)``): ``(y_new, K, error norm)`` with
         ``K`` the 13 stage derivatives of each component (the last: ``fun`` at ``t + h``).  The
         step is accepted where the norm is below 1."""
-        if len(y) == 3:
-            y1, K = self._stages3(t, y, f, h)
-        else:
-            fun, K = self.fun, tuple([v] for v in f)
-            for a, c in STAGES:
-                for Ki, v in zip(K, fun(t + c * h, tuple([u + h * sum(map(mul, a, Ki)) for u, Ki in zip(y, K)]))):
-                    Ki.append(v)
-            y1 = tuple([u + h * sum(map(mul, B, Ki)) for u, Ki in zip(y, K)])
-            for Ki, v in zip(K, fun(t + h, y1)):
-                Ki.append(v)
+        K = tuple([v] for v in f)
+        for a, c in STAGES:
+            self._stage(t, y, K, h, a, c)
+        y1 = tuple([u + h * sum(map(mul, B, Ki)) for u, Ki in zip(y, K)])
+        for Ki, v in zip(K, self.fun(t + h, y1)):
+            Ki.append(v)
         e5 = e3 = 0.0
         for Ki, a, u, v in zip(K, self.atol, y, y1):
             sc = a + max(abs(u), abs(v)) * self.rtol
@@ -127,25 +140,6 @@ class Dop853:
             e3 += (sum(map(mul, E3, Ki)) / sc) ** 2
         err = 0.0 if e5 == 0.0 and e3 == 0.0 else abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * len(y))
         return y1, K, err
-
-    def _stages3(self, t: float, y: tuple, f: tuple, h: float):
-        """The stages of :meth:`step` written out for three components (the one-mechanism
-        motion: rotation, rate, ground work), the same operations in the same order."""
-        fun = self.fun
-        u0, u1, u2 = y
-        K0, K1, K2 = [f[0]], [f[1]], [f[2]]
-        for a, c in STAGES:
-            v0, v1, v2 = fun(t + c * h, (u0 + h * sum(map(mul, a, K0)), u1 + h * sum(map(mul, a, K1)),
-                                         u2 + h * sum(map(mul, a, K2))))
-            K0.append(v0)
-            K1.append(v1)
-            K2.append(v2)
-        y1 = (u0 + h * sum(map(mul, B, K0)), u1 + h * sum(map(mul, B, K1)), u2 + h * sum(map(mul, B, K2)))
-        v0, v1, v2 = fun(t + h, y1)
-        K0.append(v0)
-        K1.append(v1)
-        K2.append(v2)
-        return y1, (K0, K1, K2)
 
     @staticmethod
     def next_step(h: float, err: float, rejected: bool) -> float:
@@ -159,10 +153,9 @@ class Dop853:
     def dense(self, t: float, h: float, y: tuple, y1: tuple, K: tuple) -> tuple:
         """The interpolant's coefficients on the step (7 per component, :func:`poly`): three
         more evaluations of ``fun`` (SciPy's ``Dop853DenseOutput``)."""
-        K = tuple(list(k) for k in K)
-        for a, c in zip(A[N_STAGES:], C[N_STAGES + 1:]):
-            for Ki, v in zip(K, self.fun(t + c * h, tuple(u + h * sum(map(mul, a, Ki)) for u, Ki in zip(y, K)))):
-                Ki.append(v)
+        K = tuple([list(k) for k in K])
+        for a, c in DENSE_STAGES:
+            self._stage(t, y, K, h, a, c)
         out = []
         for Ki, u, v in zip(K, y, y1):
             dy = v - u
