@@ -507,25 +507,31 @@ def compiled_constants():
 @njit(cache=True, error_model="numpy")
 def coulomb_residual(P, w, closed_joint, nonneg, mu, vscale, pscale):
     """Largest relative residual of the frictional contact law: normal complementarity, the cone
-    ``|P_t| <= mu N``, sticking (``w_t = 0``) inside it and sliding against ``P_t`` on it."""
-    res = 0.0
+    ``|P_t| <= mu N``, sticking (``w_t = 0``) inside it and sliding against ``P_t`` on it.  The
+    terms of one scale are compared before their division by it (a correctly rounded division by
+    a positive number is monotone: the same result as dividing each)."""
+    rv = 0.0                             # rates, percussions, their products; then the sticking term
+    rp = 0.0
+    rpv = 0.0
+    stick = 0.0
     for j in range(closed_joint.size):
         for r in range(2):
             i = 3 * j + r
             if nonneg[i]:
-                res = max(res, max(0.0, -w[i]) / vscale, max(0.0, -P[i]) / pscale,
-                          abs(P[i] * w[i]) / (pscale * vscale))
+                rv = max(rv, -w[i])
+                rp = max(rp, -P[i])
+                rpv = max(rpv, abs(P[i] * w[i]))
         if not closed_joint[j]:
             continue
         N = P[3 * j] + P[3 * j + 1]
         Pt, wt = P[3 * j + 2], w[3 * j + 2]
         excess = abs(Pt) - mu * N
-        res = max(res, max(0.0, excess) / pscale)
+        rp = max(rp, excess)
         # inside the cone: no sliding; sliding: opposed to P_t with |P_t| = mu N
-        slack = max(0.0, -excess) / pscale
-        res = max(res, min(slack, abs(wt) / vscale))
-        res = max(res, max(0.0, Pt * wt) / (pscale * vscale))
-    return res
+        if excess < 0.0 and wt != 0.0:
+            stick = max(stick, min(-excess / pscale, abs(wt) / vscale))
+        rpv = max(rpv, Pt * wt)
+    return max(0.0, rv / vscale, rp / pscale, rpv / (pscale * vscale), stick)
 
 
 @njit(cache=True, error_model="numpy")
