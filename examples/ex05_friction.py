@@ -158,7 +158,7 @@ def figure():
     import matplotlib.pyplot as plt
 
     mus = np.linspace(0.31, 0.45, 15)
-    t = [t_min(HEYMAN, ELEMENTS, mu, tol=1e-6) for mu in mus]     # 1e-6: far below a dot
+    t = [t_min(HEYMAN, ELEMENTS, mu, tol=1e-6) for mu in mus]   # 1e-6: below a dot
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.plot(mus, t, "o-", ms=3.5,
             label=f"fembeam, weight on the mid-curve ({ELEMENTS} elements)")
