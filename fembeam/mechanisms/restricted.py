@@ -63,16 +63,24 @@ class RestrictedResult:
     method: str = ""
 
 
-def _piece_sums(curve: MidCurve, joint_s: np.ndarray, before: Mechanism):
-    """Prefix sums over the voussoirs of ``(m, S_x, S_y, J)`` (4, J) and of the pre-impact
-    momentum pairing ``G = Q b`` (3, J), and ``Lambda = b^T Q b`` of the field ``before``."""
+def _prefix(x: np.ndarray) -> np.ndarray:
+    """Prefix sums over the voussoirs along the last axis, starting at 0 (J,)."""
+    return np.concatenate([np.zeros(x.shape[:-1] + (1,)), np.cumsum(x, -1)], -1)
+
+
+def _inertia_sums(curve: MidCurve, joint_s: np.ndarray) -> np.ndarray:
+    """Prefix sums over the voussoirs of ``(m, S_x, S_y, J)`` (4, J)."""
+    m, S, J = curve.segment_inertia(joint_s[:-1], joint_s[1:])
+    return _prefix(np.array([m, S[0], S[1], J]))
+
+
+def _pairing_sums(curve: MidCurve, joint_s: np.ndarray, before: Mechanism):
+    """Prefix sums over the voussoirs of the pre-impact momentum pairing ``G = Q b`` (3, J),
+    and ``Lambda = b^T Q b`` of the field ``before``."""
     m, S, J = curve.segment_inertia(joint_s[:-1], joint_s[1:])
     b = before.motion_at(0.5 * (joint_s[:-1] + joint_s[1:])).T     # (3, N): V_x, V_y, Omega
     G = np.array([m * b[0] - S[1] * b[2], m * b[1] + S[0] * b[2], -S[1] * b[0] + S[0] * b[1] + J * b[2]])
-    lam = float(np.sum(G * b))
-    zero = np.zeros((1,))
-    cum = lambda x: np.concatenate([zero, np.cumsum(x)])  # noqa: E731
-    return np.array([cum(m), cum(S[0]), cum(S[1]), cum(J)]), np.array([cum(g) for g in G]), lam
+    return _prefix(G), float(np.sum(G * b))
 
 
 def _geometry(P: np.ndarray, sides_sign: np.ndarray, inertia: list):
@@ -119,15 +127,6 @@ def _restitution(geometry, pairing: list, lam: float) -> np.ndarray:
     with np.errstate(all="ignore"):
         r[sel[ok]] = gam[ok] ** 2 / (lam * lam_a[ok])
     return r
-
-
-def _kernel(P: np.ndarray, sides_sign: np.ndarray, inertia: list, pairing: list, lam: float) -> np.ndarray:
-    """r of every candidate: ``P`` (n, 4, 2) hinge points, ``sides_sign`` (4,); for each
-    moving piece (I, III, II) its ``(m, S_x, S_y, J)`` and its pairing ``G`` with the
-    pre-impact field, ``inertia[k]`` (4, n) and ``pairing[k]`` (3, n)
-    (:func:`_geometry`, then :func:`_restitution`)."""
-    geometry = _geometry(P, sides_sign, inertia)
-    return _restitution(geometry, [G[:, geometry[1]] for G in pairing], lam)
 
 
 def _quadruples(n: int, chunk: int):
@@ -178,8 +177,7 @@ def _check_joints(J: int):
 def _blocks(curve: MidCurve, js: np.ndarray, chunk: int):
     """Per block of quadruples ``idx`` (:func:`_quadruples`): ``(idx, [(sides, geometry)])`` for
     the 16 choices of sides (:func:`_geometry`), generated one block at a time."""
-    m, S, Jp = curve.segment_inertia(js[:-1], js[1:])
-    cI = np.array([np.concatenate([np.zeros((1,)), np.cumsum(x)]) for x in (m, S[0], S[1], Jp)])
+    cI = _inertia_sums(curve, js)
     X, n, t = curve.position(js), curve.normal(js), curve.thickness_at(js)
     for idx in _quadruples(js.size, chunk):
         inertia = [cI[:, idx[:, k + 1]] - cI[:, idx[:, k]] for k in range(3)]
@@ -207,7 +205,7 @@ def best_four_hinge_discrete(joint_s, before: Mechanism, keep: int = 5,
     _check_joints(J)
     if geometry is not None and not geometry.matches(curve, js):
         raise InputError("the precomputed geometry of the exhaustive search is not that of these joints")
-    _, cG, lam = _piece_sums(curve, js, before)
+    cG, lam = _pairing_sums(curve, js, before)
     best: list[tuple[float, tuple[int, ...], tuple[str, ...]]] = []
     n_compat = 0
     for idx, geo in (geometry.blocks if geometry is not None else _blocks(curve, js, chunk)):
